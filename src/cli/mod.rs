@@ -1,0 +1,130 @@
+//! The command line: clap derive, one module per subcommand. Each subcommand
+//! turns raw flags into validated settings, calls the library stage and writes
+//! its outputs whole or not at all.
+//!
+//! Exit status: 0 on success, 2 when the input was refused (a bad file, flag or
+//! value: the message says which and how to fix it), 1 when the work itself
+//! failed (a solver that diverged, an I/O failure while writing).
+
+pub mod bench;
+pub mod fit;
+pub mod run;
+pub mod simulate;
+pub mod stress;
+pub mod synth;
+pub mod track;
+
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// bulge: bubble-inflation (pressure-bulge) tests of thin elastic membranes.
+///
+/// Photos -> apex heights (track) -> stress/strain (stress) -> material (fit)
+/// -> simulated heights (simulate) -> report (run). Every stage reads and
+/// writes plain CSV/TOML files with SI units in the column names.
+#[derive(Debug, Parser)]
+#[command(name = "bulge", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    /// The stage to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands, one per pipeline stage plus the whole pipeline.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Photos -> apex height per photo (OpenCV template matching, sub-pixel).
+    Track(track::Args),
+    /// Write a synthetic experiment with known truth (photos, pressures, truth).
+    Synth(synth::Args),
+    /// Apex heights -> stress and strain (spherical-cap formulas).
+    Stress(stress::Args),
+    /// Stress/strain -> material (quartic secant modulus, hyperelastic models).
+    Fit(fit::Args),
+    /// Material -> simulated bubble heights (mass-spring models, axisymmetric reference).
+    Simulate(simulate::Args),
+    /// The whole pipeline on an experiment file, with the comparison report.
+    Run(run::Args),
+    /// Speed against error of every solver and integrator.
+    Bench(bench::Args),
+}
+
+/// Why a subcommand failed: the input was refused, or the work failed.
+#[derive(Debug)]
+pub enum Failure {
+    /// A bad file, flag or value (exit status 2).
+    BadInput(anyhow::Error),
+    /// The work itself failed (exit status 1).
+    Failed(anyhow::Error),
+}
+
+impl Failure {
+    /// The process exit status for this failure.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Failure::BadInput(_) => 2,
+            Failure::Failed(_) => 1,
+        }
+    }
+
+    /// The error chain.
+    pub fn error(&self) -> &anyhow::Error {
+        match self {
+            Failure::BadInput(e) | Failure::Failed(e) => e,
+        }
+    }
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Failed(e)
+    }
+}
+
+impl From<crate::io::InputError> for Failure {
+    fn from(e: crate::io::InputError) -> Self {
+        Failure::BadInput(e.into())
+    }
+}
+
+/// Sorts a result's error into [`Failure::BadInput`] or [`Failure::Failed`].
+pub trait Classify<T> {
+    /// The error is the user's input being refused.
+    fn bad_input(self) -> Result<T, Failure>;
+    /// The error is a failure of the work.
+    fn failed(self) -> Result<T, Failure>;
+}
+
+impl<T, E: Into<anyhow::Error>> Classify<T> for Result<T, E> {
+    fn bad_input(self) -> Result<T, Failure> {
+        self.map_err(|e| Failure::BadInput(e.into()))
+    }
+    fn failed(self) -> Result<T, Failure> {
+        self.map_err(|e| Failure::Failed(e.into()))
+    }
+}
+
+/// Runs a parsed command line.
+pub fn dispatch(cli: Cli) -> Result<(), Failure> {
+    match cli.command {
+        Command::Track(a) => track::run(a),
+        Command::Synth(a) => synth::run(a),
+        Command::Stress(a) => stress::run(a),
+        Command::Fit(a) => fit::run(a),
+        Command::Simulate(a) => simulate::run(a),
+        Command::Run(a) => run::run(a),
+        Command::Bench(a) => bench::run(a),
+    }
+}
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+pub fn progress(len: u64, what: &str) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    pb.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} {elapsed_precise} eta {eta}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    pb.set_message(what.to_string());
+    pb
+}

@@ -1,0 +1,196 @@
+//! The experiment file (`experiment.toml`): the specimen, and for later stages
+//! the photos, the calibration and the pressure log.
+//!
+//! ```toml
+//! [specimen]
+//! radius_m = 0.0375          # free radius a of the clamped disc
+//! thickness_m = 0.00035      # initial thickness t
+//! poisson = 0.45             # Poisson ratio nu, in [0, 0.5)
+//! prebulge_height_m = 0.0    # apex height h0 at p = 0+ (default 0)
+//! ```
+//!
+//! Names may grow, never change. Paths inside the file are relative to the
+//! file's own folder.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::io::{InputError, read_toml};
+
+/// The clamped disc under test. All lengths in metres.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Specimen {
+    /// Free radius `a` of the clamped disc, m (> 0).
+    pub radius_m: f64,
+    /// Initial thickness `t`, m (> 0).
+    pub thickness_m: f64,
+    /// Poisson ratio, in [0, 0.5).
+    pub poisson: f64,
+    /// Apex height `h0` above the clamp plane at p = 0+, m (>= 0, default 0).
+    #[serde(default)]
+    pub prebulge_height_m: f64,
+}
+
+impl Specimen {
+    /// Checks every field; the message names the field, the value and the fix.
+    pub fn validate(&self) -> Result<(), String> {
+        let Specimen {
+            radius_m,
+            thickness_m,
+            poisson,
+            prebulge_height_m,
+        } = *self;
+        if !(radius_m.is_finite() && radius_m > 0.0) {
+            return Err(format!(
+                "radius_m = {radius_m} must be a positive length in metres (the free radius of the disc, e.g. 0.0375)"
+            ));
+        }
+        if !(thickness_m.is_finite() && thickness_m > 0.0) {
+            return Err(format!(
+                "thickness_m = {thickness_m} must be a positive length in metres (e.g. 0.00035)"
+            ));
+        }
+        if !(poisson.is_finite() && (0.0..0.5).contains(&poisson)) {
+            return Err(format!(
+                "poisson = {poisson} must be in [0, 0.5) (rubber: 0.45 to 0.499; 0.5 is singular in the plane-stress formulas)"
+            ));
+        }
+        if !(prebulge_height_m.is_finite() && prebulge_height_m >= 0.0) {
+            return Err(format!(
+                "prebulge_height_m = {prebulge_height_m} must be zero or a positive height in metres"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `[photos]`: where the photos are and what to look for in them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhotosConfig {
+    /// Folder of the photos, relative to the experiment file.
+    pub dir: PathBuf,
+    /// File-name pattern, e.g. `*.png`; files are taken in natural sort order.
+    #[serde(default = "default_glob")]
+    pub glob: String,
+    /// Region where the apex can move: `[x, y, width, height]` in pixels.
+    pub roi_px: [i32; 4],
+    /// Template image file, relative to the experiment file.
+    #[serde(default)]
+    pub template: Option<PathBuf>,
+    /// Or the template cut from the reference frame: `[x, y, width, height]`.
+    #[serde(default)]
+    pub template_rect_px: Option<[i32; 4]>,
+    /// Index of the reference frame (default 0).
+    #[serde(default)]
+    pub reference_frame: usize,
+    /// Apex position inside the template, `[dx, dy]` px (default: its centre).
+    #[serde(default)]
+    pub apex_in_template_px: Option<[f64; 2]>,
+}
+
+fn default_glob() -> String {
+    "*".to_string()
+}
+
+/// `[calibration]`: pixels to metres and the clamp plane.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationConfig {
+    /// Scale, m per pixel.
+    #[serde(default)]
+    pub metres_per_pixel: Option<f64>,
+    /// Or two image points a known distance apart.
+    #[serde(default)]
+    pub points_px: Option<[[f64; 2]; 2]>,
+    /// Distance between `points_px`, m.
+    #[serde(default)]
+    pub distance_m: Option<f64>,
+    /// Image row of the clamp plane, px, when known.
+    #[serde(default)]
+    pub clamp_row_px: Option<f64>,
+}
+
+/// `[pressure]`: the pressure log joined per photo.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureConfig {
+    /// CSV with columns `file,pressure_pa`, relative to the experiment file.
+    pub csv: PathBuf,
+}
+
+/// A whole experiment file. Stages read the tables they need and ignore the
+/// rest; `[simulate]` and `[report]` hold settings for `bulge run`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Experiment {
+    /// The specimen (required).
+    pub specimen: Specimen,
+    /// Photos (needed by `track`).
+    #[serde(default)]
+    pub photos: Option<PhotosConfig>,
+    /// Calibration (needed by `track`).
+    #[serde(default)]
+    pub calibration: Option<CalibrationConfig>,
+    /// Pressure log (needed by `track`).
+    #[serde(default)]
+    pub pressure: Option<PressureConfig>,
+    /// Other tables (settings of later stages), kept as TOML.
+    #[serde(flatten)]
+    pub other: toml::Table,
+    /// Folder of the experiment file; relative paths resolve against it.
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+    /// The file it was read from.
+    #[serde(skip)]
+    pub path: PathBuf,
+}
+
+impl Experiment {
+    /// Reads and validates an experiment file.
+    pub fn read(path: &Path) -> Result<Self, InputError> {
+        let mut e: Experiment = read_toml(path)?;
+        e.specimen
+            .validate()
+            .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
+        e.base_dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        e.path = path.to_path_buf();
+        Ok(e)
+    }
+
+    /// Resolves a path written in the file against the file's folder.
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.base_dir.join(p)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn specimen_defaults_and_validation() {
+        let s: Specimen =
+            toml::from_str("radius_m = 0.0375\nthickness_m = 0.00035\npoisson = 0.45").unwrap();
+        assert_eq!(s.prebulge_height_m, 0.0);
+        assert!(s.validate().is_ok());
+        let bad = Specimen { poisson: 0.5, ..s };
+        assert!(bad.validate().unwrap_err().contains("poisson = 0.5"));
+        let bad = Specimen { radius_m: 0.0, ..s };
+        assert!(bad.validate().unwrap_err().contains("radius_m"));
+        let bad = Specimen {
+            thickness_m: -1.0,
+            ..s
+        };
+        assert!(bad.validate().unwrap_err().contains("thickness_m"));
+    }
+}

@@ -1,0 +1,1 @@
+//! Stress/strain -> material: the quartic secant modulus and hyperelastic fits.

@@ -1,0 +1,361 @@
+//! CSV and TOML rows with units in their names, and outputs written whole or
+//! not at all.
+//!
+//! Every error names the file, the line (1-based, the header is line 1), the
+//! column, the value and what would fix it, so that a user can go straight to
+//! the offending cell.
+
+use std::collections::HashMap;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// A problem with an input file, located to the cell where possible.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", location(path, *line, column.as_deref()))]
+pub struct InputError {
+    /// The file that holds the bad value.
+    pub path: PathBuf,
+    /// 1-based line number (the header is line 1), when known.
+    pub line: Option<u64>,
+    /// Column name, when known.
+    pub column: Option<String>,
+    /// What is wrong, the value, and the fix.
+    pub message: String,
+}
+
+fn location(path: &Path, line: Option<u64>, column: Option<&str>) -> String {
+    let mut s = path.display().to_string();
+    if let Some(l) = line {
+        s.push_str(&format!(", line {l}"));
+    }
+    if let Some(c) = column {
+        s.push_str(&format!(", column `{c}`"));
+    }
+    s
+}
+
+impl InputError {
+    /// An error about the whole file.
+    pub fn file(path: &Path, message: impl Into<String>) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            line: None,
+            column: None,
+            message: message.into(),
+        }
+    }
+
+    /// An error about one cell.
+    pub fn cell(path: &Path, line: u64, column: &str, message: impl Into<String>) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            line: Some(line),
+            column: Some(column.to_string()),
+            message: message.into(),
+        }
+    }
+}
+
+/// A CSV table read whole into memory: header plus string records, with the
+/// line number of every record kept for error messages.
+#[derive(Debug, Clone)]
+pub struct Table {
+    /// The file it was read from (for error messages).
+    pub path: PathBuf,
+    /// Column names in file order.
+    pub headers: Vec<String>,
+    /// Records as strings, one per data line.
+    pub rows: Vec<Vec<String>>,
+    /// 1-based line number of each record.
+    pub lines: Vec<u64>,
+    index: HashMap<String, usize>,
+}
+
+impl Table {
+    /// Reads a CSV file with a header line. Empty files and files with a header
+    /// but no data are refused with a message saying so.
+    pub fn read(path: &Path) -> Result<Self, InputError> {
+        let bytes = fs::read(path)
+            .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
+        Self::parse(path, &bytes)
+    }
+
+    /// Parses CSV bytes as if read from `path`.
+    pub fn parse(path: &Path, bytes: &[u8]) -> Result<Self, InputError> {
+        if bytes.iter().all(|b| b.is_ascii_whitespace()) {
+            return Err(InputError::file(
+                path,
+                "the file is empty: expected a header line and at least one data line",
+            ));
+        }
+        let mut rdr = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .comment(Some(b'#'))
+            .from_reader(bytes);
+        let headers: Vec<String> = rdr
+            .headers()
+            .map_err(|e| InputError::file(path, format!("cannot read the header line: {e}")))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut index = HashMap::new();
+        for (i, h) in headers.iter().enumerate() {
+            if index.insert(h.clone(), i).is_some() {
+                return Err(InputError::cell(
+                    path,
+                    1,
+                    h,
+                    "this column name appears twice in the header: rename or drop one",
+                ));
+            }
+        }
+        let mut rows = Vec::new();
+        let mut lines = Vec::new();
+        for rec in rdr.records() {
+            let rec = rec.map_err(|e| {
+                let line = e.position().map(|p| p.line());
+                InputError {
+                    path: path.to_path_buf(),
+                    line,
+                    column: None,
+                    message: format!("malformed CSV record: {e}"),
+                }
+            })?;
+            let line = rec.position().map(|p| p.line()).unwrap_or(0);
+            if rec.iter().all(str::is_empty) {
+                continue;
+            }
+            rows.push(rec.iter().map(str::to_string).collect());
+            lines.push(line);
+        }
+        if rows.is_empty() {
+            return Err(InputError::file(
+                path,
+                "the file has a header but no data lines: add at least one row",
+            ));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            headers,
+            rows,
+            lines,
+            index,
+        })
+    }
+
+    /// Number of data rows.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// True when there are no data rows (never, after a successful read).
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Index of a column, if present.
+    pub fn column_index(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
+    /// Index of a required column, or an error naming the columns found.
+    pub fn require(&self, name: &str) -> Result<usize, InputError> {
+        self.column_index(name).ok_or_else(|| {
+            InputError::cell(
+                &self.path,
+                1,
+                name,
+                format!(
+                    "missing column `{name}` (found: {}); add it to the header",
+                    self.headers.join(", ")
+                ),
+            )
+        })
+    }
+
+    /// The raw string of a cell.
+    pub fn cell(&self, row: usize, col: usize) -> &str {
+        self.rows[row].get(col).map(String::as_str).unwrap_or("")
+    }
+
+    /// A finite number from a cell, or an error naming the line and value.
+    pub fn number(&self, row: usize, col: usize) -> Result<f64, InputError> {
+        let raw = self.cell(row, col);
+        let name = &self.headers[col];
+        let v: f64 = raw.parse().map_err(|_| {
+            InputError::cell(
+                &self.path,
+                self.lines[row],
+                name,
+                format!("`{raw}` is not a number; write a decimal number such as 1500 or 2.5e-3"),
+            )
+        })?;
+        if !v.is_finite() {
+            return Err(InputError::cell(
+                &self.path,
+                self.lines[row],
+                name,
+                format!("`{raw}` is not a finite number; replace it with a measured value or drop the row"),
+            ));
+        }
+        Ok(v)
+    }
+
+    /// A whole required numeric column.
+    pub fn numbers(&self, name: &str) -> Result<Vec<f64>, InputError> {
+        let c = self.require(name)?;
+        (0..self.len()).map(|r| self.number(r, c)).collect()
+    }
+
+    /// A whole optional numeric column: `None` when absent; empty cells are
+    /// `None` too.
+    pub fn optional_numbers(&self, name: &str) -> Result<Option<Vec<Option<f64>>>, InputError> {
+        let Some(c) = self.column_index(name) else {
+            return Ok(None);
+        };
+        let mut out = Vec::with_capacity(self.len());
+        for r in 0..self.len() {
+            if self.cell(r, c).is_empty() {
+                out.push(None);
+            } else {
+                out.push(Some(self.number(r, c)?));
+            }
+        }
+        Ok(Some(out))
+    }
+
+    /// An error located at a data row and column.
+    pub fn error_at(&self, row: usize, column: &str, message: impl Into<String>) -> InputError {
+        InputError::cell(&self.path, self.lines[row], column, message)
+    }
+}
+
+/// Formats a float for CSV output: shortest round-trip representation, empty
+/// for `None`. NaN and infinities are never written (they become empty cells).
+pub fn fmt_num(v: Option<f64>) -> String {
+    match v {
+        Some(x) if x.is_finite() => format!("{x}"),
+        _ => String::new(),
+    }
+}
+
+/// Writes a file whole or not at all: the bytes go to a temporary file in the
+/// same folder, which is then renamed over the target. Parent folders are
+/// created.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    fs::create_dir_all(&dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".into());
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    {
+        let mut f = fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    fs::rename(&tmp, path).inspect_err(|_| {
+        let _ = fs::remove_file(&tmp);
+    })
+}
+
+/// Builds a CSV document in memory (so that it can be written atomically).
+pub struct CsvOut {
+    wtr: csv::Writer<Vec<u8>>,
+}
+
+impl CsvOut {
+    /// Starts a document with the given header.
+    pub fn new<S: AsRef<str>>(header: &[S]) -> Self {
+        let mut wtr = csv::Writer::from_writer(Vec::new());
+        wtr.write_record(header.iter().map(|s| s.as_ref()))
+            .expect("writing to memory cannot fail");
+        Self { wtr }
+    }
+
+    /// Appends a record.
+    pub fn row<S: AsRef<str>>(&mut self, fields: &[S]) {
+        self.wtr
+            .write_record(fields.iter().map(|s| s.as_ref()))
+            .expect("writing to memory cannot fail");
+    }
+
+    /// The finished bytes.
+    pub fn into_bytes(self) -> Vec<u8> {
+        self.wtr.into_inner().expect("writing to memory cannot fail")
+    }
+
+    /// Writes the document atomically to `path`.
+    pub fn write(self, path: &Path) -> std::io::Result<()> {
+        write_atomic(path, &self.into_bytes())
+    }
+}
+
+/// Reads and parses a TOML file into `T`, with the file named in the error.
+pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
+    let text = fs::read_to_string(path)
+        .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
+    toml::from_str(&text).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| text[..s.start.min(text.len())].lines().count().max(1) as u64);
+        InputError {
+            path: path.to_path_buf(),
+            line,
+            column: None,
+            message: format!("invalid TOML: {}", e.message()),
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_column_names_file_and_found_columns() {
+        let t = Table::parse(Path::new("h.csv"), b"a,b\n1,2\n").unwrap();
+        let e = t.require("pressure_pa").unwrap_err().to_string();
+        assert!(e.contains("h.csv"), "{e}");
+        assert!(e.contains("pressure_pa"), "{e}");
+        assert!(e.contains("found: a, b"), "{e}");
+    }
+
+    #[test]
+    fn bad_number_names_line_and_value() {
+        let t = Table::parse(Path::new("h.csv"), b"a\n1\nabc\n").unwrap();
+        let e = t.numbers("a").unwrap_err().to_string();
+        assert!(e.contains("line 3"), "{e}");
+        assert!(e.contains("`abc`"), "{e}");
+        let t = Table::parse(Path::new("h.csv"), b"a\nNaN\n").unwrap();
+        assert!(t.numbers("a").unwrap_err().to_string().contains("line 2"));
+    }
+
+    #[test]
+    fn empty_and_header_only_files_are_refused() {
+        assert!(Table::parse(Path::new("e.csv"), b"").is_err());
+        assert!(Table::parse(Path::new("e.csv"), b"a,b\n").is_err());
+    }
+
+    #[test]
+    fn atomic_write_replaces_whole_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("sub/out.csv");
+        write_atomic(&p, b"one").unwrap();
+        write_atomic(&p, b"two").unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"two");
+        assert_eq!(fs::read_dir(p.parent().unwrap()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn fmt_num_never_writes_nan() {
+        assert_eq!(fmt_num(Some(f64::NAN)), "");
+        assert_eq!(fmt_num(None), "");
+        assert_eq!(fmt_num(Some(0.5)), "0.5");
+    }
+}

@@ -1,0 +1,437 @@
+//! Materials: what `bulge fit` writes to `material.toml` and what the
+//! simulators read.
+//!
+//! ```toml
+//! model = "mooney-rivlin"   # linear | quartic | neo-hookean | mooney-rivlin | yeoh | ogden | gent
+//! poisson = 0.45            # used by the mass-spring models (plane stress)
+//! c1_pa = 180000.0
+//! c2_pa = 18000.0
+//! ```
+//!
+//! The hyperelastic models are incompressible. Their strain energy per unit
+//! reference volume is written as a function of the two in-plane principal
+//! stretches, the third eliminated with `l3 = 1 / (l1 l2)`:
+//!
+//! * neo-Hookean: `W = C1 (I1 - 3)`
+//! * Mooney-Rivlin: `W = C1 (I1 - 3) + C2 (I2 - 3)`
+//! * Yeoh: `W = C1 (I1 - 3) + C2 (I1 - 3)^2 + C3 (I1 - 3)^3`
+//! * Ogden (Ogden 1972 convention): `W = sum_i mu_i / alpha_i (l1^alpha_i + l2^alpha_i + l3^alpha_i - 3)`
+//! * Gent: `W = -(mu Jm / 2) ln(1 - (I1 - 3) / Jm)`
+//!
+//! with `I1 = l1^2 + l2^2 + l3^2` and `I2 = l1^-2 + l2^-2 + l3^-2`. For a
+//! membrane in plane stress the principal Cauchy stresses are
+//! `sigma_i = l_i dW/dl_i` and the nominal (first Piola) stresses
+//! `P_i = dW/dl_i`. [`Hyperelastic::derivatives`] returns `W`, its gradient and
+//! its Hessian in `(l1, l2)`, computed exactly with second-order dual numbers
+//! (no finite differences), for the fits and the axisymmetric shooting.
+
+use serde::{Deserialize, Serialize};
+
+/// A material file: the model with its parameters, the Poisson ratio, and the
+/// statistics of the fit that produced it (if any).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    /// The constitutive model and its parameters.
+    #[serde(flatten)]
+    pub model: Model,
+    /// Poisson ratio used by the plane-stress (mass-spring) models, [0, 0.5).
+    pub poisson: f64,
+    /// Statistics of the fit that produced this material (free-form table).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<toml::Table>,
+}
+
+/// Which strain the quartic modulus law is a function of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum StrainMeasure {
+    /// `lambda - 1`.
+    #[default]
+    Engineering,
+    /// `ln lambda`.
+    Log,
+}
+
+impl StrainMeasure {
+    /// The strain of a stretch.
+    pub fn of_stretch(self, lambda: f64) -> f64 {
+        match self {
+            StrainMeasure::Engineering => lambda - 1.0,
+            StrainMeasure::Log => lambda.ln(),
+        }
+    }
+}
+
+/// Constitutive models with their parameters (SI units, Pa).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "kebab-case")]
+pub enum Model {
+    /// Linear elastic, Young's modulus in Pa.
+    Linear {
+        /// Young's modulus, Pa.
+        young_pa: f64,
+    },
+    /// Paper 000's secant modulus law `E(eps) = sum_k c_k eps^k`.
+    Quartic {
+        /// `c_0 .. c_n`, Pa.
+        coefficients_pa: Vec<f64>,
+        /// Strain range the law was fitted over, `[min, max]`.
+        strain_range: [f64; 2],
+        /// The strain the law takes (default engineering).
+        #[serde(default)]
+        strain_measure: StrainMeasure,
+    },
+    /// `W = C1 (I1 - 3)`; shear modulus `mu = 2 C1`.
+    NeoHookean {
+        /// C1, Pa.
+        c1_pa: f64,
+    },
+    /// `W = C1 (I1 - 3) + C2 (I2 - 3)`.
+    MooneyRivlin {
+        /// C1, Pa.
+        c1_pa: f64,
+        /// C2, Pa.
+        c2_pa: f64,
+    },
+    /// `W = C1 (I1 - 3) + C2 (I1 - 3)^2 + C3 (I1 - 3)^3`.
+    Yeoh {
+        /// C1, Pa.
+        c1_pa: f64,
+        /// C2, Pa.
+        c2_pa: f64,
+        /// C3, Pa.
+        c3_pa: f64,
+    },
+    /// `W = sum mu_i / alpha_i (l1^alpha_i + l2^alpha_i + l3^alpha_i - 3)`.
+    Ogden {
+        /// mu_i, Pa.
+        mu_pa: Vec<f64>,
+        /// alpha_i, dimensionless.
+        alpha: Vec<f64>,
+    },
+    /// `W = -(mu Jm / 2) ln(1 - (I1 - 3) / Jm)`.
+    Gent {
+        /// Shear modulus mu, Pa.
+        mu_pa: f64,
+        /// Locking parameter Jm (max of I1 - 3).
+        jm: f64,
+    },
+}
+
+impl Model {
+    /// The model's name as written in `material.toml`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Model::Linear { .. } => "linear",
+            Model::Quartic { .. } => "quartic",
+            Model::NeoHookean { .. } => "neo-hookean",
+            Model::MooneyRivlin { .. } => "mooney-rivlin",
+            Model::Yeoh { .. } => "yeoh",
+            Model::Ogden { .. } => "ogden",
+            Model::Gent { .. } => "gent",
+        }
+    }
+
+    /// The hyperelastic energy of this model, if it is one.
+    pub fn hyperelastic(&self) -> Option<Hyperelastic<'_>> {
+        match self {
+            Model::Linear { .. } | Model::Quartic { .. } => None,
+            _ => Some(Hyperelastic(self)),
+        }
+    }
+
+    /// Small-strain Young's modulus (incompressible models: `E = 3 mu`).
+    pub fn initial_young_pa(&self) -> f64 {
+        match self {
+            Model::Linear { young_pa } => *young_pa,
+            Model::Quartic {
+                coefficients_pa, ..
+            } => coefficients_pa.first().copied().unwrap_or(0.0),
+            Model::NeoHookean { c1_pa } => 6.0 * c1_pa,
+            Model::MooneyRivlin { c1_pa, c2_pa } => 6.0 * (c1_pa + c2_pa),
+            Model::Yeoh { c1_pa, .. } => 6.0 * c1_pa,
+            Model::Ogden { mu_pa, alpha } => {
+                1.5 * mu_pa.iter().zip(alpha).map(|(m, a)| m * a).sum::<f64>()
+            }
+            Model::Gent { mu_pa, .. } => 3.0 * mu_pa,
+        }
+    }
+}
+
+/// A hyperelastic model viewed as an energy of the two in-plane stretches.
+#[derive(Debug, Clone, Copy)]
+pub struct Hyperelastic<'a>(&'a Model);
+
+/// `W`, its gradient and Hessian at `(l1, l2)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EnergyDerivatives {
+    /// Strain energy per reference volume, Pa.
+    pub w: f64,
+    /// `dW/dl1`, `dW/dl2`, Pa (the nominal stresses).
+    pub grad: [f64; 2],
+    /// Second derivatives, Pa.
+    pub hess: [[f64; 2]; 2],
+}
+
+impl Hyperelastic<'_> {
+    /// Energy and derivatives at in-plane stretches `(l1, l2)`, both > 0.
+    pub fn derivatives(&self, l1: f64, l2: f64) -> EnergyDerivatives {
+        let w = self.energy(D2::var(l1, 0), D2::var(l2, 1));
+        EnergyDerivatives {
+            w: w.v,
+            grad: w.g,
+            hess: w.h,
+        }
+    }
+
+    /// Strain energy only, Pa.
+    pub fn w(&self, l1: f64, l2: f64) -> f64 {
+        self.energy(D2::cst(l1), D2::cst(l2)).v
+    }
+
+    /// Equibiaxial nominal stress `P = dW/dl1 (l, l)`, Pa.
+    pub fn equibiaxial_nominal(&self, l: f64) -> f64 {
+        self.derivatives(l, l).grad[0]
+    }
+
+    /// Equibiaxial Cauchy stress `sigma = l dW/dl1 (l, l)`, Pa.
+    pub fn equibiaxial_cauchy(&self, l: f64) -> f64 {
+        l * self.equibiaxial_nominal(l)
+    }
+
+    fn energy(&self, l1: D2, l2: D2) -> D2 {
+        let l3 = (l1 * l2).recip();
+        let i1 = || l1 * l1 + l2 * l2 + l3 * l3 - 3.0;
+        match self.0 {
+            Model::NeoHookean { c1_pa } => i1() * *c1_pa,
+            Model::MooneyRivlin { c1_pa, c2_pa } => {
+                let i2 = (l1 * l1).recip() + (l2 * l2).recip() + (l3 * l3).recip() - 3.0;
+                i1() * *c1_pa + i2 * *c2_pa
+            }
+            Model::Yeoh {
+                c1_pa,
+                c2_pa,
+                c3_pa,
+            } => {
+                let j = i1();
+                j * *c1_pa + j * j * *c2_pa + j * j * j * *c3_pa
+            }
+            Model::Ogden { mu_pa, alpha } => {
+                let mut w = D2::cst(0.0);
+                for (m, a) in mu_pa.iter().zip(alpha) {
+                    w = w + (l1.powf(*a) + l2.powf(*a) + l3.powf(*a) - 3.0) * (m / a);
+                }
+                w
+            }
+            Model::Gent { mu_pa, jm } => (D2::cst(1.0) - i1() * (1.0 / jm)).ln() * (-mu_pa * jm / 2.0),
+            Model::Linear { .. } | Model::Quartic { .. } => {
+                unreachable!("Hyperelastic is only built for hyperelastic models")
+            }
+        }
+    }
+}
+
+/// Second-order dual number in two variables: value, gradient and Hessian.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct D2 {
+    v: f64,
+    g: [f64; 2],
+    h: [[f64; 2]; 2],
+}
+
+impl D2 {
+    fn cst(v: f64) -> Self {
+        Self {
+            v,
+            g: [0.0; 2],
+            h: [[0.0; 2]; 2],
+        }
+    }
+    fn var(v: f64, i: usize) -> Self {
+        let mut d = Self::cst(v);
+        d.g[i] = 1.0;
+        d
+    }
+    /// Applies a scalar function with value `f`, slope `f1` and curvature `f2`.
+    fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
+        let mut out = Self::cst(f);
+        for i in 0..2 {
+            out.g[i] = f1 * self.g[i];
+            for j in 0..2 {
+                out.h[i][j] = f2 * self.g[i] * self.g[j] + f1 * self.h[i][j];
+            }
+        }
+        out
+    }
+    fn recip(self) -> Self {
+        let x = self.v;
+        self.chain(1.0 / x, -1.0 / (x * x), 2.0 / (x * x * x))
+    }
+    fn powf(self, p: f64) -> Self {
+        let x = self.v;
+        self.chain(
+            x.powf(p),
+            p * x.powf(p - 1.0),
+            p * (p - 1.0) * x.powf(p - 2.0),
+        )
+    }
+    fn ln(self) -> Self {
+        let x = self.v;
+        self.chain(x.ln(), 1.0 / x, -1.0 / (x * x))
+    }
+}
+
+impl std::ops::Add for D2 {
+    type Output = D2;
+    fn add(self, o: D2) -> D2 {
+        let mut r = self;
+        r.v += o.v;
+        for i in 0..2 {
+            r.g[i] += o.g[i];
+            for j in 0..2 {
+                r.h[i][j] += o.h[i][j];
+            }
+        }
+        r
+    }
+}
+
+impl std::ops::Sub for D2 {
+    type Output = D2;
+    fn sub(self, o: D2) -> D2 {
+        self + o * -1.0
+    }
+}
+
+impl std::ops::Sub<f64> for D2 {
+    type Output = D2;
+    fn sub(mut self, c: f64) -> D2 {
+        self.v -= c;
+        self
+    }
+}
+
+impl std::ops::Mul<f64> for D2 {
+    type Output = D2;
+    fn mul(mut self, c: f64) -> D2 {
+        self.v *= c;
+        for i in 0..2 {
+            self.g[i] *= c;
+            for j in 0..2 {
+                self.h[i][j] *= c;
+            }
+        }
+        self
+    }
+}
+
+impl std::ops::Mul for D2 {
+    type Output = D2;
+    fn mul(self, o: D2) -> D2 {
+        let mut r = D2::cst(self.v * o.v);
+        for i in 0..2 {
+            r.g[i] = self.g[i] * o.v + self.v * o.g[i];
+            for j in 0..2 {
+                r.h[i][j] = self.h[i][j] * o.v
+                    + self.g[i] * o.g[j]
+                    + self.g[j] * o.g[i]
+                    + self.v * o.h[i][j];
+            }
+        }
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn models() -> Vec<Model> {
+        vec![
+            Model::NeoHookean { c1_pa: 2.0e5 },
+            Model::MooneyRivlin {
+                c1_pa: 1.8e5,
+                c2_pa: 2.0e4,
+            },
+            Model::Yeoh {
+                c1_pa: 1.8e5,
+                c2_pa: -2.0e3,
+                c3_pa: 50.0,
+            },
+            Model::Ogden {
+                mu_pa: vec![6.3e5, 1.2e3, -1.0e4],
+                alpha: vec![1.3, 5.0, -2.0],
+            },
+            Model::Gent {
+                mu_pa: 3.5e5,
+                jm: 80.0,
+            },
+        ]
+    }
+
+    /// Gradient and Hessian against central differences of W.
+    #[test]
+    fn derivatives_match_finite_differences() {
+        for m in models() {
+            let h = m.hyperelastic().unwrap();
+            for &(l1, l2) in &[(1.0, 1.0), (1.3, 1.1), (2.2, 1.7), (0.9, 1.4)] {
+                let d = h.derivatives(l1, l2);
+                let e = 1e-5;
+                let g1 = (h.w(l1 + e, l2) - h.w(l1 - e, l2)) / (2.0 * e);
+                let g2 = (h.w(l1, l2 + e) - h.w(l1, l2 - e)) / (2.0 * e);
+                let scale = d.grad[0].abs().max(d.grad[1].abs()).max(1e3);
+                assert!((d.grad[0] - g1).abs() < 1e-6 * scale, "{m:?} {l1} {l2}");
+                assert!((d.grad[1] - g2).abs() < 1e-6 * scale, "{m:?} {l1} {l2}");
+                let gd = |a: f64, b: f64| h.derivatives(a, b).grad;
+                let h11 = (gd(l1 + e, l2)[0] - gd(l1 - e, l2)[0]) / (2.0 * e);
+                let h12 = (gd(l1, l2 + e)[0] - gd(l1, l2 - e)[0]) / (2.0 * e);
+                let h22 = (gd(l1, l2 + e)[1] - gd(l1, l2 - e)[1]) / (2.0 * e);
+                let hs = d.hess[0][0].abs().max(d.hess[1][1].abs()).max(1e3);
+                assert!((d.hess[0][0] - h11).abs() < 1e-5 * hs, "{m:?}");
+                assert!((d.hess[0][1] - h12).abs() < 1e-5 * hs, "{m:?}");
+                assert!((d.hess[1][0] - h12).abs() < 1e-5 * hs, "{m:?}");
+                assert!((d.hess[1][1] - h22).abs() < 1e-5 * hs, "{m:?}");
+            }
+        }
+    }
+
+    /// Closed form: neo-Hookean equibiaxial nominal stress 2 C1 (l - l^-5).
+    #[test]
+    fn neo_hookean_equibiaxial_closed_form() {
+        let m = Model::NeoHookean { c1_pa: 1.0e5 };
+        let h = m.hyperelastic().unwrap();
+        for l in [1.0, 1.2, 2.0, 3.5] {
+            let want = 2.0e5 * (l - l.powi(-5));
+            assert!((h.equibiaxial_nominal(l) - want).abs() < 1e-9 * want.abs().max(1.0));
+        }
+    }
+
+    /// Every model's small-strain Young's modulus equals the slope of its
+    /// equibiaxial stress: d sigma / d eps = E / (1 - nu) = 2 E at nu = 1/2.
+    #[test]
+    fn initial_modulus_matches_equibiaxial_slope() {
+        for m in models() {
+            let h = m.hyperelastic().unwrap();
+            let e = 1e-6;
+            let slope = (h.equibiaxial_cauchy(1.0 + e) - h.equibiaxial_cauchy(1.0 - e)) / (2.0 * e);
+            let want = 2.0 * m.initial_young_pa();
+            assert!((slope - want).abs() < 1e-5 * want, "{m:?}: {slope} vs {want}");
+        }
+    }
+
+    #[test]
+    fn toml_round_trip() {
+        let text = "model = \"ogden\"\npoisson = 0.45\nmu_pa = [630000.0, 1200.0, -10000.0]\nalpha = [1.3, 5.0, -2.0]\n";
+        let m: Material = toml::from_str(text).unwrap();
+        assert_eq!(m.model.name(), "ogden");
+        let back: Material = toml::from_str(&toml::to_string(&m).unwrap()).unwrap();
+        assert_eq!(back, m);
+        let q: Material = toml::from_str(
+            "model = \"quartic\"\npoisson = 0.45\ncoefficients_pa = [1e6, 0, 0, 0, 0]\nstrain_range = [0, 0.5]\n",
+        )
+        .unwrap();
+        assert!(matches!(q.model, Model::Quartic { strain_measure: StrainMeasure::Engineering, .. }));
+        let l: Material = toml::from_str("model = \"linear\"\npoisson = 0.3\nyoung_pa = 1000000\n").unwrap();
+        assert_eq!(l.model.initial_young_pa(), 1.0e6);
+    }
+}

@@ -1,0 +1,1 @@
+//! Heights -> stress and strain (paper 000, eqs 18-25).

@@ -1,0 +1,1 @@
+//! Material -> membrane: meshes, spring models, loads and solvers.

@@ -1,0 +1,1 @@
+//! Photos -> apex heights (the only module that uses OpenCV).

@@ -1,0 +1,3 @@
+//! Integration tests of `bulge fit`.
+#![allow(unused_imports)]
+use crate::util;

@@ -1,0 +1,10 @@
+//! One integration-test binary that drives the real `bulge` executable in
+//! temporary folders; one module per subcommand.
+
+mod util;
+
+mod fit;
+mod run;
+mod simulate;
+mod stress;
+mod track;

@@ -1,0 +1,3 @@
+//! Integration tests of `bulge run`.
+#![allow(unused_imports)]
+use crate::util;

@@ -1,0 +1,3 @@
+//! Integration tests of `bulge simulate`.
+#![allow(unused_imports)]
+use crate::util;

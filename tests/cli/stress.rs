@@ -1,0 +1,3 @@
+//! Integration tests of `bulge stress`.
+#![allow(unused_imports)]
+use crate::util;

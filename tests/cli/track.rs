@@ -1,0 +1,3 @@
+//! Integration tests of `bulge track`.
+#![allow(unused_imports)]
+use crate::util;
