@@ -110,8 +110,6 @@ pub fn brent_zero<E>(
 pub struct Min {
     /// The abscissa.
     pub x: f64,
-    /// The function value there.
-    pub fx: f64,
     /// Function evaluations.
     pub evals: usize,
 }
@@ -202,7 +200,7 @@ pub fn brent_min<E>(
             }
         }
     }
-    Ok(Min { x, fx, evals })
+    Ok(Min { x, evals })
 }
 
 #[cfg(test)]

@@ -75,6 +75,7 @@ pub struct Point {
     pub x: f64,
     pub l1: f64,
     pub l2: f64,
+    pub psi: f64,
     pub d: f64,
 }
 
@@ -191,6 +192,7 @@ impl Membrane<'_> {
                     x,
                     l1: 1.0 + y[0],
                     l2: 1.0 + y[1],
+                    psi: y[2],
                     d: y[3],
                 });
             }
