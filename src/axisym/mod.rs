@@ -219,6 +219,35 @@ pub enum AxisymError {
         /// The pressure at that end, Pa.
         reached_pa: f64,
     },
+    /// The material law has no stable membrane state at this pole stretch
+    /// (no meridional tension or stiffness, a quartic modulus `E <= 0`, a
+    /// Gent locking stretch).
+    #[error("no membrane equilibrium at pole stretch {pole_stretch}: {reason}")]
+    OutsideMaterial {
+        /// The pole stretch asked for or reached.
+        pole_stretch: f64,
+        /// What the law does there.
+        reason: String,
+    },
+    /// The rising branch ends at the edge of the material's domain before
+    /// reaching the pressure (a material instability acts as a limit point).
+    #[error(
+        "pressure {pressure_pa} Pa is not reached on the rising branch: the membrane leaves the \
+         material's domain after pole stretch {last_pole_stretch:.6} (pressure {last_pressure_pa:.6e} \
+         Pa, apex height {last_height_m:.6e} m); {reason}"
+    )]
+    MaterialLimit {
+        /// The pressure asked for, Pa.
+        pressure_pa: f64,
+        /// The highest pressure found, Pa.
+        last_pressure_pa: f64,
+        /// Its pole stretch.
+        last_pole_stretch: f64,
+        /// Its apex height, m.
+        last_height_m: f64,
+        /// Why the next pole stretch fails.
+        reason: String,
+    },
     /// The shooting found no solution or did not converge.
     #[error("axisymmetric shooting failed: {0}")]
     NoConvergence(String),
@@ -239,6 +268,8 @@ struct Ctx<'a> {
 struct Sample {
     l0: f64,
     pi: f64,
+    /// Apex height over the radius.
+    h: f64,
 }
 
 enum WalkEnd {
@@ -249,6 +280,9 @@ enum WalkEnd {
     Limit { lo: f64, hi: f64, best: Sample },
     /// The range ended with the pressure still rising.
     Exhausted(Sample),
+    /// The material's domain ended (last good sample, reason) with the
+    /// pressure still rising.
+    Edge(Sample, String),
 }
 
 impl<'a> Ctx<'a> {
@@ -296,6 +330,7 @@ impl<'a> Ctx<'a> {
         tol: f64,
         rtol: f64,
     ) -> Result<(f64, Shot), AxisymError> {
+        self.pole_ok(l0)?;
         let mut last: Vec<(f64, Shot)> = Vec::new();
         let mut g = |pi: f64| -> Result<f64, AxisymError> {
             let s = self.shoot(l0, pi, rtol)?;
@@ -317,7 +352,7 @@ impl<'a> Ctx<'a> {
                 n += 1;
                 if n > 60 {
                     return Err(AxisymError::NoConvergence(format!(
-                        "no pressure closes the bubble at pole stretch {l0} (tried up to {} Pa)",
+                        "no pressure closes the bubble at pole stretch {l0} (tried up to {:e} Pa)",
                         hi.0 * self.t / self.a
                     )));
                 }
@@ -331,12 +366,15 @@ impl<'a> Ctx<'a> {
                 f = (f * f).min(4.0);
                 lo = (lo.0 / f, g(lo.0 / f)?);
                 n += 1;
-                if n > 60 {
-                    return Err(AxisymError::NoConvergence(format!(
-                        "no pressure reaches the clamp at pole stretch {l0} (tried down to {} Pa): \
-                         the material has no tension there",
-                        lo.0 * self.t / self.a
-                    )));
+                if n > 30 {
+                    return Err(AxisymError::OutsideMaterial {
+                        pole_stretch: l0,
+                        reason: format!(
+                            "no pressure down to {:e} Pa lets the meridian reach the clamp (no \
+                             meridional tension or stiffness on the way)",
+                            lo.0 * self.t / self.a
+                        ),
+                    });
                 }
             }
         }
@@ -365,16 +403,17 @@ impl<'a> Ctx<'a> {
         let top = self.opts.max_pole_stretch - 1.0;
         let sample = |d: f64, guess: Option<f64>| -> Result<Sample, AxisymError> {
             let l0 = 1.0 + d;
+            self.pole_ok(l0)?;
             let guess = match guess {
                 Some(g) => g,
-                None => self.mem.cap_estimate(l0).ok_or_else(|| {
-                    AxisymError::NoConvergence(format!(
-                        "the material has no tension at pole stretch {l0}"
-                    ))
-                })?,
+                None => self.mem.cap_estimate(l0).ok_or_else(|| self.outside(l0))?,
             };
-            let (pi, _) = self.pressure_at(l0, guess, tol, rtol)?;
-            Ok(Sample { l0, pi })
+            let (pi, shot) = self.pressure_at(l0, guess, tol, rtol)?;
+            Ok(Sample {
+                l0,
+                pi,
+                h: shot.height(),
+            })
         };
         // First pole strain: Hencky's small-deflection pole strain (NOTES 3)
         // `e0 = s0 (E p^2 a^2 / t^2)^(1/3) / M`, M the biaxial modulus, a
@@ -385,7 +424,17 @@ impl<'a> Ctx<'a> {
             None => 0.02,
         }
         .clamp(1e-9, 0.5 * top);
-        let mut cur = sample(d, None)?;
+        let mut cur = loop {
+            match sample(d, None) {
+                Ok(s) => break s,
+                Err(AxisymError::OutsideMaterial { .. } | AxisymError::NoConvergence(_))
+                    if d > 1e-6 =>
+                {
+                    d /= 4.0
+                }
+                Err(e) => return Err(e),
+            }
+        };
         if let Some(t) = target
             && cur.pi >= t
         {
@@ -395,7 +444,7 @@ impl<'a> Ctx<'a> {
                 d /= 3.0;
                 if d < 1e-12 {
                     return Err(AxisymError::NoConvergence(format!(
-                        "pressure {} Pa is below what the solver resolves",
+                        "pressure {:e} Pa is below what the solver resolves",
                         t * self.t / self.a
                     )));
                 }
@@ -408,17 +457,41 @@ impl<'a> Ctx<'a> {
         }
         let mut prev: Option<Sample> = None;
         let mut n = 1.5; // local exponent of pi ~ d^n
+        // Largest increment allowed after a failed sample (edge of the
+        // material's domain ahead).
+        let mut cap = f64::INFINITY;
         loop {
             let dc = cur.l0 - 1.0;
             let ratio = match target {
                 Some(t) if n > 0.1 => (1.05 * (t / cur.pi).powf(1.0 / n)).clamp(1.1, 2.5),
                 _ => 1.6,
             };
-            let dn = (dc * ratio).min(dc + self.opts.max_walk_step).min(top);
+            let mut dn = (dc * ratio)
+                .min(dc + self.opts.max_walk_step)
+                .min(dc + cap)
+                .min(top);
             if dn <= dc * (1.0 + 1e-12) {
                 return Ok(WalkEnd::Exhausted(cur));
             }
-            let s = sample(dn, Some(cur.pi * (dn / dc).powf(n)))?;
+            let s = loop {
+                match sample(dn, Some(cur.pi * (dn / dc).powf(n))) {
+                    Ok(s) => break s,
+                    Err(
+                        e @ (AxisymError::OutsideMaterial { .. } | AxisymError::NoConvergence(_)),
+                    ) => {
+                        let step = 0.5 * (dn - dc);
+                        cap = step;
+                        if step < 1e-9 * (1.0 + dc) {
+                            return Ok(WalkEnd::Edge(cur, e.to_string()));
+                        }
+                        dn = dc + step;
+                    }
+                    Err(e) => return Err(e),
+                }
+            };
+            if cap.is_finite() {
+                cap *= 2.0;
+            }
             if s.pi < cur.pi {
                 let lo = prev.map(|p| p.l0).unwrap_or(1.0 + 0.5 * dc);
                 return Ok(WalkEnd::Limit {
@@ -438,16 +511,60 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// Checks that the law has meridional tension and stiffness at the
+    /// equibiaxial pole state.
+    fn pole_ok(&self, l0: f64) -> Result<(), AxisymError> {
+        match self.mem.law.stress(l0, l0) {
+            Some(st) if st.p[0] > 0.0 && st.dp[0][0] > 0.0 => Ok(()),
+            _ => Err(self.outside(l0)),
+        }
+    }
+
+    /// The error for a pole stretch outside the law's domain, naming the
+    /// strain where a quartic modulus fails.
+    fn outside(&self, l0: f64) -> AxisymError {
+        let law = &self.mem.law;
+        let reason = match (law.stress(l0, l0), law.quartic_modulus(l0, l0)) {
+            (_, Some((eps, young))) if young <= 0.0 => format!(
+                "the quartic modulus E(eps) = {young:.4e} Pa is not positive at the pole strain \
+                 eps = {eps:.4} (outside the fitted strain range?)"
+            ),
+            (Some(st), q) => {
+                let extra = q
+                    .map(|(eps, young)| {
+                        format!(" (quartic E = {young:.4e} Pa at the pole strain eps = {eps:.4})")
+                    })
+                    .unwrap_or_default();
+                format!(
+                    "the equibiaxial nominal stress is {:.4e} Pa and its slope dP1/dl1 = {:.4e} Pa; \
+                     both must be positive for a stable membrane{extra}",
+                    st.p[0], st.dp[0][0]
+                )
+            }
+            (None, _) => "the material law is undefined there (e.g. beyond a Gent locking \
+                          stretch)"
+                .to_string(),
+        };
+        AxisymError::OutsideMaterial {
+            pole_stretch: l0,
+            reason,
+        }
+    }
+
     /// The pressure maximum inside `[lo, hi]`.
     fn refine_max(&self, lo: f64, hi: f64, best: Sample) -> Result<(Sample, Shot), AxisymError> {
         let mut guess = best.pi;
         let mut evals: Vec<(f64, f64, Shot)> = Vec::new();
         let m = roots::brent_min(
-            |l0| {
-                let (pi, s) = self.pressure_at(l0, guess, self.opts.tol, self.opts.rel_tol)?;
-                guess = pi;
-                evals.push((l0, pi, s));
-                Ok::<_, AxisymError>(-pi)
+            |l0| match self.pressure_at(l0, guess, self.opts.tol, self.opts.rel_tol) {
+                Ok((pi, s)) => {
+                    guess = pi;
+                    evals.push((l0, pi, s));
+                    Ok(-pi)
+                }
+                // Outside the material's domain: worse than any equilibrium.
+                Err(AxisymError::OutsideMaterial { .. }) => Ok(0.0),
+                Err(e) => Err(e),
             },
             lo,
             hi,
@@ -455,11 +572,20 @@ impl<'a> Ctx<'a> {
             1e-9,
             self.opts.max_iterations,
         )?;
-        let (l0, pi, shot) = *evals
+        let (l0, pi, shot) = evals
             .iter()
             .find(|(x, _, _)| *x == m.x)
-            .expect("the minimiser returns an evaluated point");
-        Ok((Sample { l0, pi }, shot))
+            .copied()
+            .or_else(|| evals.iter().copied().max_by(|a, b| a.1.total_cmp(&b.1)))
+            .ok_or_else(|| self.outside(m.x))?;
+        Ok((
+            Sample {
+                l0,
+                pi,
+                h: shot.height(),
+            },
+            shot,
+        ))
     }
 
     /// The pole stretch in `[lo, hi]` at which pressure `pi` holds the clamp,
@@ -584,20 +710,6 @@ impl<'a> Ctx<'a> {
             },
         }
     }
-
-    /// Names the strain at which a quartic modulus became non-positive, for
-    /// a failed solve.
-    fn explain(&self, e: AxisymError, l0: f64) -> AxisymError {
-        match (&e, self.mem.law.quartic_modulus(l0, l0)) {
-            (AxisymError::NoConvergence(msg), Some((eps, young))) if young <= 0.0 => {
-                AxisymError::NoConvergence(format!(
-                    "{msg}; the quartic modulus E(eps) = {young:.4e} Pa is not positive at the pole \
-                     strain eps = {eps:.4} (outside the fitted range?)"
-                ))
-            }
-            _ => e,
-        }
-    }
 }
 
 /// The equilibrium with pole stretch `pole_stretch` (>= 1): shoots on the
@@ -616,15 +728,9 @@ pub fn solve_pole_stretch(
     if l0 == 1.0 {
         return Ok(ctx.flat());
     }
-    let guess = ctx.mem.cap_estimate(l0).ok_or_else(|| {
-        ctx.explain(
-            AxisymError::NoConvergence(format!("the material has no tension at pole stretch {l0}")),
-            l0,
-        )
-    })?;
-    let (pi, _) = ctx
-        .pressure_at(l0, guess, opts.tol, opts.rel_tol)
-        .map_err(|e| ctx.explain(e, l0))?;
+    ctx.pole_ok(l0)?;
+    let guess = ctx.mem.cap_estimate(l0).ok_or_else(|| ctx.outside(l0))?;
+    let (pi, _) = ctx.pressure_at(l0, guess, opts.tol, opts.rel_tol)?;
     ctx.finish(l0, pi)
 }
 
@@ -668,6 +774,15 @@ pub fn solve_pressure(
                 reached_pa: last.pi * ctx.t / ctx.a,
             });
         }
+        WalkEnd::Edge(last, reason) => {
+            return Err(AxisymError::MaterialLimit {
+                pressure_pa,
+                last_pressure_pa: last.pi * ctx.t / ctx.a,
+                last_pole_stretch: last.l0,
+                last_height_m: last.h * ctx.a,
+                reason,
+            });
+        }
     };
     ctx.finish(l0, pi)
 }
@@ -686,7 +801,7 @@ pub fn limit_point(
             let (top, _) = ctx.refine_max(lo, hi, best)?;
             ctx.finish(top.l0, top.pi).map(Some)
         }
-        WalkEnd::Exhausted(_) => Ok(None),
+        WalkEnd::Exhausted(_) | WalkEnd::Edge(..) => Ok(None),
         WalkEnd::Bracket(..) => unreachable!("the walk brackets only a target pressure"),
     }
 }

@@ -275,6 +275,48 @@ fn quartic_materials_solve() {
     assert!(limit_point(&stiff, &specimen(), &opts).unwrap().is_none());
 }
 
+/// A quartic whose modulus falls to zero: the pressure peaks before the
+/// pole reaches the strain where `E * eps` peaks; above it a typed limit-point
+/// error; a pole stretch where `E(eps) <= 0` names the strain.
+#[test]
+fn softening_quartic_has_a_limit_point() {
+    let o = Options::default();
+    let m = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.0e6, -3.0e6],
+            strain_range: [0.0, 0.2],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    let lp = limit_point(&m, &specimen(), &o)
+        .unwrap()
+        .expect("a maximum");
+    // E eps peaks at eps = 1/6 (equibiaxial stress maximum); the membrane's
+    // pressure maximum comes first.
+    assert!(
+        lp.pole_stretch > 1.1 && lp.pole_stretch < 1.0 + 1.0 / 6.0 + 0.05,
+        "{}",
+        lp.pole_stretch
+    );
+    match solve_pressure(&m, &specimen(), 1.05 * lp.pressure_pa, &o) {
+        Err(AxisymError::AboveLimitPoint {
+            limit_pressure_pa, ..
+        }) => {
+            assert!(rel(limit_pressure_pa, lp.pressure_pa) < 1e-8)
+        }
+        other => panic!("{other:?}"),
+    }
+    let ok = solve_pressure(&m, &specimen(), 0.9 * lp.pressure_pa, &o).unwrap();
+    assert!(ok.pole_stretch < lp.pole_stretch);
+    match solve_pole_stretch(&m, &specimen(), 1.4, &o) {
+        Err(e @ AxisymError::OutsideMaterial { .. }) => {
+            assert!(e.to_string().contains("eps = 0.4000"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
 /// Vertical equilibrium of the cap cut at radius r, a first integral that
 /// the ODE does not use: `2 t P1 sin psi = p r l2^2`, and the geometry of the
 /// profile: rho = r l2, z(a) = 0, z(0) = h, l2(a) = 1, arc length of the
@@ -476,6 +518,95 @@ fn print_check_table() {
                 s.iterations,
                 s.residual
             );
+        }
+    }
+}
+
+/// Hard cases, printed for docs/axisym.md (run with `--ignored --nocapture`).
+#[test]
+#[ignore]
+fn print_hard_cases() {
+    let o = Options::default();
+    for big_p in [1e-9, 1e-6, 1e-3] {
+        let r = solve_pressure(&neo(), &specimen(), big_p * C1 * T / A, &o);
+        match r {
+            Ok(s) => println!(
+                "tiny P {big_p:e}: l0-1 {:.6e} h/a {:.6e} shots {} (Hencky h/a {:.6e})",
+                s.pole_stretch - 1.0,
+                s.height_m / A,
+                s.iterations,
+                0.59488 * (big_p / 6.0f64).cbrt()
+            ),
+            Err(e) => println!("tiny P {big_p:e}: {e}"),
+        }
+    }
+    for f in [0.9, 0.999, 0.99999, 1.0 + 1e-6] {
+        let r = solve_pressure(&neo(), &specimen(), f * 3.758347 * C1 * T / A, &o);
+        match r {
+            Ok(s) => println!(
+                "near max {f}: l0 {:.6} shots {}",
+                s.pole_stretch, s.iterations
+            ),
+            Err(e) => println!("near max {f}: {e}"),
+        }
+    }
+    for l0 in [2.5, 3.0, 3.5, 4.0, 5.0] {
+        match solve_pole_stretch(&neo(), &specimen(), l0, &o) {
+            Ok(s) => {
+                let (p, h) = dimless(&s);
+                println!(
+                    "falling branch l0 {l0}: P {p:.6} h/a {h:.6} shots {}",
+                    s.iterations
+                )
+            }
+            Err(e) => println!("falling branch l0 {l0}: {e}"),
+        }
+    }
+    let bad = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.0e6, -3.0e6],
+            strain_range: [0.0, 0.2],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    for p in [2000.0, 20000.0] {
+        match solve_pressure(&bad, &specimen(), p, &o) {
+            Ok(s) => println!(
+                "softening quartic {p}: l0 {:.5} h {:.5}",
+                s.pole_stretch, s.height_m
+            ),
+            Err(e) => println!("softening quartic {p}: {e}"),
+        }
+    }
+    match solve_pole_stretch(&bad, &specimen(), 1.4, &o) {
+        Ok(s) => println!("softening quartic l0 1.4: p {:.5}", s.pressure_pa),
+        Err(e) => println!("softening quartic l0 1.4: {e}"),
+    }
+    let gent = mat(
+        Model::Gent {
+            mu_pa: 2.0e5,
+            jm: 20.0,
+        },
+        0.5,
+    );
+    match limit_point(&gent, &specimen(), &o) {
+        Ok(Some(s)) => println!(
+            "gent Jm 20 limit: p {:.3} l0 {:.4} shots {}",
+            s.pressure_pa, s.pole_stretch, s.iterations
+        ),
+        Ok(None) => println!("gent Jm 20: no limit up to 4"),
+        Err(e) => println!("gent: {e}"),
+    }
+    for p in [10_000.0, 100_000.0] {
+        match solve_pressure(&gent, &specimen(), p, &o) {
+            Ok(s) => println!(
+                "gent p {p}: l0 {:.5} h/a {:.5} shots {}",
+                s.pole_stretch,
+                s.height_m / A,
+                s.iterations
+            ),
+            Err(e) => println!("gent p {p}: {e}"),
         }
     }
 }
