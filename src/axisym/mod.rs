@@ -381,8 +381,8 @@ impl<'a> Ctx<'a> {
         let root = roots::brent_zero(&mut g, lo.0, lo.1, hi.0, hi.1, tol * lo.0, tol, budget)?;
         if !root.converged {
             return Err(AxisymError::NoConvergence(format!(
-                "the pressure at pole stretch {l0} did not converge in {budget} shots (residual {:.3e})",
-                root.fx
+                "the pressure at pole stretch {l0} did not converge in {} shots (residual {:.3e})",
+                root.evals, root.fx
             )));
         }
         let shot = last
