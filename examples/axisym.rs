@@ -51,5 +51,41 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
     )?;
     print!("{}", String::from_utf8(profile_csv(&s).into_bytes())?);
+
+    // Speed against error: one pressure point (8940 Pa, height only) at
+    // several tolerances, against a 1e-13 solution.
+    let reference = solve_pressure(
+        &material,
+        &specimen,
+        8940.0,
+        &Options {
+            rel_tol: 1e-13,
+            tol: 1e-13,
+            n_profile: 2,
+            ..opts
+        },
+    )?;
+    println!("tolerance,height_error,shots,wall_ms");
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
+        let o = Options {
+            rel_tol: tol,
+            tol,
+            n_profile: 2,
+            ..opts
+        };
+        let n = 100;
+        let t0 = std::time::Instant::now();
+        let mut s = None;
+        for _ in 0..n {
+            s = Some(solve_pressure(&material, &specimen, 8940.0, &o)?);
+        }
+        let ms = t0.elapsed().as_secs_f64() * 1e3 / n as f64;
+        let s = s.expect("n > 0");
+        println!(
+            "{tol:e},{:+.1e},{},{ms:.3}",
+            s.height_m / reference.height_m - 1.0,
+            s.iterations
+        );
+    }
     Ok(())
 }
