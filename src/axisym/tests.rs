@@ -481,6 +481,17 @@ fn print_check_table() {
         "limit: P {p:.6} l0 {:.6} h/a {h:.6} shots {}",
         lp.pole_stretch, lp.iterations
     );
+    let nh = neo();
+    let ctx = Ctx::new(&nh, &specimen(), &o).unwrap();
+    for l0 in [1.01, 1.2, 2.0, 4.0] {
+        let sol = solve_pole_stretch(&neo(), &specimen(), l0, &o).unwrap();
+        let pi = sol.pressure_pa * A / T;
+        let steps: Vec<usize> = [1e-6, 1e-8, 1e-10, 1e-12]
+            .iter()
+            .map(|&rt| ctx.mem.shoot(l0, pi, rt, &[], None).steps)
+            .collect();
+        println!("RK steps per shot at l0 {l0} (rel_tol 1e-6, 1e-8, 1e-10, 1e-12): {steps:?}");
+    }
     println!("Hencky, linear: relative error of w0 by w0/a");
     for (nu, k) in [
         (0.0, 0.71832),
