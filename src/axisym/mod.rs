@@ -398,8 +398,8 @@ impl<'a> Ctx<'a> {
     /// tolerances, until it passes `target` (bracket), falls (limit point) or
     /// reaches `max_pole_stretch`.
     fn walk(&self, target: Option<f64>) -> Result<WalkEnd, AxisymError> {
-        let tol = self.opts.tol.max(1e-7);
-        let rtol = self.opts.rel_tol.max(1e-8);
+        let tol = self.opts.tol.max(1e-6);
+        let rtol = self.opts.rel_tol.max(1e-7);
         let top = self.opts.max_pole_stretch - 1.0;
         let sample = |d: f64, guess: Option<f64>| -> Result<Sample, AxisymError> {
             let l0 = 1.0 + d;
