@@ -8,7 +8,5 @@ pub struct Args {}
 
 /// Runs `bulge run`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!(
-        "`bulge run` is not built yet"
-    )))
+    Err(Failure::Failed(anyhow::anyhow!("`bulge run` is not built yet")))
 }

@@ -8,7 +8,5 @@ pub struct Args {}
 
 /// Runs `bulge simulate`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!(
-        "`bulge simulate` is not built yet"
-    )))
+    Err(Failure::Failed(anyhow::anyhow!("`bulge simulate` is not built yet")))
 }
