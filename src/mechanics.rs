@@ -208,7 +208,9 @@ pub struct Row {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PointError {
     /// A NaN or infinite input.
-    #[error("{column} = {value} is not a finite number: replace it with a measured value or drop the row")]
+    #[error(
+        "{column} = {value} is not a finite number: replace it with a measured value or drop the row"
+    )]
     NotFinite {
         /// Input column name.
         column: &'static str,
@@ -402,7 +404,11 @@ pub fn stretch(a: f64, h0: f64, h: f64) -> f64 {
 
 /// Pole stress `sigma = p R / (2t)` (eq 18), Pa; zero when `p = 0`.
 pub fn pole_stress(p: f64, radius: f64, t: f64) -> f64 {
-    if p == 0.0 { 0.0 } else { p * radius / (2.0 * t) }
+    if p == 0.0 {
+        0.0
+    } else {
+        p * radius / (2.0 * t)
+    }
 }
 
 /// Checks one point against the specimen.
@@ -654,7 +660,12 @@ mod tests {
             let slope = height_derivatives(&s, &o, p, h).to_array();
             for k in 0..7 {
                 let want = opt(10 + k);
-                assert_eq!(got[k].is_some(), want.is_some(), "{} presence: {line}", DERIVED_COLUMNS[k]);
+                assert_eq!(
+                    got[k].is_some(),
+                    want.is_some(),
+                    "{} presence: {line}",
+                    DERIVED_COLUMNS[k]
+                );
                 if let (Some(g), Some(w)) = (got[k], want) {
                     let e = rel(g, w);
                     if e > worst_value.0 {
@@ -675,8 +686,14 @@ mod tests {
             rows += 1;
         }
         assert_eq!(rows, 14 * 16, "every case under every option");
-        eprintln!("largest relative error, values: {:.3e} ({})", worst_value.0, worst_value.1);
-        eprintln!("largest relative error, d/dH:   {:.3e} ({})", worst_slope.0, worst_slope.1);
+        eprintln!(
+            "largest relative error, values: {:.3e} ({})",
+            worst_value.0, worst_value.1
+        );
+        eprintln!(
+            "largest relative error, d/dH:   {:.3e} ({})",
+            worst_slope.0, worst_slope.1
+        );
         assert!(worst_value.0 < 1e-14, "values: {worst_value:?}");
         assert!(worst_slope.0 < 1e-12, "derivatives: {worst_slope:?}");
     }
@@ -696,7 +713,7 @@ mod tests {
     /// Past the hemisphere (`H = 2a`): `R = 1.25 a`, `theta = 2 atan 2 =
     /// acos(-3/5)`, `s = 2.5 a theta`. The paper's asin form (eqs 21-22)
     /// returns `pi - theta` there: an arc of 2.318 a, shorter than the
-/// hemisphere's pi a although the bubble is twice as high.
+    /// hemisphere's pi a although the bubble is twice as high.
     #[test]
     fn past_the_hemisphere_atan_not_asin() {
         let a = 0.0375;
@@ -709,7 +726,10 @@ mod tests {
         assert!(rel(asin_theta, PI - theta) < 4e-15, "asin gives pi - theta");
         let paper_s = (a * a + h * h) / h * asin_theta;
         assert!(rel(paper_s, 2.5 * a * (PI - theta)) < 4e-15);
-        assert!(paper_s < arc_length(a, a), "eqs 21-22: shorter than the hemisphere's arc");
+        assert!(
+            paper_s < arc_length(a, a),
+            "eqs 21-22: shorter than the hemisphere's arc"
+        );
         assert!(arc_length(a, h) > 2.7 * a);
     }
 
@@ -726,7 +746,10 @@ mod tests {
             let y = x * x;
             let series = y * (2.0 / 3.0 - y * (2.0 / 15.0 - y * (2.0 / 35.0 - y * 2.0 / 63.0)));
             let h = x * a;
-            assert!(rel(engineering_strain(a, 0.0, h), series) < 4e-16, "x = {x}");
+            assert!(
+                rel(engineering_strain(a, 0.0, h), series) < 4e-16,
+                "x = {x}"
+            );
             assert!(rel(arc_excess(x), series) < 4e-16, "x = {x}");
             assert!(rel(arc_length(a, h), 2.0 * a * (1.0 + series)) < 2e-16);
         }
@@ -800,7 +823,10 @@ mod tests {
             };
             assert!(rel(v.strain.unwrap(), strain) < 1e-15, "{o:?}");
             assert!(rel(v.true_stress_pa.unwrap(), t) < 1e-15, "{o:?}");
-            assert!(rel(v.secant_modulus_pa.unwrap(), k * sm / strain) < 1e-14, "{o:?}");
+            assert!(
+                rel(v.secant_modulus_pa.unwrap(), k * sm / strain) < 1e-14,
+                "{o:?}"
+            );
             assert_eq!(v.stress_pa, base.stress_pa);
             assert_eq!(v.radius_m, base.radius_m);
             assert_eq!(v.arc_length_m, base.arc_length_m);
@@ -896,7 +922,11 @@ mod tests {
             panic!("expected a point error")
         };
         assert_eq!(problem.column(), "height_m");
-        assert!(problem.to_string().contains("below the pre-bulge height h0 = 0.002"));
+        assert!(
+            problem
+                .to_string()
+                .contains("below the pre-bulge height h0 = 0.002")
+        );
         let StressError::Point { problem, .. } = err(&[pt(f64::NAN, 0.01, None)]) else {
             panic!("expected a point error")
         };
