@@ -52,6 +52,10 @@
 //!   `lambda` thins to `t / lambda^2`, so its Cauchy stress is
 //!   `lambda^2 p R / (2t)` ([`TrueStress::Incompressible`]). The paper's form
 //!   is kept as the default so that the paper's procedure can be reproduced.
+//!   Read differently, `lambda * sigma` needs no thickness assumption at all:
+//!   it is the nominal (first Piola-Kirchhoff) stress, the tension
+//!   `lambda pR/2` per unit *reference* length over the initial thickness,
+//!   which is what feeds the secant modulus by default ([`ModulusStress`]).
 //! * **Mean versus pole stretch.** `lambda = s1/s0` is the mean meridional
 //!   stretch; the pole, where eq 18 gives the stress, stretches more (for a
 //!   neo-Hookean membrane at `h/a = 0.531`: mean 1.178, pole 1.20). Stress and
@@ -98,12 +102,25 @@ pub enum Modulus {
 }
 
 /// Which stress `S` feeds the secant modulus.
+///
+/// The membrane tension at the pole is `N = pR/2` per unit *current* length.
+/// Per unit *reference* length it is `lambda N` (a reference width `w0` is
+/// now `lambda w0` wide), so the nominal (first Piola-Kirchhoff) stress is
+/// `lambda p R / (2t)`: numerically eq 25, whatever the thickness does. The
+/// mass-spring models carry their forces on the reference geometry with
+/// stiffnesses proportional to `E t` (eqs 1, 10-17), i.e. they realise
+/// `lambda N = E t eps / (1 - nu)` under equibiaxial strain; the modulus that
+/// reproduces the measured tension is therefore `(1 - nu) lambda sigma / eps`,
+/// the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum ModulusStress {
-    /// The pole stress `sigma = p R / (2t)` on the initial thickness (eq 18).
+    /// Nominal (first Piola-Kirchhoff) stress `lambda p R / (2t)`, force per
+    /// reference area; equal to eq 25's value.
     #[default]
+    Nominal,
+    /// The pole stress `sigma = p R / (2t)` of eq 18 (current length, initial thickness).
     Engineering,
-    /// The true stress selected by [`TrueStress`].
+    /// The true stress chosen by `--true-stress` (`paper` or `incompressible`).
     True,
 }
 
@@ -117,7 +134,7 @@ pub struct Options {
     pub true_stress: TrueStress,
     /// Secant modulus (default `biaxial`).
     pub modulus: Modulus,
-    /// Stress feeding the modulus (default the engineering pole stress).
+    /// Stress feeding the modulus (default the nominal stress `lambda sigma`).
     pub modulus_stress: ModulusStress,
 }
 
@@ -486,6 +503,7 @@ fn evaluate(spec: &Specimen, opts: &Options, p: f64, h: f64) -> (Derived, Derive
         ),
     };
     let (sm, d_sm) = match opts.modulus_stress {
+        ModulusStress::Nominal => (lambda * sigma, d_lambda * sigma + lambda * d_sigma),
         ModulusStress::Engineering => (sigma, d_sigma),
         ModulusStress::True => (true_stress, d_true),
     };
@@ -604,7 +622,11 @@ mod tests {
         for strain in [StrainMeasure::Engineering, StrainMeasure::Log] {
             for true_stress in [TrueStress::Paper, TrueStress::Incompressible] {
                 for modulus in [Modulus::Biaxial, Modulus::Uniaxial] {
-                    for modulus_stress in [ModulusStress::Engineering, ModulusStress::True] {
+                    for modulus_stress in [
+                        ModulusStress::Nominal,
+                        ModulusStress::Engineering,
+                        ModulusStress::True,
+                    ] {
                         v.push(Options {
                             strain,
                             true_stress,
@@ -633,6 +655,7 @@ mod tests {
                 _ => Modulus::Uniaxial,
             },
             modulus_stress: match f[9] {
+                "nominal" => ModulusStress::Nominal,
                 "engineering" => ModulusStress::Engineering,
                 _ => ModulusStress::True,
             },
@@ -685,7 +708,7 @@ mod tests {
             }
             rows += 1;
         }
-        assert_eq!(rows, 14 * 16, "every case under every option");
+        assert_eq!(rows, 14 * 24, "every case under every option");
         eprintln!(
             "largest relative error, values: {:.3e} ({})",
             worst_value.0, worst_value.1
@@ -802,7 +825,7 @@ mod tests {
         let sigma = base.stress_pa.unwrap();
         assert!(rel(sigma, p * cap_radius(0.0375, h) / (2.0 * 0.00035)) < 1e-15);
         assert!(rel(base.true_stress_pa.unwrap(), lambda * sigma) < 1e-15);
-        assert!(rel(base.secant_modulus_pa.unwrap(), 0.55 * sigma / eps) < 1e-15);
+        assert!(rel(base.secant_modulus_pa.unwrap(), 0.55 * lambda * sigma / eps) < 1e-15);
         for o in all_options() {
             let v = one(&s, &o, p, h, None).value;
             let strain = match o.strain {
@@ -814,6 +837,7 @@ mod tests {
                 TrueStress::Incompressible => lambda * lambda * sigma,
             };
             let sm = match o.modulus_stress {
+                ModulusStress::Nominal => lambda * sigma,
                 ModulusStress::Engineering => sigma,
                 ModulusStress::True => t,
             };

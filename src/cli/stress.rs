@@ -104,13 +104,15 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Modulus::Biaxial)]
     pub modulus: Modulus,
 
-    /// Stress S in the secant modulus: `engineering` = pR/(2t) on the initial
-    /// thickness, or `true` = the `--true-stress` value. Default engineering:
-    /// the mass-spring models of `bulge simulate` multiply E by the initial
-    /// thickness t (eqs 1, 10-17), so the modulus that reproduces the measured
-    /// membrane tension pR/2 is (1 - nu) (pR/2t) / strain; a true stress would
-    /// count the thinning twice.
-    #[arg(long = "modulus-stress", value_enum, default_value_t = ModulusStress::Engineering)]
+    /// Stress S in the secant modulus: `nominal` = lambda * pR/(2t), the
+    /// force per unit reference area (first Piola-Kirchhoff; the same number
+    /// as eq 25), `engineering` = pR/(2t) (eq 18), or `true` = the
+    /// `--true-stress` value. Default nominal: the mass-spring models of
+    /// `bulge simulate` carry forces on the reference mesh with stiffness
+    /// proportional to E t (eqs 1, 10-17), so they reproduce the measured
+    /// tension per reference length, lambda pR/2, with E = (1 - nu) *
+    /// nominal / strain.
+    #[arg(long = "modulus-stress", value_enum, default_value_t = ModulusStress::Nominal)]
     pub modulus_stress: ModulusStress,
 
     /// Standard deviation of every height, m (>= 0). Default none: no `*_std`

@@ -109,7 +109,7 @@ fn stress_good_run_closed_forms() {
     close(out.num(1, "true_stress_pa"), PI / 2.0 * sigma, 1e-15);
     close(
         out.num(1, "secant_modulus_pa"),
-        (1.0 - NU) * sigma / (PI / 2.0 - 1.0),
+        (1.0 - NU) * PI / 2.0 * sigma / (PI / 2.0 - 1.0),
         1e-14,
     );
     // H = 2a: R = 1.25 a, theta = acos(-3/5) (the paper's asin gives pi - theta)
@@ -185,14 +185,46 @@ fn stress_every_option() {
     close(o.num(0, "strain"), lambda.ln(), 1e-15);
     close(
         o.num(0, "secant_modulus_pa"),
-        (1.0 - NU) * sigma / lambda.ln(),
+        (1.0 - NU) * lambda * sigma / lambda.ln(),
         1e-14,
     );
     let o = run(&["--true-stress", "incompressible"]);
     close(o.num(0, "true_stress_pa"), lambda * lambda * sigma, 1e-15);
     let o = run(&["--modulus", "uniaxial"]);
-    close(o.num(0, "secant_modulus_pa"), sigma / (lambda - 1.0), 1e-14);
+    close(
+        o.num(0, "secant_modulus_pa"),
+        lambda * sigma / (lambda - 1.0),
+        1e-14,
+    );
+    let o = run(&["--modulus-stress", "engineering"]);
+    close(
+        o.num(0, "secant_modulus_pa"),
+        (1.0 - NU) * sigma / (lambda - 1.0),
+        1e-14,
+    );
     let o = run(&["--modulus-stress", "true"]);
+    close(
+        o.num(0, "secant_modulus_pa"),
+        (1.0 - NU) * lambda * sigma / (lambda - 1.0),
+        1e-14,
+    );
+    let o = run(&[
+        "--modulus-stress",
+        "true",
+        "--true-stress",
+        "incompressible",
+    ]);
+    close(
+        o.num(0, "secant_modulus_pa"),
+        (1.0 - NU) * lambda * lambda * sigma / (lambda - 1.0),
+        1e-14,
+    );
+    let o = run(&[
+        "--modulus-stress",
+        "nominal",
+        "--true-stress",
+        "incompressible",
+    ]);
     close(
         o.num(0, "secant_modulus_pa"),
         (1.0 - NU) * lambda * sigma / (lambda - 1.0),
@@ -563,6 +595,7 @@ fn stress_help_documents_every_flag_and_default() {
         "[default: engineering]",
         "[default: paper]",
         "[default: biaxial]",
+        "[default: nominal]",
         "Default 0",
     ] {
         assert!(h.contains(needle), "--help lacks {needle}:\n{h}");
