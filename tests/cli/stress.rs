@@ -601,3 +601,49 @@ fn stress_help_documents_every_flag_and_default() {
         assert!(h.contains(needle), "--help lacks {needle}:\n{h}");
     }
 }
+
+/// A pre-bulged disc past the hemisphere, through the flags (h0 = 2 mm,
+/// H = 60 mm, p = 9 kPa); expected values from the 60-digit independent
+/// script `fixtures/stress/reference.py` (its reference.csv row
+/// `0.0375,0.00035,0.45,0.002,0.06,9000.0,engineering,paper,biaxial,nominal`).
+#[test]
+fn stress_prebulged_past_hemisphere_via_flags() {
+    let dir = tempdir();
+    fs::write(
+        dir.path().join("heights.csv"),
+        "pressure_pa,height_m\n0,0.002\n9000,0.06\n",
+    )
+    .unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "stress",
+            "heights.csv",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--poisson",
+            "0.45",
+            "--prebulge-height-m",
+            "0.002",
+            "-o",
+            "o.csv",
+        ],
+    )
+    .ok();
+    let o = Csv::read(&dir.path().join("o.csv"));
+    assert_eq!(o.num(0, "stretch"), 1.0);
+    assert_eq!(o.cell(0, "secant_modulus_pa"), "");
+    close(o.num(1, "radius_m"), 4.1718749999999998456e-2, 1e-15);
+    close(o.num(1, "arc_length_m"), 1.6891037628594138558e-1, 1e-15);
+    close(o.num(1, "stretch"), 2.2478781295264048393, 1e-15);
+    close(o.num(1, "strain"), 1.2478781295264048393, 1e-15);
+    close(o.num(1, "stress_pa"), 5.3638392857142855703e+5, 1e-15);
+    close(o.num(1, "true_stress_pa"), 1.2057257020651675634e+6, 1e-15);
+    close(
+        o.num(1, "secant_modulus_pa"),
+        5.3142139480200742625e+5,
+        1e-15,
+    );
+}
