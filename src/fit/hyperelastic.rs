@@ -813,4 +813,60 @@ mod tests {
         };
         assert!(matches!(fit(Kind::NeoHookean, &data), Err(FitError::NonPositiveStretch { index: 0, .. })));
     }
+
+    fn treloar() -> (Equibiaxial, std::collections::HashMap<String, f64>) {
+        use crate::io::Table;
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let t = Table::read(&root.join("data/treloar_equibiaxial.csv")).unwrap();
+        let data = Equibiaxial {
+            stretch: t.numbers("stretch").unwrap(),
+            stress_pa: t.numbers("nominal_stress_pa").unwrap(),
+            measure: StressMeasure::Nominal,
+        };
+        let r = Table::read(&root.join("fixtures/fit/treloar_reference.csv")).unwrap();
+        let q = r.require("quantity").unwrap();
+        let v = r.numbers("value").unwrap();
+        let refs = (0..r.len()).map(|i| (r.cell(i, q).to_string(), v[i])).collect();
+        (data, refs)
+    }
+
+    /// Neo-Hookean and Mooney-Rivlin on Treloar against the independent
+    /// linear least-squares fit (fixtures/fit/treloar_reference.py); the
+    /// issue asks for 3 significant digits, the check is 1e-6 relative.
+    #[test]
+    fn treloar_neo_hookean_and_mooney_rivlin_match_independent_fit() {
+        let (data, refs) = treloar();
+        let nh = fit(Kind::NeoHookean, &data).unwrap();
+        let c1 = refs["neo_hookean_c1_pa"];
+        assert!(((nh.params[0].value - c1) / c1).abs() < 1e-6, "{} vs {c1}", nh.params[0].value);
+        let rm = refs["neo_hookean_rmse_pa"];
+        assert!(((nh.stats.rmse - rm) / rm).abs() < 1e-6);
+        let mr = fit(Kind::MooneyRivlin, &data).unwrap();
+        for (p, key) in mr.params.iter().zip(["mooney_rivlin_c1_pa", "mooney_rivlin_c2_pa"]) {
+            let want = refs[key];
+            assert!(((p.value - want) / want).abs() < 1e-6, "{key}: {} vs {want}", p.value);
+        }
+        let rm = refs["mooney_rivlin_rmse_pa"];
+        assert!(((mr.stats.rmse - rm) / rm).abs() < 1e-6);
+    }
+
+    /// The three-term Ogden fit is no worse on Treloar's equibiaxial points
+    /// than Ogden's published parameters (NOTES section 3), whose RMSE is
+    /// computed independently by the fixture script and checked here against
+    /// material.rs.
+    #[test]
+    fn treloar_ogden3_no_worse_than_published() {
+        let (data, refs) = treloar();
+        let published = Model::Ogden {
+            mu_pa: vec![0.63e6, 0.0012e6, -0.01e6],
+            alpha: vec![1.3, 5.0, -2.0],
+        };
+        let res = data.residuals(&published);
+        let rmse_pub = Stats::new(&data.stress_pa, &res, 6).rmse;
+        let want = refs["ogden_1972_rmse_pa"];
+        assert!(((rmse_pub - want) / want).abs() < 1e-9, "{rmse_pub} vs {want}");
+        let f = fit(Kind::Ogden(3), &data).unwrap();
+        eprintln!("ogden-3 fit {:?} rmse {} vs published {}", f.params, f.stats.rmse, want);
+        assert!(f.stats.rmse <= want, "{} > {want}", f.stats.rmse);
+    }
 }
