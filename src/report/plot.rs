@@ -238,7 +238,8 @@ fn pad((lo, hi): (f64, f64)) -> (f64, f64) {
 /// Tick label: plain with up to 4 significant digits, scientific when
 /// very large or small.
 pub fn tick(v: f64) -> String {
-    if v == 0.0 {
+    if v.abs() < 1e-12 {
+        // Round-off residue of a tick at zero (e.g. -2.8e-17).
         return "0".into();
     }
     let a = v.abs();
@@ -254,7 +255,8 @@ pub fn tick(v: f64) -> String {
     }
 }
 
-/// Colour-blind-safe palette (Okabe & Ito 2008), black first.
+/// Colour-blind-safe palette (Okabe & Ito 2008, black first; its yellow,
+/// unreadable on white, replaced by dark red).
 pub const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 0, 0),
     RGBColor(0, 114, 178),
@@ -263,7 +265,7 @@ pub const PALETTE: [RGBColor; 8] = [
     RGBColor(204, 121, 167),
     RGBColor(230, 159, 0),
     RGBColor(86, 180, 233),
-    RGBColor(240, 228, 66),
+    RGBColor(153, 0, 0),
 ];
 
 /// A stack of panels with a title.
