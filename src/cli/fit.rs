@@ -305,7 +305,14 @@ fn source_table(args: &Args, loaded: &Loaded) -> toml::Table {
 
 fn quartic_product(args: &Args, loaded: &Loaded, mod_std: Option<Vec<Option<f64>>>) -> Result<Product, Failure> {
     let (strain, modulus) = loaded.modulus_points();
-    let fit: PolyFit = quartic::fit(&strain, &modulus, args.degree).map_err(|e| classify(&args.input, e))?;
+    let fit: PolyFit = quartic::fit(&strain, &modulus, args.degree).map_err(|e| match e {
+        FitError::TooFewPoints { points, .. } => Failure::BadInput(anyhow!(
+            "{}: {e} (with {points} points with a secant modulus, use --degree {} or less)",
+            args.input.display(),
+            points.max(1) - 1
+        )),
+        e => classify(&args.input, e),
+    })?;
     let k = args.modulus.factor(args.poisson);
     let sm = loaded.strain_measure;
     let mut warnings: Vec<String> = fit.warnings.iter().map(|w| w.to_string()).collect();
