@@ -15,13 +15,18 @@ use std::time::Duration;
 
 fn quartic_1000(c: &mut Criterion) {
     let n = 1000;
-    let strain: Vec<f64> = (0..n).map(|i| 0.01 + 1.5 * i as f64 / (n - 1) as f64).collect();
+    let strain: Vec<f64> = (0..n)
+        .map(|i| 0.01 + 1.5 * i as f64 / (n - 1) as f64)
+        .collect();
     let coeffs = [1.2e6, -1.5e6, 1.1e6, -2.0e5, 4.0e4];
     // Deterministic pseudo-noise of about 1 %.
     let modulus: Vec<f64> = strain
         .iter()
         .enumerate()
-        .map(|(i, &e)| quartic::eval(&coeffs, e) * (1.0 + 0.01 * ((i as f64 * 12.9898).sin() * 43758.5453).fract()))
+        .map(|(i, &e)| {
+            quartic::eval(&coeffs, e)
+                * (1.0 + 0.01 * ((i as f64 * 12.9898).sin() * 43758.5453).fract())
+        })
         .collect();
     c.bench_function("quartic degree 4, 1000 points", |b| {
         b.iter(|| quartic::fit(black_box(&strain), black_box(&modulus), 4).unwrap())
@@ -38,7 +43,9 @@ fn hyperelastic_treloar(c: &mut Criterion) {
     };
     let mut g = c.benchmark_group("treloar");
     for kind in Kind::all() {
-        g.bench_function(kind.label(), |b| b.iter(|| hyperelastic::fit(black_box(kind), black_box(&data)).unwrap()));
+        g.bench_function(kind.label(), |b| {
+            b.iter(|| hyperelastic::fit(black_box(kind), black_box(&data)).unwrap())
+        });
     }
     g.finish();
 }
