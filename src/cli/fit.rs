@@ -546,13 +546,21 @@ fn all_product(args: &Args, loaded: &Loaded) -> Result<Product, Failure> {
             skipped.join("; ")
         )));
     }
-    // Lowest AICc (AIC when undefined) among Drucker-stable fits, else overall.
-    let score = |f: &HyperFit| f.stats.aicc.unwrap_or(f.stats.aic);
+    // Lowest AICc among Drucker-stable fits, else overall. A model with
+    // n <= k + 1 has no AICc (it can interpolate the data): it ranks after
+    // every model that has one, by AIC among its kind.
+    let score = |f: &HyperFit| match f.stats.aicc {
+        Some(a) => (0, a),
+        None => (1, f.stats.aic),
+    };
     let pick = |stable_only: bool| {
         fits.iter()
             .enumerate()
             .filter(|(_, f)| !stable_only || f.drucker.stable)
-            .min_by(|a, b| score(a.1).total_cmp(&score(b.1)))
+            .min_by(|a, b| {
+                let (sa, sb) = (score(a.1), score(b.1));
+                sa.0.cmp(&sb.0).then(sa.1.total_cmp(&sb.1))
+            })
             .map(|(i, _)| i)
     };
     let best = pick(true)
