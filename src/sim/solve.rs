@@ -461,7 +461,10 @@ impl Predictor for Stay {
 
 /// Solves at `p1` starting from the equilibrium `x` at `p0`, halving the
 /// increment on failure. On error `x` holds the last equilibrium reached
-/// (at the pressure returned in the error).
+/// (at the pressure returned in the error). When no equilibrium is found and
+/// some attempt met `E <= 0`, that [`SimError::NonPositiveModulus`] is returned:
+/// the law running out is then the cause.
+#[allow(clippy::too_many_arguments)]
 pub fn continuation(
     m: &mut Membrane,
     rest: &[Point3<f64>],
@@ -473,6 +476,7 @@ pub fn continuation(
     predictor: &dyn Predictor,
     ws: &mut Option<NewtonWorkspace>,
 ) -> Result<Stats, SimError> {
+    #[allow(clippy::too_many_arguments)]
     fn attempt(
         m: &mut Membrane,
         rest: &[Point3<f64>],
@@ -485,6 +489,7 @@ pub fn continuation(
         ws: &mut Option<NewtonWorkspace>,
         depth: usize,
         last_ok: &mut f64,
+        seen: &mut Option<SimError>,
     ) -> Result<Stats, SimError> {
         let saved = x.to_vec();
         predictor.predict(rest, x, p0, p1);
@@ -502,12 +507,15 @@ pub fn continuation(
             }
             Err(e) => {
                 x.copy_from_slice(&saved);
+                if matches!(e, SimError::NonPositiveModulus { .. }) {
+                    *seen = Some(e.clone());
+                }
                 if depth >= opts.max_halvings || matches!(e, SimError::BadParameter(_)) {
                     return Err(e);
                 }
                 let pm = 0.5 * (p0 + p1);
-                let a = attempt(m, rest, x, p0, pm, solver, opts, predictor, ws, depth + 1, last_ok)?;
-                let b = attempt(m, rest, x, pm, p1, solver, opts, predictor, ws, depth + 1, last_ok)?;
+                let a = attempt(m, rest, x, p0, pm, solver, opts, predictor, ws, depth + 1, last_ok, seen)?;
+                let b = attempt(m, rest, x, pm, p1, solver, opts, predictor, ws, depth + 1, last_ok, seen)?;
                 Ok(Stats {
                     iterations: a.iterations + b.iterations,
                     residual: b.residual,
@@ -517,12 +525,15 @@ pub fn continuation(
         }
     }
     let mut last_ok = p0;
-    attempt(m, rest, x, p0, p1, solver, opts, predictor, ws, 0, &mut last_ok).map_err(|e| match e {
-        SimError::NoEquilibrium { reason, .. } => SimError::NoEquilibrium {
+    let mut seen = None;
+    attempt(m, rest, x, p0, p1, solver, opts, predictor, ws, 0, &mut last_ok, &mut seen).map_err(|e| match (e, seen) {
+        // the modulus law's failure is the cause: report it with its strain
+        (SimError::NoEquilibrium { .. }, Some(modulus)) => modulus,
+        (SimError::NoEquilibrium { reason, .. }, None) => SimError::NoEquilibrium {
             pressure_pa: p1,
             last_pressure_pa: last_ok,
             reason,
         },
-        other => other,
+        (other, _) => other,
     })
 }

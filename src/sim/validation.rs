@@ -9,7 +9,8 @@ use super::solve::{self, Options, Solver, Stay};
 use super::springs::{Membrane, SpringModel};
 use crate::material::{Material, Model};
 
-fn linear(e: f64, nu: f64) -> Material {
+/// A `linear` material.
+pub fn linear(e: f64, nu: f64) -> Material {
     Material {
         model: Model::Linear { young_pa: e },
         poisson: nu,
@@ -17,8 +18,10 @@ fn linear(e: f64, nu: f64) -> Material {
     }
 }
 
-/// Radii (mean, corner a, b, c) of the sphere octant at 10 kPa.
-pub(crate) fn sphere_radii(model: SpringModel, e: f64, t: f64, n: usize, solver: Solver) -> [f64; 4] {
+/// Radii (mean, corner a, b, c) of paper 000's sphere octant (R0 = 1 m,
+/// nu = 0.3, corners II, I, I) at 10 kPa, for modulus `e` and thickness `t`
+/// on `n` divisions.
+pub fn sphere_radii(model: SpringModel, e: f64, t: f64, n: usize, solver: Solver) -> [f64; 4] {
     let m = mesh::sphere_segment(SphereOptions {
         radius_m: 1.0,
         divisions: n,
@@ -34,8 +37,19 @@ pub(crate) fn sphere_radii(model: SpringModel, e: f64, t: f64, n: usize, solver:
     [mean, r(m.probe("corner_a").unwrap()), r(m.probe("corner_b").unwrap()), r(m.probe("corner_c").unwrap())]
 }
 
-/// Apex height of the clamped disc.
-pub(crate) fn disc_height(model: SpringModel, mat: &Material, a: f64, t: f64, p: f64, rings: usize, sector: bool, solver: Solver) -> f64 {
+/// Apex height of the clamped disc (radius `a`, thickness `t`) at pressure
+/// `p`, solved from rest on `rings` rings.
+#[allow(clippy::too_many_arguments)]
+pub fn disc_height(
+    model: SpringModel,
+    mat: &Material,
+    a: f64,
+    t: f64,
+    p: f64,
+    rings: usize,
+    sector: bool,
+    solver: Solver,
+) -> f64 {
     let m = mesh::disc(DiscOptions { radius_m: a, rings, sector }).unwrap();
     let mut mem = Membrane::new(&m, model, mat, t, 1100.0).unwrap();
     let mut x: Vec<Point3<f64>> = m.nodes.clone();
