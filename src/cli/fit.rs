@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge fit`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge fit` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge fit` is not built yet"
+    )))
 }

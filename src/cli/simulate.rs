@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge simulate`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge simulate` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge simulate` is not built yet"
+    )))
 }

@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge stress`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge stress` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge stress` is not built yet"
+    )))
 }

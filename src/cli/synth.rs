@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge synth`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge synth` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge synth` is not built yet"
+    )))
 }
