@@ -151,9 +151,15 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
         }
         // Smooth shading and background texture add a slope to the
         // differences on each side of the edge; their lever arm about the
-        // centre would bias the centroid, so they are subtracted.
-        let g_above = (px(lo) - px(lo - SLOPE_ROWS)) / SLOPE_ROWS as f64;
-        let g_below = (px(hi + 1 + SLOPE_ROWS) - px(hi + 1)) / SLOPE_ROWS as f64;
+        // centre would bias the centroid, so they are subtracted. Each slope
+        // is the minmod of two 3-row estimates, so that another edge nearby
+        // (the clamp fixture under a flat bubble) is not taken for a slope.
+        let half = SLOPE_ROWS / 2;
+        let slope = |a: i64, b: i64, c: i64| {
+            minmod((px(b) - px(a)) / half as f64, (px(c) - px(b)) / half as f64)
+        };
+        let g_above = slope(lo - SLOPE_ROWS, lo - half, lo);
+        let g_below = slope(hi + 1, hi + 1 + half, hi + 1 + SLOPE_ROWS);
         let (mut sw, mut swy) = (0.0, 0.0);
         for j in lo..=hi {
             let y = j as f64 + 0.5;
@@ -283,6 +289,17 @@ pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit
         });
     }
     result
+}
+
+/// The smaller of two slopes of the same sign, else 0.
+fn minmod(a: f64, b: f64) -> f64 {
+    if a * b <= 0.0 {
+        0.0
+    } else if a.abs() < b.abs() {
+        a
+    } else {
+        b
+    }
 }
 
 fn quad_form(m: &[[f64; 3]; 3], g: &[f64; 3]) -> f64 {
