@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Installs what building bulge needs when it is missing: the system OpenCV
-# (core, imgproc, imgcodecs), clang/libclang (the opencv crate generates its
+# (libopencv-dev: its pkg-config file is what the opencv crate probes), clang/libclang (the opencv crate generates its
 # bindings with it) and pkg-config. Debian/Ubuntu through apt-get (as root or
 # with sudo), macOS through Homebrew; otherwise it names the packages.
 set -euo pipefail
 
-APT_PACKAGES=(clang libclang-dev pkg-config libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev)
+APT_PACKAGES=(clang libclang-dev pkg-config libopencv-dev)
 BREW_PACKAGES=(opencv llvm pkg-config)
 
 have_opencv() { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists opencv4; }

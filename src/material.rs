@@ -402,7 +402,7 @@ mod tests {
     fn neo_hookean_equibiaxial_closed_form() {
         let m = Model::NeoHookean { c1_pa: 1.0e5 };
         let h = m.hyperelastic().unwrap();
-        for l in [1.0f64, 1.2, 2.0, 3.5] {
+        for l in [1.0_f64, 1.2, 2.0, 3.5] {
             let want = 2.0e5 * (l - l.powi(-5));
             assert!((h.equibiaxial_nominal(l) - want).abs() < 1e-9 * want.abs().max(1.0));
         }
