@@ -129,5 +129,10 @@ fn speed(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, speed);
+criterion_group! {
+    name = benches;
+    // No plots: the machine has no system fonts for criterion's plotters backend.
+    config = Criterion::default().without_plots();
+    targets = speed
+}
 criterion_main!(benches);

@@ -99,13 +99,20 @@ pub fn run(args: Args) -> Result<(), Failure> {
             args.width, args.height
         )));
     }
-    for (name, v) in [("--blur-px", args.blur_px), ("--noise", args.noise), ("--drift", args.drift)] {
+    for (name, v) in [
+        ("--blur-px", args.blur_px),
+        ("--noise", args.noise),
+        ("--drift", args.drift),
+    ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(bad(format!("{name} {v} must be zero or positive")));
         }
     }
     if args.drift >= 1.0 {
-        return Err(bad(format!("--drift {} must be below 1 (a relative gain change)", args.drift)));
+        return Err(bad(format!(
+            "--drift {} must be below 1 (a relative gain change)",
+            args.drift
+        )));
     }
     let encoding = match args.jpeg_quality {
         None => Encoding::Png,
@@ -118,7 +125,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
         poisson: args.poisson,
         prebulge_height_m: 0.0,
     };
-    specimen.validate().map_err(|m| bad(format!("specimen: {m}")))?;
+    specimen
+        .validate()
+        .map_err(|m| bad(format!("specimen: {m}")))?;
     let material = match &args.material {
         Some(p) => crate::io::read_toml::<Material>(p)?,
         None => Material {
@@ -136,7 +145,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
     }
     let n = args.frames;
     let pressures: Vec<f64> = (0..n)
-        .map(|k| if n == 1 { p_max } else { p_min + (p_max - p_min) * k as f64 / (n - 1) as f64 })
+        .map(|k| {
+            if n == 1 {
+                p_max
+            } else {
+                p_min + (p_max - p_min) * k as f64 / (n - 1) as f64
+            }
+        })
         .collect();
     let opts = axisym::Options::default();
     let mut frames = Vec::with_capacity(n);
@@ -166,7 +181,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
         specimen,
     };
     let w = synth::write_sequence(&args.out_dir, &spec, &frames).map_err(|e| {
-        if e.is_bad_input() { Failure::BadInput(e.into()) } else { Failure::Failed(e.into()) }
+        if e.is_bad_input() {
+            Failure::BadInput(e.into())
+        } else {
+            Failure::Failed(e.into())
+        }
     })?;
     let hmax = w.truth.iter().map(|t| t.height_m).fold(0.0, f64::max);
     println!(

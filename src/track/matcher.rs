@@ -66,6 +66,26 @@ pub fn match_in_window(img: &Gray, templ: &Gray, win: [usize; 4]) -> Result<Matc
     })
 }
 
+/// Block average by an integer factor `f` (the image's last partial blocks
+/// are dropped).
+pub fn reduce(img: &Gray, f: usize) -> Gray {
+    let (w, h) = (img.width / f, img.height / f);
+    let mut acc = vec![0u32; w * h];
+    for y in 0..h * f {
+        let row = &img.data[y * img.width..y * img.width + w * f];
+        let out = &mut acc[(y / f) * w..(y / f + 1) * w];
+        for (x, v) in row.iter().enumerate() {
+            out[x / f] += u32::from(*v);
+        }
+    }
+    let n = (f * f) as u32;
+    Gray {
+        width: w,
+        height: h,
+        data: acc.iter().map(|&s| ((s + n / 2) / n) as u8).collect(),
+    }
+}
+
 fn cv(e: opencv::Error) -> TrackError {
     TrackError::OpenCv(e.to_string())
 }
@@ -300,6 +320,109 @@ fn minmod(a: f64, b: f64) -> f64 {
     } else {
         b
     }
+}
+
+/// The bubble's axis column from the mirror symmetry of its top edge over a
+/// wide span (`half_span_px` each side of the apex, clipped to the image):
+/// the edge rows of the columns are fitted by the even model
+/// `y = A + C (x - s)^2 + E (x - s)^4`, linear in `A, C, E`, and the axis `s`
+/// minimises the residual sum of squares (golden-section search within
+/// +-8 px of the vertex). Flat tops pin the axis down only through their far
+/// flanks, hence the wide span; the row is not taken from this fit (the
+/// even model is biased at the apex by the higher terms over a wide span).
+/// Returns the axis and its standard error, px.
+pub fn axis_fit(
+    img: &Gray,
+    apex: &EdgeFit,
+    half_span_px: usize,
+    half_window_px: usize,
+) -> Option<(f64, f64)> {
+    let w = img.width as i64;
+    let hw = half_window_px.max(2) as f64;
+    let xc = apex.x_vertex.round() as i64;
+    let k = 0.5 * apex.curvature.max(0.0);
+    let span = half_span_px as i64;
+    let mut located = Vec::new();
+    for c in (xc - span..=xc + span).filter(|&c| c >= 0 && c < w) {
+        let u = c as f64 - apex.x_vertex;
+        if let Some((e, step)) = column_edge(img, c as usize, apex.y + k * u * u, hw) {
+            located.push((c as f64, e, step));
+        }
+    }
+    let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
+    let mut mags: Vec<f64> = located
+        .iter()
+        .map(|l| l.2 * sign)
+        .filter(|m| *m > 0.0)
+        .collect();
+    if mags.len() < 9 {
+        return None;
+    }
+    mags.sort_by(f64::total_cmp);
+    let med = mags[mags.len() / 2];
+    let pts: Vec<(f64, f64)> = located
+        .iter()
+        .filter(|l| l.2 * sign > 0.25 * med)
+        .map(|l| (l.0, l.1))
+        .collect();
+    if pts.len() < 9 {
+        return None;
+    }
+    let rss = |s: f64| -> f64 {
+        let mut ata = nalgebra::Matrix3::<f64>::zeros();
+        let mut aty = nalgebra::Vector3::<f64>::zeros();
+        // Scaled abscissa keeps the normal equations well conditioned.
+        let sc = half_span_px.max(1) as f64;
+        for &(x, y) in &pts {
+            let v = ((x - s) / sc).powi(2);
+            let g = nalgebra::Vector3::new(1.0, v, v * v);
+            ata += g * g.transpose();
+            aty += g * y;
+        }
+        let Some(inv) = ata.try_inverse() else {
+            return f64::INFINITY;
+        };
+        let c = inv * aty;
+        pts.iter()
+            .map(|&(x, y)| {
+                let v = ((x - s) / sc).powi(2);
+                (y - c[0] - c[1] * v - c[2] * v * v).powi(2)
+            })
+            .sum()
+    };
+    let (mut a, mut b) = (apex.x_vertex - 8.0, apex.x_vertex + 8.0);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (rss(c), rss(d));
+    while b - a > 1e-4 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = rss(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = rss(d);
+        }
+    }
+    let s = 0.5 * (a + b);
+    if (s - apex.x_vertex).abs() > 7.9 {
+        return None;
+    }
+    // Standard error from the curvature of RSS(s): var = 2 sigma^2 / RSS''.
+    let h = 0.05;
+    let (r0, rp, rm) = (rss(s), rss(s + h), rss(s - h));
+    let curv = (rp + rm - 2.0 * r0) / (h * h);
+    let n = pts.len() as f64;
+    let sigma2 = r0 / (n - 4.0).max(1.0);
+    if !(curv > 0.0) {
+        return None;
+    }
+    Some((s, (2.0 * sigma2 / curv).sqrt()))
 }
 
 fn quad_form(m: &[[f64; 3]; 3], g: &[f64; 3]) -> f64 {

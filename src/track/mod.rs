@@ -273,7 +273,8 @@ pub struct Options {
     pub edge_span_px: Option<usize>,
     /// Half-height of each column's edge window, px.
     pub edge_window_px: usize,
-    /// Photos decoded per parallel batch.
+    /// Photos decoded per parallel batch (default twice the threads); the
+    /// next batch is decoded while the current one is matched.
     pub batch: usize,
 }
 
@@ -286,7 +287,7 @@ impl Default for Options {
             search_margin_px: 8,
             edge_span_px: None,
             edge_window_px: 4,
-            batch: 16,
+            batch: 2 * rayon::current_num_threads().max(2),
         }
     }
 }
@@ -652,6 +653,8 @@ pub const EDGE_BIAS_FLOOR_PX: f64 = 0.02;
 struct Located {
     m: Match,
     edge: Option<EdgeFit>,
+    /// Axis column from the edge's mirror symmetry and its standard error, px.
+    axis: Option<(f64, f64)>,
 }
 
 /// Tracks every frame of `setup`; `tick` is called once per frame done.
@@ -670,6 +673,12 @@ pub fn track(
             let [x, y, w, h] = check_rect(&reference.path, *r, width, height)?;
             full.crop.crop(x, y, w, h)
         }
+    };
+    // The reference photo is decoded once: keep its region for tracking.
+    let ref_decoded = Decoded {
+        width,
+        height,
+        crop: full.crop.crop(roi[0], roi[1], roi[2], roi[3]),
     };
     drop(full);
     if templ.width > roi[2] || templ.height > roi[3] {
@@ -703,13 +712,20 @@ pub fn track(
     };
     let expect = (reference.path.clone(), width, height);
     let decode_batch = |lo: usize, hi: usize| -> Vec<Result<Decoded, TrackError>> {
-        setup.frames[lo..hi]
-            .par_iter()
-            .map(|f| decode_frame(&f.path, roi, &expect))
+        (lo..hi)
+            .into_par_iter()
+            .map(|i| {
+                if i == setup.reference_frame {
+                    Ok(ref_decoded.clone())
+                } else {
+                    decode_frame(&setup.frames[i].path, roi, &expect)
+                }
+            })
             .collect()
     };
 
     let n = setup.frames.len();
+    // Small batches keep both the decoding threads and the matching busy.
     let batch = opts.batch.max(1);
     let mut state = Tracker {
         roi,
@@ -717,6 +733,14 @@ pub fn track(
         opts,
         edge_settings,
         apex_in_t,
+        reduced: {
+            // Coarse search on a template about 64-128 px wide.
+            let mut f = 1;
+            while templ.width / (2 * f) >= 64 && templ.height / (2 * f) >= 16 {
+                f *= 2;
+            }
+            (f > 1).then(|| (f, matcher::reduce(&templ, f)))
+        },
         last: None,
         prev: None,
     };
@@ -790,10 +814,15 @@ pub fn track(
         let grid = 0.5;
         // The edge fit's statistical error plus its bias floor.
         let edge_std = |e: &EdgeFit| e.y_std.hypot(EDGE_BIAS_FLOOR_PX);
+        let axis = l.axis.map(|(x, s)| (x + roi[0] as f64, s));
         let (apex, std) = match (opts.refine, edge) {
-            // The vertex column when the edge's curvature pins it down at
-            // all: the template sees mostly a horizontal edge, so its column
-            // follows the background texture (errors of several px measured).
+            // The column from the edge's symmetry, else the parabola's
+            // vertex when the edge's curvature pins it down at all: the
+            // template sees mostly a horizontal edge, so its column follows
+            // the background texture (errors of several px measured).
+            (Refine::Edge, Some(e)) if axis.is_some_and(|(_, s)| s < e.x_std) => {
+                ([axis.map_or(e.x_vertex, |a| a.0), e.y], edge_std(&e))
+            }
             (Refine::Edge, Some(e)) if e.x_std < 0.5 * edge_settings.half_span_px as f64 => {
                 ([e.x_vertex, e.y], edge_std(&e))
             }
@@ -875,45 +904,82 @@ struct Tracker<'a> {
     edge_settings: EdgeSettings,
     /// Apex position inside the template, px.
     apex_in_t: [f64; 2],
+    /// Reduction factor and reduced template for the coarse search, when the
+    /// template is wider than 128 px.
+    reduced: Option<(usize, Gray)>,
     /// Template position (region coordinates) in the last two tracked frames.
     last: Option<[f64; 2]>,
     prev: Option<[f64; 2]>,
 }
 
 impl Tracker<'_> {
-    fn locate(&self, crop: &Gray) -> Result<Located, TrackError> {
-        let (tw, th) = (self.templ.width, self.templ.height);
-        let (rw, rh) = (self.roi[2], self.roi[3]);
+    /// Template search in `img` (full or reduced resolution): around the
+    /// position predicted from the last two frames, widened to the whole
+    /// image on a poor score or a peak on the window's border.
+    fn search(
+        &self,
+        img: &Gray,
+        templ: &Gray,
+        last: Option<[f64; 2]>,
+        prev: Option<[f64; 2]>,
+        margin_px: f64,
+    ) -> Result<Match, TrackError> {
+        let (tw, th) = (templ.width, templ.height);
+        let (rw, rh) = (img.width, img.height);
         let whole = [0, 0, rw, rh];
-        let m = match self.last {
-            None => matcher::match_in_window(crop, self.templ, whole)?,
-            Some(last) => {
-                let vel = self
-                    .prev
-                    .map_or([0.0, 0.0], |p| [last[0] - p[0], last[1] - p[1]]);
-                let pred = [last[0] + vel[0], last[1] + vel[1]];
-                let margin =
-                    self.opts.search_margin_px as f64 + 0.5 * vel[0].abs().max(vel[1].abs());
-                let x0 = (pred[0] - margin).floor().clamp(0.0, (rw - tw) as f64) as usize;
-                let y0 = (pred[1] - margin).floor().clamp(0.0, (rh - th) as f64) as usize;
-                let x1 = ((pred[0] + margin).ceil() as usize + tw).clamp(x0 + tw, rw);
-                let y1 = ((pred[1] + margin).ceil() as usize + th).clamp(y0 + th, rh);
-                let win = [x0, y0, x1 - x0, y1 - y0];
-                let m = matcher::match_in_window(crop, self.templ, win)?;
-                // Widen on a poor score, or when the peak sits on the window's
-                // border (the apex may have moved further than predicted).
-                let on_border = |v: f64, lo: usize, hi: usize, full_hi: usize| {
-                    (v <= lo as f64 && lo > 0) || (v >= hi as f64 && hi < full_hi)
-                };
-                let poor = m.score < self.opts.min_score.max(0.8)
-                    || on_border(m.integer[0], x0, x1 - tw, rw - tw)
-                    || on_border(m.integer[1], y0, y1 - th, rh - th);
-                if poor && win != whole {
-                    let w = matcher::match_in_window(crop, self.templ, whole)?;
-                    if w.score > m.score { w } else { m }
-                } else {
-                    m
-                }
+        let Some(last) = last else {
+            return matcher::match_in_window(img, templ, whole);
+        };
+        let vel = prev.map_or([0.0, 0.0], |p| [last[0] - p[0], last[1] - p[1]]);
+        let pred = [last[0] + vel[0], last[1] + vel[1]];
+        let margin = margin_px + 0.5 * vel[0].abs().max(vel[1].abs());
+        let x0 = (pred[0] - margin).floor().clamp(0.0, (rw - tw) as f64) as usize;
+        let y0 = (pred[1] - margin).floor().clamp(0.0, (rh - th) as f64) as usize;
+        let x1 = ((pred[0] + margin).ceil().max(0.0) as usize + tw).clamp(x0 + tw, rw);
+        let y1 = ((pred[1] + margin).ceil().max(0.0) as usize + th).clamp(y0 + th, rh);
+        let win = [x0, y0, x1 - x0, y1 - y0];
+        let m = matcher::match_in_window(img, templ, win)?;
+        let on_border = |v: f64, lo: usize, hi: usize, full_hi: usize| {
+            (v <= lo as f64 && lo > 0) || (v >= hi as f64 && hi < full_hi)
+        };
+        let poor = m.score < self.opts.min_score.max(0.8)
+            || on_border(m.integer[0], x0, x1 - tw, rw - tw)
+            || on_border(m.integer[1], y0, y1 - th, rh - th);
+        if poor && win != whole {
+            let w = matcher::match_in_window(img, templ, whole)?;
+            Ok(if w.score > m.score { w } else { m })
+        } else {
+            Ok(m)
+        }
+    }
+
+    fn locate(&self, crop: &Gray) -> Result<Located, TrackError> {
+        let margin = self.opts.search_margin_px as f64;
+        let m = match &self.reduced {
+            None => self.search(crop, self.templ, self.last, self.prev, margin)?,
+            Some((f, small_t)) => {
+                // Coarse search at 1/f resolution, then the full-resolution
+                // match in a window of +-(f + 2) px around it.
+                let f = *f;
+                let fl = f as f64;
+                let small = matcher::reduce(crop, f);
+                let down = |p: [f64; 2]| [p[0] / fl, p[1] / fl];
+                let mc = self.search(
+                    &small,
+                    small_t,
+                    self.last.map(down),
+                    self.prev.map(down),
+                    (margin / fl).max(2.0),
+                )?;
+                let (tw, th) = (self.templ.width, self.templ.height);
+                let r = f + 2;
+                let cx = (mc.quadratic[0] * fl).round() as i64;
+                let cy = (mc.quadratic[1] * fl).round() as i64;
+                let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
+                let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
+                let x1 = (x0 + tw + 2 * r).min(crop.width);
+                let y1 = (y0 + th + 2 * r).min(crop.height);
+                matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
             }
         };
         // The edge fit runs in every mode: in the integer and quadratic modes
@@ -923,7 +989,12 @@ impl Tracker<'_> {
             m.quadratic[1] + self.apex_in_t[1],
         ];
         let edge = matcher::edge_fit(crop, apex[0], apex[1], self.edge_settings);
-        Ok(Located { m, edge })
+        // The axis over the whole region's width (less the slope margin).
+        let axis = edge.and_then(|e| {
+            let half = (crop.width / 2).saturating_sub(1);
+            matcher::axis_fit(crop, &e, half, self.edge_settings.half_window_px)
+        });
+        Ok(Located { m, edge, axis })
     }
 }
 
@@ -1014,6 +1085,22 @@ mod tests {
             "RMS apex row error {} px > 0.05",
             a.reported[1]
         );
+    }
+
+    /// A 1280x960 sequence: the 128 px template is searched at half
+    /// resolution first, then matched at full resolution near the coarse peak.
+    #[test]
+    fn coarse_to_fine_search_on_larger_photos() {
+        let s = synth::SequenceSpec {
+            width: 1280,
+            height: 960,
+            ..spec(103, 1.5, 3.0, image::Encoding::Jpeg(85))
+        };
+        let a = accuracy(&s, 6, Refine::Edge);
+        eprintln!("{a:?}");
+        assert!(a.reported[1] <= 0.1, "RMS apex row error {} px > 0.1", a.reported[1]);
+        // The full-resolution integer match agrees with the edge to a pixel.
+        assert!(a.integer[1] <= 1.0, "integer match row error {} px", a.integer[1]);
     }
 
     #[test]

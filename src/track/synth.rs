@@ -583,11 +583,11 @@ pub fn write_sequence(
     let toml = format!(
         "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
          # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
-         [specimen]\nradius_m = {}\nthickness_m = {}\npoisson = {}\nprebulge_height_m = {}\n\n\
+         [specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
          [photos]\ndir = \"photos\"\nglob = \"{glob}\"\nroi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
-         apex_in_template_px = [{}, {}]\n\n\
-         [calibration]\nmetres_per_pixel = {}\nclamp_row_px = {}\n\n\
+         apex_in_template_px = [{:?}, {:?}]\n\n\
+         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n\n\
          [pressure]\ncsv = \"pressure.csv\"\n",
         s.radius_m,
         s.thickness_m,

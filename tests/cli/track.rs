@@ -287,3 +287,100 @@ fn low_scores_fail_or_are_skipped() {
     assert_eq!(rows.len(), N); // header + N - 1 frames
     assert!(rows.iter().all(|r| r[1] != "frame_003.png"));
 }
+
+#[test]
+fn synth_writes_a_deterministic_experiment_that_track_recovers() {
+    let d = tempdir();
+    let args = [
+        "--frames",
+        "4",
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--seed",
+        "202",
+        "--noise",
+        "2",
+        "--blur-px",
+        "1",
+        "--jpeg-quality",
+        "90",
+        "--pressure-max-pa",
+        "5000",
+    ];
+    let mut a1 = vec!["synth", "one"];
+    a1.extend(args);
+    let run = bulge_in(d.path(), &a1).ok();
+    assert!(
+        run.stdout.contains("wrote 4 320x240 JPG photos"),
+        "{}",
+        run.stdout
+    );
+    let mut a2 = vec!["synth", "two"];
+    a2.extend(args);
+    bulge_in(d.path(), &a2).ok();
+    for f in [
+        "photos/frame_001.jpg",
+        "photos/frame_004.jpg",
+        "pressure.csv",
+        "truth.csv",
+        "experiment.toml",
+    ] {
+        let (x, y) = (
+            fs::read(d.path().join("one").join(f)).unwrap(),
+            fs::read(d.path().join("two").join(f)).unwrap(),
+        );
+        assert!(x == y, "{f} differs between two runs with the same seed");
+    }
+    let truth = fs::read_to_string(d.path().join("one/truth.csv")).unwrap();
+    assert!(
+        truth.starts_with("file,pressure_pa,height_m,apex_x_px,apex_y_px\n"),
+        "{truth}"
+    );
+    let pressure = fs::read_to_string(d.path().join("one/pressure.csv")).unwrap();
+    assert!(
+        pressure.starts_with("file,pressure_pa\nframe_001.jpg,1250\n"),
+        "{pressure}"
+    );
+    // Another seed gives other photos.
+    let mut a3 = vec!["synth", "three"];
+    a3.extend(args);
+    *a3.iter_mut().find(|s| **s == "202").unwrap() = "203";
+    bulge_in(d.path(), &a3).ok();
+    assert_ne!(
+        fs::read(d.path().join("one/photos/frame_001.jpg")).unwrap(),
+        fs::read(d.path().join("three/photos/frame_001.jpg")).unwrap()
+    );
+    // The exact axisymmetric heights rise with pressure, and track finds them.
+    bulge_in(
+        &d.path().join("one"),
+        &["track", "experiment.toml", "-o", "h.csv"],
+    )
+    .ok();
+    let rows = read_heights(&d.path().join("one/h.csv"));
+    let t: Vec<Vec<String>> = truth
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    let mut last = 0.0;
+    for (r, t) in rows[1..].iter().zip(&t) {
+        let (y, ty): (f64, f64) = (r[4].parse().unwrap(), t[4].parse().unwrap());
+        let th: f64 = t[2].parse().unwrap();
+        assert!(th > last, "heights must rise with pressure");
+        last = th;
+        assert!((y - ty).abs() < 0.2, "{}: row {y} vs {ty}", t[0]);
+    }
+}
+
+#[test]
+fn synth_refuses_a_pressure_above_the_limit_point() {
+    let d = tempdir();
+    bulge_in(
+        d.path(),
+        &["synth", "out", "--frames", "2", "--pressure-max-pa", "9000"],
+    )
+    .bad_input(&["9000 Pa", "limit point"]);
+    assert!(!d.path().join("out/experiment.toml").exists());
+}
