@@ -100,6 +100,11 @@ fn speed(c: &mut Criterion) {
             "{w}x{h}: {n} JPEG photos, {:.1} MB",
             written.photo_bytes as f64 / 1e6
         );
+        let t = track::track(&setup, &Options::default(), &|| {}).unwrap();
+        eprintln!(
+            "{w}x{h}: matching and fitting take {:.2} ms per photo (sequential part)",
+            1e3 * t.locate_seconds / n as f64
+        );
         let mut g = c.benchmark_group(format!("track_{w}x{h}"));
         g.throughput(Throughput::Elements(n as u64));
         g.sample_size(10);

@@ -273,9 +273,6 @@ pub struct Options {
     pub edge_span_px: Option<usize>,
     /// Half-height of each column's edge window, px.
     pub edge_window_px: usize,
-    /// Photos decoded per parallel batch (default twice the threads); the
-    /// next batch is decoded while the current one is matched.
-    pub batch: usize,
 }
 
 impl Default for Options {
@@ -287,7 +284,6 @@ impl Default for Options {
             search_margin_px: 8,
             edge_span_px: None,
             edge_window_px: 4,
-            batch: 2 * rayon::current_num_threads().max(2),
         }
     }
 }
@@ -341,6 +337,8 @@ pub struct Tracked {
     pub skipped: Vec<Skipped>,
     /// Image size, px.
     pub image_size: [usize; 2],
+    /// Time spent matching and fitting (the sequential part), s.
+    pub locate_seconds: f64,
 }
 
 /// Compares names the way people count: `img2` < `img10`.
@@ -711,24 +709,8 @@ pub fn track(
         half_window_px: opts.edge_window_px,
     };
     let expect = (reference.path.clone(), width, height);
-    let decode_batch = |lo: usize, hi: usize| -> Vec<Result<Decoded, TrackError>> {
-        (lo..hi)
-            .into_par_iter()
-            .map(|i| {
-                if i == setup.reference_frame {
-                    Ok(ref_decoded.clone())
-                } else {
-                    decode_frame(&setup.frames[i].path, roi, &expect)
-                }
-            })
-            .collect()
-    };
-
     let n = setup.frames.len();
-    // Small batches keep both the decoding threads and the matching busy.
-    let batch = opts.batch.max(1);
     let mut state = Tracker {
-        roi,
         templ: &templ,
         opts,
         edge_settings,
@@ -744,60 +726,102 @@ pub fn track(
         last: None,
         prev: None,
     };
-    let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
-    let mut skipped = Vec::new();
-    let mut pending = decode_batch(0, batch.min(n));
-    let mut lo = 0;
-    while lo < n {
-        let hi = (lo + batch).min(n);
-        let next_hi = (hi + batch).min(n);
-        let current = std::mem::take(&mut pending);
-        let (next, done) = rayon::join(
-            || {
-                if hi < n {
-                    decode_batch(hi, next_hi)
-                } else {
-                    Vec::new()
-                }
-            },
-            || -> Result<Vec<Option<Located>>, TrackError> {
-                let mut out = Vec::with_capacity(current.len());
-                for (k, dec) in current.into_iter().enumerate() {
-                    let i = lo + k;
-                    let dec = dec?;
-                    let f = &setup.frames[i];
-                    let loc = state.locate(&dec.crop)?;
-                    if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
-                        if opts.skip_bad_frames {
-                            skipped.push(Skipped {
-                                frame: i,
-                                file: f.file.clone(),
-                                score: loc.m.score,
-                            });
-                            state.last = None;
-                            state.prev = None;
-                            out.push(None);
-                            tick();
+    // The pipeline: the rayon pool decodes photos roughly in order
+    // (`par_bridge`) and sends their regions through a bounded channel to one
+    // matching thread, which puts them back in order and tracks them one by
+    // one (each search starts from the previous frame's position). There is
+    // no barrier between batches, so the decoding threads never wait for
+    // the matching, and memory holds only a few regions at a time.
+    let depth = 2 * rayon::current_num_threads().max(1) + 2;
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    type Matched = (Vec<Option<Located>>, Vec<Skipped>, f64);
+    let matched: Result<Matched, TrackError> = std::thread::scope(|scope| {
+        let state = &mut state;
+        let cancel = &cancel;
+        let matcher = scope.spawn(move || -> Result<Matched, TrackError> {
+            let fail = |e: TrackError| {
+                cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+                Err(e)
+            };
+            let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
+            let mut skipped = Vec::new();
+            let mut locate_time = 0.0;
+            let mut early = std::collections::BTreeMap::new();
+            while located.len() < n {
+                let i = located.len();
+                let dec = match early.remove(&i) {
+                    Some(d) => d,
+                    None => match rx.recv() {
+                        Ok((k, d)) if k == i => d,
+                        Ok((k, d)) => {
+                            early.insert(k, d);
                             continue;
                         }
-                        return Err(TrackError::LowScore {
+                        Err(_) => break,
+                    },
+                };
+                let dec = match dec {
+                    Ok(d) => d,
+                    Err(e) => return fail(e),
+                };
+                let f = &setup.frames[i];
+                let t0 = std::time::Instant::now();
+                let loc = match state.locate(&dec.crop) {
+                    Ok(l) => l,
+                    Err(e) => return fail(e),
+                };
+                locate_time += t0.elapsed().as_secs_f64();
+                if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
+                    if !opts.skip_bad_frames {
+                        return fail(TrackError::LowScore {
                             path: f.path.clone(),
                             frame: i,
                             score: loc.m.score,
                             min: opts.min_score,
                         });
                     }
+                    skipped.push(Skipped {
+                        frame: i,
+                        file: f.file.clone(),
+                        score: loc.m.score,
+                    });
+                    state.last = None;
+                    state.prev = None;
+                    located.push(None);
+                } else {
                     state.prev = state.last;
                     state.last = Some(loc.m.quadratic);
-                    out.push(Some(loc));
-                    tick();
+                    located.push(Some(loc));
                 }
-                Ok(out)
-            },
-        );
-        located.extend(done?);
-        pending = next;
-        lo = hi;
+                tick();
+            }
+            Ok((located, skipped, locate_time))
+        });
+        let tx = tx;
+        (0..n).par_bridge().for_each(|i| {
+            if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                return;
+            }
+            let d = if i == setup.reference_frame {
+                Ok(ref_decoded.clone())
+            } else {
+                decode_frame(&setup.frames[i].path, roi, &expect)
+            };
+            // A closed channel means the matching stopped on an error.
+            let _ = tx.send((i, d));
+        });
+        drop(tx);
+        matcher
+            .join()
+            .unwrap_or_else(|_| Err(TrackError::OpenCv("the matching thread panicked".into())))
+    });
+    let (located, skipped, locate_time) = matched?;
+    if located.len() < n {
+        return Err(TrackError::OpenCv(format!(
+            "only {} of {n} photos reached the matching",
+            located.len()
+        )));
     }
 
     // Apex in image coordinates and its statistical uncertainty, px.
@@ -881,6 +905,7 @@ pub fn track(
         rows,
         skipped,
         image_size: [width, height],
+        locate_seconds: locate_time,
     })
 }
 
@@ -898,7 +923,6 @@ fn decode_frame(
 }
 
 struct Tracker<'a> {
-    roi: [usize; 4],
     templ: &'a Gray,
     opts: &'a Options,
     edge_settings: EdgeSettings,
@@ -1098,9 +1122,17 @@ mod tests {
         };
         let a = accuracy(&s, 6, Refine::Edge);
         eprintln!("{a:?}");
-        assert!(a.reported[1] <= 0.1, "RMS apex row error {} px > 0.1", a.reported[1]);
+        assert!(
+            a.reported[1] <= 0.1,
+            "RMS apex row error {} px > 0.1",
+            a.reported[1]
+        );
         // The full-resolution integer match agrees with the edge to a pixel.
-        assert!(a.integer[1] <= 1.0, "integer match row error {} px", a.integer[1]);
+        assert!(
+            a.integer[1] <= 1.0,
+            "integer match row error {} px",
+            a.integer[1]
+        );
     }
 
     #[test]
