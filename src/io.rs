@@ -196,7 +196,9 @@ impl Table {
                 &self.path,
                 self.lines[row],
                 name,
-                format!("`{raw}` is not a finite number; replace it with a measured value or drop the row"),
+                format!(
+                    "`{raw}` is not a finite number; replace it with a measured value or drop the row"
+                ),
             ));
         }
         Ok(v)
@@ -287,7 +289,9 @@ impl CsvOut {
 
     /// The finished bytes.
     pub fn into_bytes(self) -> Vec<u8> {
-        self.wtr.into_inner().expect("writing to memory cannot fail")
+        self.wtr
+            .into_inner()
+            .expect("writing to memory cannot fail")
     }
 
     /// Writes the document atomically to `path`.

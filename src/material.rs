@@ -223,7 +223,9 @@ impl Hyperelastic<'_> {
                 }
                 w
             }
-            Model::Gent { mu_pa, jm } => (D2::cst(1.0) - i1() * (1.0 / jm)).ln() * (-mu_pa * jm / 2.0),
+            Model::Gent { mu_pa, jm } => {
+                (D2::cst(1.0) - i1() * (1.0 / jm)).ln() * (-mu_pa * jm / 2.0)
+            }
             Model::Linear { .. } | Model::Quartic { .. } => {
                 unreachable!("Hyperelastic is only built for hyperelastic models")
             }
@@ -400,7 +402,7 @@ mod tests {
     fn neo_hookean_equibiaxial_closed_form() {
         let m = Model::NeoHookean { c1_pa: 1.0e5 };
         let h = m.hyperelastic().unwrap();
-        for l in [1.0f64, 1.2, 2.0, 3.5] {
+        for l in [1.0_f64, 1.2, 2.0, 3.5] {
             let want = 2.0e5 * (l - l.powi(-5));
             assert!((h.equibiaxial_nominal(l) - want).abs() < 1e-9 * want.abs().max(1.0));
         }
@@ -415,7 +417,10 @@ mod tests {
             let e = 1e-6;
             let slope = (h.equibiaxial_cauchy(1.0 + e) - h.equibiaxial_cauchy(1.0 - e)) / (2.0 * e);
             let want = 2.0 * m.initial_young_pa();
-            assert!((slope - want).abs() < 1e-5 * want, "{m:?}: {slope} vs {want}");
+            assert!(
+                (slope - want).abs() < 1e-5 * want,
+                "{m:?}: {slope} vs {want}"
+            );
         }
     }
 
@@ -430,8 +435,15 @@ mod tests {
             "model = \"quartic\"\npoisson = 0.45\ncoefficients_pa = [1e6, 0, 0, 0, 0]\nstrain_range = [0, 0.5]\n",
         )
         .unwrap();
-        assert!(matches!(q.model, Model::Quartic { strain_measure: StrainMeasure::Engineering, .. }));
-        let l: Material = toml::from_str("model = \"linear\"\npoisson = 0.3\nyoung_pa = 1000000\n").unwrap();
+        assert!(matches!(
+            q.model,
+            Model::Quartic {
+                strain_measure: StrainMeasure::Engineering,
+                ..
+            }
+        ));
+        let l: Material =
+            toml::from_str("model = \"linear\"\npoisson = 0.3\nyoung_pa = 1000000\n").unwrap();
         assert_eq!(l.model.initial_young_pa(), 1.0e6);
     }
 }

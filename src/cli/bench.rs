@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge bench`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge bench` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge bench` is not built yet"
+    )))
 }

@@ -8,5 +8,7 @@ pub struct Args {}
 
 /// Runs `bulge run`.
 pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!("`bulge run` is not built yet")))
+    Err(Failure::Failed(anyhow::anyhow!(
+        "`bulge run` is not built yet"
+    )))
 }
