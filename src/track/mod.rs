@@ -995,15 +995,26 @@ impl Tracker<'_> {
                     self.prev.map(down),
                     (margin / fl).max(2.0),
                 )?;
-                let (tw, th) = (self.templ.width, self.templ.height);
-                let r = f + 2;
-                let cx = (mc.quadratic[0] * fl).round() as i64;
-                let cy = (mc.quadratic[1] * fl).round() as i64;
-                let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
-                let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
-                let x1 = (x0 + tw + 2 * r).min(crop.width);
-                let y1 = (y0 + th + 2 * r).min(crop.height);
-                matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
+                if self.opts.refine == Refine::Edge {
+                    // The edge fit needs a seed within a few px, not the
+                    // full-resolution match: report the coarse one scaled up.
+                    let up = |p: [f64; 2]| [p[0] * fl, p[1] * fl];
+                    Match {
+                        integer: up(mc.integer),
+                        quadratic: up(mc.quadratic),
+                        score: mc.score,
+                    }
+                } else {
+                    let (tw, th) = (self.templ.width, self.templ.height);
+                    let r = f + 2;
+                    let cx = (mc.quadratic[0] * fl).round() as i64;
+                    let cy = (mc.quadratic[1] * fl).round() as i64;
+                    let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
+                    let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
+                    let x1 = (x0 + tw + 2 * r).min(crop.width);
+                    let y1 = (y0 + th + 2 * r).min(crop.height);
+                    matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
+                }
             }
         };
         // The edge fit runs in every mode: in the integer and quadratic modes
