@@ -661,7 +661,53 @@ pub fn track(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Tracked, TrackError> {
+    // The photos are decoded in parallel by rayon; OpenCV's own thread pool
+    // would only compete with it for the cores.
+    opencv::core::set_num_threads(1).map_err(|e| TrackError::OpenCv(e.to_string()))?;
+    let n = setup.frames.len();
+    let r = setup.roi;
+    let roi_req = (r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0)
+        .then(|| [r[0] as usize, r[1] as usize, r[2] as usize, r[3] as usize]);
+    // The pipeline: the rayon pool decodes the photos roughly in order
+    // (`par_bridge`) and sends their regions through a bounded channel; this
+    // thread meanwhile decodes the reference photo whole (for the template),
+    // then takes the regions back in frame order and tracks them one by one
+    // (each search starts from the previous frame's position). No barrier
+    // stops the decoders, and memory holds only a few regions at a time.
+    let depth = 2 * rayon::current_num_threads().max(1) + 2;
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
+    let cancel = std::sync::atomic::AtomicBool::new(false);
     let reference = &setup.frames[setup.reference_frame];
+    std::thread::scope(|scope| {
+        let cancel = &cancel;
+        scope.spawn(move || {
+            let order = (0..n).filter(|&i| i != setup.reference_frame);
+            order.par_bridge().for_each(|i| {
+                if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                    return;
+                }
+                // A closed channel means the matching stopped on an error.
+                let _ = tx.send((i, decode_frame(&setup.frames[i].path, roi_req)));
+            });
+        });
+        let result = match_frames(setup, opts, tick, reference, rx);
+        if result.is_err() {
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        result
+    })
+}
+
+/// The sequential half of [`track`]: the reference photo, the template, then
+/// every frame's region in order from `rx`.
+fn match_frames(
+    setup: &Setup,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+    reference: &Frame,
+    rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
+) -> Result<Tracked, TrackError> {
+    let n = setup.frames.len();
     let full = image::read_gray(&reference.path, None)?;
     let (width, height) = (full.width, full.height);
     let roi = check_rect(&reference.path, setup.roi, width, height)?;
@@ -672,12 +718,7 @@ pub fn track(
             full.crop.crop(x, y, w, h)
         }
     };
-    // The reference photo is decoded once: keep its region for tracking.
-    let ref_decoded = Decoded {
-        width,
-        height,
-        crop: full.crop.crop(roi[0], roi[1], roi[2], roi[3]),
-    };
+    let ref_crop = full.crop.crop(roi[0], roi[1], roi[2], roi[3]);
     drop(full);
     if templ.width > roi[2] || templ.height > roi[3] {
         return Err(TrackError::TemplateLargerThanRegion {
@@ -708,8 +749,6 @@ pub fn track(
         half_span_px: opts.edge_span_px.unwrap_or(templ.width / 2).max(3),
         half_window_px: opts.edge_window_px,
     };
-    let expect = (reference.path.clone(), width, height);
-    let n = setup.frames.len();
     let mut state = Tracker {
         templ: &templ,
         opts,
@@ -726,102 +765,73 @@ pub fn track(
         last: None,
         prev: None,
     };
-    // The pipeline: the rayon pool decodes photos roughly in order
-    // (`par_bridge`) and sends their regions through a bounded channel to one
-    // matching thread, which puts them back in order and tracks them one by
-    // one (each search starts from the previous frame's position). There is
-    // no barrier between batches, so the decoding threads never wait for
-    // the matching, and memory holds only a few regions at a time.
-    let depth = 2 * rayon::current_num_threads().max(1) + 2;
-    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
-    let cancel = std::sync::atomic::AtomicBool::new(false);
-    type Matched = (Vec<Option<Located>>, Vec<Skipped>, f64);
-    let matched: Result<Matched, TrackError> = std::thread::scope(|scope| {
-        let state = &mut state;
-        let cancel = &cancel;
-        let matcher = scope.spawn(move || -> Result<Matched, TrackError> {
-            let fail = |e: TrackError| {
-                cancel.store(true, std::sync::atomic::Ordering::Relaxed);
-                Err(e)
-            };
-            let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
-            let mut skipped = Vec::new();
-            let mut locate_time = 0.0;
-            let mut early = std::collections::BTreeMap::new();
-            while located.len() < n {
-                let i = located.len();
-                let dec = match early.remove(&i) {
-                    Some(d) => d,
-                    None => match rx.recv() {
-                        Ok((k, d)) if k == i => d,
-                        Ok((k, d)) => {
-                            early.insert(k, d);
-                            continue;
-                        }
-                        Err(_) => break,
-                    },
-                };
-                let dec = match dec {
-                    Ok(d) => d,
-                    Err(e) => return fail(e),
-                };
-                let f = &setup.frames[i];
-                let t0 = std::time::Instant::now();
-                let loc = match state.locate(&dec.crop) {
-                    Ok(l) => l,
-                    Err(e) => return fail(e),
-                };
-                locate_time += t0.elapsed().as_secs_f64();
-                if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
-                    if !opts.skip_bad_frames {
-                        return fail(TrackError::LowScore {
-                            path: f.path.clone(),
-                            frame: i,
-                            score: loc.m.score,
-                            min: opts.min_score,
-                        });
+    let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
+    let mut skipped = Vec::new();
+    let mut locate_time = 0.0;
+    let mut early = std::collections::BTreeMap::new();
+    while located.len() < n {
+        let i = located.len();
+        let f = &setup.frames[i];
+        let crop_owned;
+        let crop: &Gray = if i == setup.reference_frame {
+            &ref_crop
+        } else {
+            let dec = match early.remove(&i) {
+                Some(d) => d,
+                None => match rx.recv() {
+                    Ok((k, d)) if k == i => d,
+                    Ok((k, d)) => {
+                        early.insert(k, d);
+                        continue;
                     }
-                    skipped.push(Skipped {
-                        frame: i,
-                        file: f.file.clone(),
-                        score: loc.m.score,
-                    });
-                    state.last = None;
-                    state.prev = None;
-                    located.push(None);
-                } else {
-                    state.prev = state.last;
-                    state.last = Some(loc.m.quadratic);
-                    located.push(Some(loc));
-                }
-                tick();
-            }
-            Ok((located, skipped, locate_time))
-        });
-        let tx = tx;
-        (0..n).par_bridge().for_each(|i| {
-            if cancel.load(std::sync::atomic::Ordering::Relaxed) {
-                return;
-            }
-            let d = if i == setup.reference_frame {
-                Ok(ref_decoded.clone())
-            } else {
-                decode_frame(&setup.frames[i].path, roi, &expect)
+                    Err(_) => {
+                        return Err(TrackError::OpenCv(format!(
+                            "the decoding of photo {} stopped early",
+                            f.path.display()
+                        )));
+                    }
+                },
             };
-            // A closed channel means the matching stopped on an error.
-            let _ = tx.send((i, d));
-        });
-        drop(tx);
-        matcher
-            .join()
-            .unwrap_or_else(|_| Err(TrackError::OpenCv("the matching thread panicked".into())))
-    });
-    let (located, skipped, locate_time) = matched?;
-    if located.len() < n {
-        return Err(TrackError::OpenCv(format!(
-            "only {} of {n} photos reached the matching",
-            located.len()
-        )));
+            let dec = dec?;
+            if (dec.width, dec.height) != (width, height) {
+                return Err(TrackError::MixedSizes {
+                    path: f.path.clone(),
+                    width: dec.width,
+                    height: dec.height,
+                    reference: reference.path.clone(),
+                    ref_width: width,
+                    ref_height: height,
+                });
+            }
+            crop_owned = dec.crop;
+            &crop_owned
+        };
+        let t0 = std::time::Instant::now();
+        let loc = state.locate(crop)?;
+        locate_time += t0.elapsed().as_secs_f64();
+        if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
+            if !opts.skip_bad_frames {
+                return Err(TrackError::LowScore {
+                    path: f.path.clone(),
+                    frame: i,
+                    score: loc.m.score,
+                    min: opts.min_score,
+                });
+            }
+            skipped.push(Skipped {
+                frame: i,
+                file: f.file.clone(),
+                score: loc.m.score,
+            });
+            state.last = None;
+            state.prev = None;
+            located.push(None);
+        } else {
+            state.prev = state.last;
+            state.last = Some(loc.m.quadratic);
+            located.push(Some(loc));
+        }
+        tick();
     }
 
     // Apex in image coordinates and its statistical uncertainty, px.
@@ -909,17 +919,14 @@ pub fn track(
     })
 }
 
-/// Reads one photo, checks its size against the reference, crops the region.
-fn decode_frame(
-    path: &Path,
-    roi: [usize; 4],
-    expect: &(PathBuf, usize, usize),
-) -> Result<Decoded, TrackError> {
+/// Reads one photo and crops the region (an empty crop when the region does
+/// not fit: the size check against the reference photo then names the file).
+fn decode_frame(path: &Path, roi: Option<[usize; 4]>) -> Result<Decoded, TrackError> {
     let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
         path: path.to_path_buf(),
         reason: e.to_string(),
     })?;
-    image::decode_gray_checked(path, &bytes, roi, expect)
+    image::decode_gray_lenient(path, &bytes, roi)
 }
 
 struct Tracker<'a> {
