@@ -762,7 +762,14 @@ fn match_frames(
             }
             (f > 1).then(|| (f, matcher::reduce(&templ, f)))
         },
-        last: None,
+        // A template cut from the reference photo says where the search
+        // starts: no search of the whole region for the first frame.
+        last: match &setup.template {
+            TemplateSource::Rect(r) => {
+                Some([(r[0] - roi[0] as i64) as f64, (r[1] - roi[1] as i64) as f64])
+            }
+            TemplateSource::File(_) => None,
+        },
         prev: None,
     };
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
