@@ -429,7 +429,7 @@ pub fn axis_fit(
     let curv = (rp + rm - 2.0 * r0) / (h * h);
     let n = pts.len() as f64;
     let sigma2 = r0 / (n - 4.0).max(1.0);
-    if !(curv > 0.0) {
+    if curv.is_nan() || curv <= 0.0 {
         return None;
     }
     Some((s, (2.0 * sigma2 / curv).sqrt()))

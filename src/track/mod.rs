@@ -545,7 +545,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         (Some(s), None, None) => s,
         (None, Some([p, q]), Some(d)) => {
             let len = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
-            if !(len > 0.0) {
+            if len.is_nan() || len <= 0.0 {
                 return Err(cfg(format!(
                     "[calibration] points_px = {:?} are the same point: give two points a known distance apart",
                     [p, q]
