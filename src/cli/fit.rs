@@ -654,8 +654,8 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
         for &l in &ls {
             c.row(&[
                 fmt_num(Some(l)),
-                fmt_num(Some(h.equibiaxial_nominal(l))),
-                fmt_num(Some(h.equibiaxial_cauchy(l))),
+                fmt_num(Some(h.equibiaxial_nominal(l) + 0.0)),
+                fmt_num(Some(h.equibiaxial_cauchy(l) + 0.0)),
             ]);
         }
         c
@@ -670,7 +670,7 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
             let mut row = vec![fmt_num(Some(l))];
             row.extend(
                 fits.iter()
-                    .map(|f| fmt_num(Some(data.predict(&f.model, l)))),
+                    .map(|f| fmt_num(Some(data.predict(&f.model, l) + 0.0))),
             );
             c.row(&row);
         }
