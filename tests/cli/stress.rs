@@ -196,7 +196,7 @@ fn stress_every_option() {
         lambda * sigma / (lambda - 1.0),
         1e-14,
     );
-    let o = run(&["--modulus-stress", "engineering"]);
+    let o = run(&["--modulus-stress", "stress"]);
     close(
         o.num(0, "secant_modulus_pa"),
         (1.0 - NU) * sigma / (lambda - 1.0),
