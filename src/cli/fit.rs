@@ -204,7 +204,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         modulus: args.modulus,
     };
     let loaded = data::load(&table, &opts)?;
-    let mod_std = table.optional_numbers("secant_modulus_pa_std")?;
+    // `bulge stress` writes the uncertainty of `secant_modulus_pa` as
+    // `secant_modulus_std_pa` (unit last); drawn as error bars.
+    let mod_std = match table.optional_numbers("secant_modulus_std_pa")? {
+        Some(v) => Some(v),
+        None => table.optional_numbers("secant_modulus_pa_std")?,
+    };
     let product = match args.model {
         ModelArg::Quartic => quartic_product(&args, &loaded, mod_std)?,
         ModelArg::All => all_product(&args, &loaded)?,
