@@ -420,6 +420,7 @@ pub struct SphereOptions {
 }
 
 /// The sphere octant `x, y, z >= 0` with its three symmetry planes.
+#[allow(clippy::needless_range_loop)] // (i, j) are the grid coordinates
 pub fn sphere_segment(o: SphereOptions) -> Result<Mesh, SimError> {
     let n = o.divisions;
     if n < 2 {
