@@ -253,7 +253,8 @@ pub enum Refine {
     Integer,
     /// A 2-D quadratic fit of the 3x3 scores around the peak.
     Quadratic,
-    /// Quadratic fit for the column, then a local edge fit at the apex for the row.
+    /// Template match, then the edge fit: the row from a parabola through the
+    /// top edge near the apex, the column from the edge's mirror symmetry.
     Edge,
 }
 
