@@ -675,7 +675,11 @@ pub fn track(
     // then takes the regions back in frame order and tracks them one by one
     // (each search starts from the previous frame's position). No barrier
     // stops the decoders, and memory holds only a few regions at a time.
-    let depth = 2 * rayon::current_num_threads().max(1) + 2;
+    // A deep queue (up to 128 MB of regions) keeps the decoders running
+    // when the matching thread waits for a core on a busy machine.
+    let crop_bytes = roi_req.map_or(1 << 20, |r| (r[2] * r[3]).max(1));
+    let depth =
+        ((128usize << 20) / crop_bytes).clamp(2 * rayon::current_num_threads().max(1) + 2, 1024);
     let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let reference = &setup.frames[setup.reference_frame];
