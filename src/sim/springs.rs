@@ -289,7 +289,7 @@ impl Membrane {
         for (ti, tri) in mesh.triangles.iter().enumerate() {
             let p = tri.map(|i| mesh.nodes[i as usize]);
             let area0 = (p[1] - p[0]).cross(&(p[2] - p[0])).norm() / 2.0;
-            if !(area0 > 0.0) {
+            if area0.is_nan() || area0 <= 0.0 {
                 return Err(SimError::DegenerateTriangle {
                     triangle: ti,
                     nodes: *tri,
