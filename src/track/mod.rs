@@ -253,7 +253,8 @@ pub enum Refine {
     Integer,
     /// A 2-D quadratic fit of the 3x3 scores around the peak.
     Quadratic,
-    /// Quadratic fit for the column, then a local edge fit at the apex for the row.
+    /// Template match, then the edge fit: the row from a parabola through the
+    /// top edge near the apex, the column from the edge's mirror symmetry.
     Edge,
 }
 
@@ -674,7 +675,11 @@ pub fn track(
     // then takes the regions back in frame order and tracks them one by one
     // (each search starts from the previous frame's position). No barrier
     // stops the decoders, and memory holds only a few regions at a time.
-    let depth = 2 * rayon::current_num_threads().max(1) + 2;
+    // A deep queue (up to 128 MB of regions) keeps the decoders running
+    // when the matching thread waits for a core on a busy machine.
+    let crop_bytes = roi_req.map_or(1 << 20, |r| (r[2] * r[3]).max(1));
+    let depth =
+        ((128usize << 20) / crop_bytes).clamp(2 * rayon::current_num_threads().max(1) + 2, 1024);
     let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let reference = &setup.frames[setup.reference_frame];
@@ -1069,6 +1074,108 @@ mod tests {
         assert!(glob_match("f[0-9]*", "f7x"));
         assert!(!glob_match("f[!0-9]*", "f7x"));
         assert!(glob_match("*", "anything"));
+    }
+
+    fn write_tiny_experiment(dir: &Path) {
+        let spec = spec(301, 0.0, 0.0, image::Encoding::Png);
+        let spec = synth::SequenceSpec {
+            width: 160,
+            height: 120,
+            ..spec
+        };
+        synth::write_sequence(dir, &spec, &synth::cap_frames(0.0375, 0.015, 3)).unwrap();
+    }
+
+    #[test]
+    fn truncated_files_are_caught_before_decoding() {
+        let g = image::Gray {
+            width: 16,
+            height: 8,
+            data: (0..128).map(|v| v as u8).collect(),
+        };
+        for enc in [image::Encoding::Png, image::Encoding::Jpeg(90)] {
+            let bytes = image::encode(&g, enc).unwrap();
+            assert!(image::check_complete(Path::new("a"), &bytes).is_ok());
+            let cut = &bytes[..bytes.len() - 5];
+            let e = image::check_complete(Path::new("a.img"), cut).unwrap_err();
+            assert!(matches!(e, TrackError::Truncated { .. }), "{e}");
+            let e = image::decode_gray(Path::new("b.img"), cut, None).unwrap_err();
+            assert!(
+                e.to_string().contains("b.img") && e.to_string().contains("truncated"),
+                "{e}"
+            );
+        }
+        let e = image::decode_gray(Path::new("c.png"), b"not an image", None).unwrap_err();
+        assert!(matches!(e, TrackError::Unreadable { .. }), "{e}");
+    }
+
+    #[test]
+    fn empty_folder_and_unmatched_glob_are_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let e = list_photos(d.path(), "*.png").unwrap_err();
+        assert!(matches!(e, TrackError::EmptyFolder { .. }), "{e}");
+        std::fs::write(d.path().join("a1.jpg"), b"x").unwrap();
+        let e = list_photos(d.path(), "*.png").unwrap_err();
+        assert!(e.to_string().contains("`a1.jpg`"), "{e}");
+        assert_eq!(list_photos(d.path(), "a?.jpg").unwrap().len(), 1);
+    }
+
+    #[test]
+    fn pressure_log_must_cover_every_photo_once() {
+        let d = tempfile::tempdir().unwrap();
+        write_tiny_experiment(d.path());
+        let exp = d.path().join("experiment.toml");
+        std::fs::write(
+            d.path().join("pressure.csv"),
+            "file,pressure_pa\nframe_001.png,100\nframe_002.png,200\n",
+        )
+        .unwrap();
+        let e = setup_from_experiment(&Experiment::read(&exp).unwrap()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("no pressure for photo `frame_003.png`"),
+            "{e}"
+        );
+        std::fs::write(
+            d.path().join("pressure.csv"),
+            "file,pressure_pa\nframe_001.png,100\nframe_001.png,200\n",
+        )
+        .unwrap();
+        let e = setup_from_experiment(&Experiment::read(&exp).unwrap()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 3") && e.to_string().contains("already"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn region_and_template_are_checked_against_the_image() {
+        let d = tempfile::tempdir().unwrap();
+        write_tiny_experiment(d.path());
+        let exp = Experiment::read(&d.path().join("experiment.toml")).unwrap();
+        let mut setup = setup_from_experiment(&exp).unwrap();
+        setup.roi = [100, 50, 100, 20];
+        let e = track(&setup, &Options::default(), &|| {}).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TrackError::RegionOutside {
+                    width: 160,
+                    height: 120,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        setup.roi = [60, 40, 10, 40];
+        let e = track(&setup, &Options::default(), &|| {}).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TrackError::TemplateLargerThanRegion { tw: 16, th: 8, .. }
+            ),
+            "{e}"
+        );
     }
 
     /// Writes a cap sequence, tracks it, returns the apex errors.
