@@ -6,4 +6,4 @@ OUT=${2:-out}
 mkdir -p "$OUT"
 echo "== bulge stress: data/demo/heights.csv -> $OUT/stress_strain.csv"
 "$BULGE" stress data/demo/heights.csv --experiment data/demo/experiment.toml -o "$OUT/stress_strain.csv"
-column -s, -t < "$OUT/stress_strain.csv" | head -20
+if command -v column >/dev/null; then column -s, -t < "$OUT/stress_strain.csv"; else cat "$OUT/stress_strain.csv"; fi

@@ -204,7 +204,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         modulus: args.modulus,
     };
     let loaded = data::load(&table, &opts)?;
-    let mod_std = table.optional_numbers("secant_modulus_pa_std")?;
+    // `bulge stress` writes the uncertainty of `secant_modulus_pa` as
+    // `secant_modulus_std_pa` (unit last); drawn as error bars.
+    let mod_std = match table.optional_numbers("secant_modulus_std_pa")? {
+        Some(v) => Some(v),
+        None => table.optional_numbers("secant_modulus_pa_std")?,
+    };
     let product = match args.model {
         ModelArg::Quartic => quartic_product(&args, &loaded, mod_std)?,
         ModelArg::All => all_product(&args, &loaded)?,
@@ -654,8 +659,8 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
         for &l in &ls {
             c.row(&[
                 fmt_num(Some(l)),
-                fmt_num(Some(h.equibiaxial_nominal(l))),
-                fmt_num(Some(h.equibiaxial_cauchy(l))),
+                fmt_num(Some(h.equibiaxial_nominal(l) + 0.0)),
+                fmt_num(Some(h.equibiaxial_cauchy(l) + 0.0)),
             ]);
         }
         c
@@ -670,7 +675,7 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
             let mut row = vec![fmt_num(Some(l))];
             row.extend(
                 fits.iter()
-                    .map(|f| fmt_num(Some(data.predict(&f.model, l)))),
+                    .map(|f| fmt_num(Some(data.predict(&f.model, l) + 0.0))),
             );
             c.row(&row);
         }

@@ -84,7 +84,6 @@ pub fn run(args: Args) -> Result<(), Failure> {
         search_margin_px: args.search_margin_px,
         edge_span_px: args.edge_span_px,
         edge_window_px: args.edge_window_px,
-        ..Options::default()
     };
     let pb = super::progress(setup.frames.len() as u64, "track");
     let tracked = track::track(&setup, &opts, &|| pb.inc(1)).map_err(classify)?;
