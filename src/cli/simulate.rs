@@ -304,7 +304,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
     let mesh = scene
-        .build_mesh()
+        .build_mesh_for(&models)
         .context("building the mesh")
         .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
