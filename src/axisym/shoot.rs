@@ -1,0 +1,263 @@
+//! The membrane equations of a clamped disc, their start off the axis, and
+//! one shot from the pole to the clamp.
+//!
+//! Dimensionless radius `x = r / a` in `(0, 1]`, load `pi = p a / t` (Pa).
+//! State `y = [l1 - 1, l2 - 1, psi, d]` with `d = depth below the pole / a`.
+//! With the nominal stresses `P_i(l1, l2)` and `P_ij = dP_i/dl_j` (see
+//! [`super::law`]):
+//!
+//! ```text
+//! l2'  = (l1 cos psi - l2) / x
+//! l1'  = (P2 cos psi - P1 - x P12 l2') / (x P11)          from d(x P1)/dx = P2 cos psi
+//! psi' = (pi l1 l2 - P2 sin psi / x) / P1
+//! d'   = l1 sin psi
+//! ```
+//!
+//! Series at the pole (`l1 = l0 + A x^2`, `l2 = l0 + B x^2`,
+//! `psi = k x + C x^3`, `d = l0 k x^2 / 2 + D x^4`), with `s = P1(l0, l0)`:
+//!
+//! ```text
+//! k = pi l0^2 / (2 s)
+//! (3 P11 - P21) A + (3 P12 - P22) B = -s k^2 / 2
+//! A - 3 B = l0 k^2 / 2
+//! 4 s C = pi l0 (A + B) + s k^3 / 6 - k (s1 + s2),  s1 = P11 A + P12 B,  s2 = P21 A + P22 B
+//! D = (l0 C - l0 k^3 / 6 + A k) / 4
+//! ```
+//!
+//! Near the pole the equations have a regular singular point whose other
+//! solutions decay like `x^-2` (the difference `l1 - l2`) and `x^-1` (`psi`),
+//! so the truncation error of the start is damped, not amplified; the start
+//! radius `x0 = 1e-3 min(1, 1/k)` leaves a start error of order
+//! `(k x0)^4 ~ 1e-12`.
+
+use super::law::{Law, Stress};
+use super::ode::{self, Settings};
+
+/// Shots that fold the meridian back (`l2` below this) are over-curved; the
+/// run is cut there instead of being followed into the axis.
+const L2_FLOOR: f64 = 0.5;
+
+/// The outcome of one shot.
+#[derive(Debug, Clone, Copy)]
+pub struct Shot {
+    /// Whether the clamp `x = 1` was reached.
+    pub complete: bool,
+    /// Where the run ended (dimensionless).
+    pub x_end: f64,
+    /// State there.
+    pub y: [f64; 4],
+    /// RK steps (accepted + rejected).
+    pub steps: usize,
+}
+
+impl Shot {
+    /// Apex height over the radius, `h / a`.
+    pub fn height(&self) -> f64 {
+        self.y[3]
+    }
+
+    /// Scaled clamp residual `(l2(a) - 1) / (l0 - 1)`: `1` for a flat shot,
+    /// `0` at a solution, negative when over-curved. A shot that stopped short
+    /// of the clamp is scored below any shot that reached it.
+    pub fn residual(&self, l0: f64) -> f64 {
+        let d = l0 - 1.0;
+        if self.complete {
+            self.y[1] / d
+        } else {
+            (self.y[1].min(0.0) - (1.0 - self.x_end) - 1.0) / d
+        }
+    }
+}
+
+/// One point of the profile, dimensionless.
+#[derive(Debug, Clone, Copy)]
+pub struct Point {
+    pub x: f64,
+    pub l1: f64,
+    pub l2: f64,
+    pub psi: f64,
+    pub d: f64,
+}
+
+/// A material on a disc.
+#[derive(Debug, Clone)]
+pub struct Membrane<'a> {
+    pub law: Law<'a>,
+    pub max_steps: usize,
+}
+
+/// Pole expansion coefficients.
+#[derive(Debug, Clone, Copy)]
+struct Series {
+    l0: f64,
+    k: f64,
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+}
+
+impl Series {
+    fn at(&self, x: f64) -> [f64; 4] {
+        let x2 = x * x;
+        [
+            self.l0 - 1.0 + self.a * x2,
+            self.l0 - 1.0 + self.b * x2,
+            x * (self.k + self.c * x2),
+            x2 * (0.5 * self.l0 * self.k + self.d * x2),
+        ]
+    }
+}
+
+impl Membrane<'_> {
+    #[inline]
+    fn rhs(&self, pi: f64, x: f64, y: &[f64; 4]) -> Option<[f64; 4]> {
+        let (l1, l2, psi) = (1.0 + y[0], 1.0 + y[1], y[2]);
+        let Stress { p, dp } = self.law.stress(l1, l2)?;
+        if !(p[0] > 0.0 && dp[0][0] > 0.0) {
+            // No meridional tension or no meridional stiffness: wrinkling or
+            // loss of ellipticity; outside the membrane's domain.
+            return None;
+        }
+        let (s, c) = psi.sin_cos();
+        let dl2 = (l1 * c - l2) / x;
+        let dl1 = (p[1] * c - p[0] - x * dp[0][1] * dl2) / (x * dp[0][0]);
+        let dpsi = (pi * l1 * l2 - p[1] * s / x) / p[0];
+        let dd = l1 * s;
+        Some([dl1, dl2, dpsi, dd])
+    }
+
+    fn series(&self, l0: f64, pi: f64) -> Option<Series> {
+        let Stress { p, dp } = self.law.stress(l0, l0)?;
+        let s = p[0];
+        if !(s > 0.0) {
+            return None;
+        }
+        let k = pi * l0 * l0 / (2.0 * s);
+        // [3P11 - P21, 3P12 - P22; 1, -3] [A; B] = [-s k^2/2; l0 k^2/2]
+        let (m11, m12, m21, m22) = (
+            3.0 * dp[0][0] - dp[1][0],
+            3.0 * dp[0][1] - dp[1][1],
+            1.0,
+            -3.0,
+        );
+        let (r1, r2) = (-0.5 * s * k * k, 0.5 * l0 * k * k);
+        let det = m11 * m22 - m12 * m21;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let a = (r1 * m22 - m12 * r2) / det;
+        let b = (m11 * r2 - m21 * r1) / det;
+        let s1 = dp[0][0] * a + dp[0][1] * b;
+        let s2 = dp[1][0] * a + dp[1][1] * b;
+        let c = (pi * l0 * (a + b) + s * k * k * k / 6.0 - k * (s1 + s2)) / (4.0 * s);
+        let d = (l0 * c - l0 * k * k * k / 6.0 + a * k) / 4.0;
+        Some(Series { l0, k, a, b, c, d })
+    }
+
+    /// Integrates from the pole to the clamp for pole stretch `l0 > 1` and
+    /// load `pi = p a / t`. `outputs` (increasing, in `(0, 1]`) are recorded
+    /// into `profile` when given.
+    pub fn shoot(
+        &self,
+        l0: f64,
+        pi: f64,
+        rtol: f64,
+        outputs: &[f64],
+        mut profile: Option<&mut Vec<Point>>,
+    ) -> Shot {
+        let failed = Shot {
+            complete: false,
+            x_end: 0.0,
+            y: [l0 - 1.0, l0 - 1.0, 0.0, 0.0],
+            steps: 0,
+        };
+        let Some(ser) = self.series(l0, pi) else {
+            return failed;
+        };
+        let x0 = 1e-3 * (1.0f64).min(1.0 / ser.k.max(1e-300));
+        let y0 = ser.at(x0);
+        let delta = l0 - 1.0;
+        let ps = ser.k.max(1e-300);
+        let settings = Settings {
+            rtol,
+            atol: [rtol * delta, rtol * delta, rtol * ps, rtol * ps],
+            h0: x0,
+            h_min: 1e-13,
+            max_steps: self.max_steps,
+        };
+        let push = |profile: &mut Option<&mut Vec<Point>>, x: f64, y: &[f64; 4]| {
+            if let Some(v) = profile.as_deref_mut() {
+                v.push(Point {
+                    x,
+                    l1: 1.0 + y[0],
+                    l2: 1.0 + y[1],
+                    psi: y[2],
+                    d: y[3],
+                });
+            }
+        };
+        // Outputs inside the start radius come from the series.
+        let split = outputs.partition_point(|&x| x <= x0);
+        for &x in &outputs[..split] {
+            let y = if x == 0.0 {
+                [delta, delta, 0.0, 0.0]
+            } else {
+                ser.at(x)
+            };
+            push(&mut profile, x, &y);
+        }
+        let out = ode::integrate(
+            |x, y| self.rhs(pi, x, y),
+            x0,
+            y0,
+            1.0,
+            &settings,
+            |_, y| 1.0 + y[1] < L2_FLOOR || y[2].abs() > 2.0 * std::f64::consts::PI,
+            &outputs[split..],
+            |x, y| push(&mut profile, x, y),
+        );
+        Shot {
+            complete: out.stopped.is_none() && out.x >= 1.0,
+            x_end: out.x,
+            y: out.y,
+            steps: out.accepted + out.rejected,
+        }
+    }
+
+    /// Whether the last run ended for lack of steps (reported, not scored).
+    pub fn out_of_steps(&self, shot: &Shot) -> bool {
+        !shot.complete && shot.steps >= self.max_steps
+    }
+
+    /// Pressure estimate for a pole stretch: a spherical cap of uniform
+    /// equibiaxial stretch `l0` and the same arc length, `sin th / th = 1/l0`,
+    /// `pi = 2 P1(l0, l0) sin th / l0`.
+    pub fn cap_estimate(&self, l0: f64) -> Option<f64> {
+        let s = self.law.stress(l0, l0)?.p[0];
+        let target = 1.0 / l0;
+        let mut th = (6.0 * (l0 - 1.0)).sqrt().min(3.0);
+        for _ in 0..50 {
+            let f = th.sin() / th - target;
+            let df = (th * th.cos() - th.sin()) / (th * th);
+            let step = f / df;
+            th = (th - step).clamp(1e-8, 3.14);
+            if step.abs() < 1e-12 {
+                break;
+            }
+        }
+        let pi = 2.0 * s * th.sin() / l0;
+        (pi.is_finite() && pi > 0.0).then_some(pi)
+    }
+
+    /// Reason a run stopped, for messages.
+    pub fn describe(shot: &Shot) -> String {
+        format!(
+            "the integration stopped at r/a = {:.4} (l1 = {:.4}, l2 = {:.4}, psi = {:.4} rad)",
+            shot.x_end,
+            1.0 + shot.y[0],
+            1.0 + shot.y[1],
+            shot.y[2]
+        )
+    }
+}

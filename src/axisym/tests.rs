@@ -1,0 +1,612 @@
+//! Checks against independent references: NOTES section 3 (Adkins & Rivlin /
+//! Yang & Feng values for neo-Hookean and Mooney-Rivlin discs, the
+//! neo-Hookean pressure maximum, Hencky's K(nu) for the linear membrane).
+
+use super::*;
+use crate::material::{Model, StrainMeasure};
+
+const A: f64 = 0.0375;
+const T: f64 = 3.5e-4;
+const C1: f64 = 1.0e5;
+
+fn specimen() -> Specimen {
+    Specimen {
+        radius_m: A,
+        thickness_m: T,
+        poisson: 0.45,
+        prebulge_height_m: 0.0,
+    }
+}
+
+fn mat(model: Model, poisson: f64) -> Material {
+    Material {
+        model,
+        poisson,
+        fit: None,
+    }
+}
+
+fn neo() -> Material {
+    mat(Model::NeoHookean { c1_pa: C1 }, 0.5)
+}
+
+fn mooney() -> Material {
+    mat(
+        Model::MooneyRivlin {
+            c1_pa: C1,
+            c2_pa: 0.1 * C1,
+        },
+        0.5,
+    )
+}
+
+fn dimless(sol: &Solution) -> (f64, f64) {
+    (sol.pressure_pa * A / (C1 * T), sol.height_m / A)
+}
+
+fn rel(got: f64, want: f64) -> f64 {
+    (got - want).abs() / want.abs()
+}
+
+/// NOTES section 3 table: P = p a / (C1 t) and h/a at three pole stretches.
+#[test]
+fn notes_check_values() {
+    let table = [
+        (1.01, 0.05138, 0.12361, 0.05666, 0.12367),
+        (1.20, 1.99850, 0.53098, 2.30046, 0.53663),
+        (2.00, 3.73911, 1.08307, 4.94098, 1.16113),
+    ];
+    let o = Options::default();
+    for (l0, p_nh, h_nh, p_mr, h_mr) in table {
+        let (p, h) = dimless(&solve_pole_stretch(&neo(), &specimen(), l0, &o).unwrap());
+        assert!(rel(p, p_nh) < 1e-4, "neo-Hookean l0 {l0}: P {p} vs {p_nh}");
+        assert!(
+            rel(h, h_nh) < 1e-4,
+            "neo-Hookean l0 {l0}: h/a {h} vs {h_nh}"
+        );
+        let (p, h) = dimless(&solve_pole_stretch(&mooney(), &specimen(), l0, &o).unwrap());
+        assert!(
+            rel(p, p_mr) < 1e-4,
+            "Mooney-Rivlin l0 {l0}: P {p} vs {p_mr}"
+        );
+        assert!(
+            rel(h, h_mr) < 1e-4,
+            "Mooney-Rivlin l0 {l0}: h/a {h} vs {h_mr}"
+        );
+    }
+}
+
+/// NOTES section 3: the neo-Hookean pressure maximum, P = 3.7583 at pole
+/// stretch 2.196 and h/a = 1.174, to the digits given.
+#[test]
+fn neo_hookean_limit_point() {
+    let lp = limit_point(&neo(), &specimen(), &Options::default())
+        .unwrap()
+        .expect("the neo-Hookean disc has a pressure maximum");
+    let (p, h) = dimless(&lp);
+    assert!((p - 3.7583).abs() < 5e-5, "P {p}");
+    assert!(
+        (lp.pole_stretch - 2.196).abs() < 5e-4,
+        "l0 {}",
+        lp.pole_stretch
+    );
+    assert!((h - 1.174).abs() < 5e-4, "h/a {h}");
+}
+
+/// Above the maximum: a typed error carrying the limit; just below it: a
+/// solution on the rising branch (pole stretch below 2.196).
+#[test]
+fn pressure_above_limit_point_is_refused() {
+    let p_max = 3.7583 * C1 * T / A;
+    let o = Options::default();
+    match solve_pressure(&neo(), &specimen(), 1.01 * p_max, &o) {
+        Err(AxisymError::AboveLimitPoint {
+            limit_pressure_pa,
+            limit_height_m,
+            limit_pole_stretch,
+            ..
+        }) => {
+            assert!(rel(limit_pressure_pa, p_max) < 2e-5, "{limit_pressure_pa}");
+            assert!(
+                (limit_height_m / A - 1.174).abs() < 5e-4,
+                "{limit_height_m}"
+            );
+            assert!((limit_pole_stretch - 2.196).abs() < 5e-4);
+        }
+        other => panic!("expected AboveLimitPoint, got {other:?}"),
+    }
+    let s = solve_pressure(&neo(), &specimen(), 0.995 * p_max, &o).unwrap();
+    assert!(
+        s.pole_stretch > 1.5 && s.pole_stretch < 2.196,
+        "{}",
+        s.pole_stretch
+    );
+    assert!(rel(s.pressure_pa, 0.995 * p_max) < 1e-12);
+}
+
+/// `solve_pressure` inverts `solve_pole_stretch` on the rising branch.
+#[test]
+fn solve_pressure_inverts_solve_pole_stretch() {
+    let o = Options::default();
+    for m in [neo(), mooney()] {
+        for l0 in [1.001, 1.05, 1.2, 1.6, 2.0] {
+            let fwd = solve_pole_stretch(&m, &specimen(), l0, &o).unwrap();
+            let inv = solve_pressure(&m, &specimen(), fwd.pressure_pa, &o).unwrap();
+            let de = (inv.pole_stretch - l0).abs() / (l0 - 1.0);
+            assert!(
+                de < 1e-7,
+                "{} l0 {l0}: {} (strain error {de:e})",
+                m.model.name(),
+                inv.pole_stretch
+            );
+            assert!(
+                rel(inv.height_m, fwd.height_m) < 1e-7,
+                "{} l0 {l0}",
+                m.model.name()
+            );
+        }
+    }
+}
+
+/// Hencky (1915), NOTES section 3: `w0 = K(nu) a (p a / (E t))^(1/3)` for the
+/// linear membrane at w0/a = 0.05, to 0.5 %.
+#[test]
+fn linear_membrane_matches_hencky() {
+    let o = Options::default();
+    for (nu, k) in [
+        (0.0, 0.71832),
+        (0.3, 0.65344),
+        (0.45, 0.61117),
+        (0.49, 0.59824),
+    ] {
+        let e = 2.0e6;
+        let m = mat(Model::Linear { young_pa: e }, nu);
+        let q = (0.05f64 / k).powi(3); // p a / (E t) for w0/a = 0.05
+        let p = q * e * T / A;
+        let s = solve_pressure(&m, &specimen(), p, &o).unwrap();
+        let want = k * A * q.cbrt();
+        assert!(
+            rel(s.height_m, want) < 5e-3,
+            "nu {nu}: {} vs {want}",
+            s.height_m
+        );
+    }
+}
+
+/// Every hyperelastic model is linear at small strain with `E = 3 mu` and
+/// nu = 1/2: Hencky's K(0.5) = 0.59488 at w0/a = 0.03, to 0.5 %.
+#[test]
+fn hyperelastic_models_match_hencky_at_small_deflection() {
+    let models = [
+        Model::NeoHookean { c1_pa: 2.0e5 },
+        Model::MooneyRivlin {
+            c1_pa: 1.8e5,
+            c2_pa: 2.0e4,
+        },
+        Model::Yeoh {
+            c1_pa: 1.8e5,
+            c2_pa: -2.0e3,
+            c3_pa: 50.0,
+        },
+        Model::Ogden {
+            mu_pa: vec![6.3e5, 1.2e3, -1.0e4],
+            alpha: vec![1.3, 5.0, -2.0],
+        },
+        Model::Gent {
+            mu_pa: 3.5e5,
+            jm: 80.0,
+        },
+    ];
+    let o = Options::default();
+    for model in models {
+        let e = model.initial_young_pa();
+        let q = (0.03f64 / 0.59488).powi(3);
+        let p = q * e * T / A;
+        let s = solve_pressure(&mat(model.clone(), 0.5), &specimen(), p, &o).unwrap();
+        let want = 0.59488 * A * q.cbrt();
+        assert!(
+            rel(s.height_m, want) < 5e-3,
+            "{}: {} vs {want}",
+            model.name(),
+            s.height_m
+        );
+    }
+}
+
+/// A quartic law with only `c0` is the linear material.
+#[test]
+fn constant_quartic_is_linear() {
+    let o = Options::default();
+    let lin = mat(Model::Linear { young_pa: 1.5e6 }, 0.45);
+    for measure in [StrainMeasure::Engineering, StrainMeasure::Log] {
+        let q = mat(
+            Model::Quartic {
+                coefficients_pa: vec![1.5e6, 0.0, 0.0, 0.0, 0.0],
+                strain_range: [0.0, 0.5],
+                strain_measure: measure,
+            },
+            0.45,
+        );
+        for p in [2000.0, 8000.0] {
+            let a = solve_pressure(&lin, &specimen(), p, &o).unwrap();
+            let b = solve_pressure(&q, &specimen(), p, &o).unwrap();
+            assert!(
+                rel(a.height_m, b.height_m) < 1e-8,
+                "{} {}",
+                a.height_m,
+                b.height_m
+            );
+        }
+    }
+}
+
+/// A softening quartic law (paper-like latex) inflates and stays on its
+/// rising branch; a stiffening one has no limit point in the range.
+#[test]
+fn quartic_materials_solve() {
+    let o = Options::default();
+    let soft = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.6e6, -2.4e6, 2.0e6, -0.6e6, 0.0],
+            strain_range: [0.0, 1.0],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    let mut last = 0.0;
+    for p in [5000.0, 7300.0, 8940.0] {
+        let s = solve_pressure(&soft, &specimen(), p, &o).unwrap();
+        assert!(s.height_m > last);
+        assert!(s.residual < 1e-8);
+        last = s.height_m;
+    }
+    let stiff = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.0e6, 0.0, 2.0e6, 0.0, 0.0],
+            strain_range: [0.0, 1.0],
+            strain_measure: StrainMeasure::Log,
+        },
+        0.45,
+    );
+    let opts = Options {
+        max_pole_stretch: 2.0,
+        ..o
+    };
+    assert!(limit_point(&stiff, &specimen(), &opts).unwrap().is_none());
+}
+
+/// A quartic whose modulus falls to zero: the pressure peaks before the
+/// pole reaches the strain where `E * eps` peaks; above it a typed limit-point
+/// error; a pole stretch where `E(eps) <= 0` names the strain.
+#[test]
+fn softening_quartic_has_a_limit_point() {
+    let o = Options::default();
+    let m = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.0e6, -3.0e6],
+            strain_range: [0.0, 0.2],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    let lp = limit_point(&m, &specimen(), &o)
+        .unwrap()
+        .expect("a maximum");
+    // E eps peaks at eps = 1/6 (equibiaxial stress maximum); the membrane's
+    // pressure maximum comes first.
+    assert!(
+        lp.pole_stretch > 1.1 && lp.pole_stretch < 1.0 + 1.0 / 6.0 + 0.05,
+        "{}",
+        lp.pole_stretch
+    );
+    match solve_pressure(&m, &specimen(), 1.05 * lp.pressure_pa, &o) {
+        Err(AxisymError::AboveLimitPoint {
+            limit_pressure_pa, ..
+        }) => {
+            assert!(rel(limit_pressure_pa, lp.pressure_pa) < 1e-8)
+        }
+        other => panic!("{other:?}"),
+    }
+    let ok = solve_pressure(&m, &specimen(), 0.9 * lp.pressure_pa, &o).unwrap();
+    assert!(ok.pole_stretch < lp.pole_stretch);
+    match solve_pole_stretch(&m, &specimen(), 1.4, &o) {
+        Err(e @ AxisymError::OutsideMaterial { .. }) => {
+            assert!(e.to_string().contains("eps = 0.4000"), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+/// Vertical equilibrium of the cap cut at radius r, a first integral that
+/// the ODE does not use: `2 t P1 sin psi = p r l2^2`, and the geometry of the
+/// profile: rho = r l2, z(a) = 0, z(0) = h, l2(a) = 1, arc length of the
+/// polyline = integral of l1.
+#[test]
+fn profile_satisfies_global_equilibrium_and_geometry() {
+    let m = neo();
+    let ctx = Ctx::new(&m, &specimen(), &Options::default()).unwrap();
+    for l0 in [1.05, 1.6, 2.4] {
+        let sol = solve_pole_stretch(&m, &specimen(), l0, &Options::default()).unwrap();
+        let pi = sol.pressure_pa * A / T;
+        let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
+        let mut pts = Vec::new();
+        let shot = ctx.mem.shoot(l0, pi, 1e-10, &xs, Some(&mut pts));
+        assert!(shot.complete);
+        for p in &pts[1..] {
+            let p1 = ctx.mem.law.stress(p.l1, p.l2).unwrap().p[0];
+            let lhs = 2.0 * p1 * p.psi.sin();
+            let rhs = pi * p.x * p.l2 * p.l2;
+            assert!(
+                (lhs - rhs).abs() < 1e-8 * pi,
+                "l0 {l0} x {}: {lhs} vs {rhs}",
+                p.x
+            );
+        }
+        let pr = &sol.profile;
+        let n = pr.r_m.len();
+        assert_eq!(n, Options::default().n_profile);
+        assert_eq!(pr.r_m[0], 0.0);
+        assert!((pr.r_m[n - 1] - A).abs() < 1e-15);
+        assert!((pr.rho_m[n - 1] - A).abs() < 1e-9 * A);
+        assert!(pr.z_m[n - 1].abs() < 1e-12 * A);
+        assert_eq!(pr.z_m[0], sol.height_m);
+        assert_eq!(pr.stretch_hoop[0], l0);
+        let mut arc = 0.0;
+        let mut integral = 0.0;
+        for i in 1..n {
+            arc += (pr.rho_m[i] - pr.rho_m[i - 1]).hypot(pr.z_m[i] - pr.z_m[i - 1]);
+            integral += 0.5
+                * (pr.stretch_meridional[i] + pr.stretch_meridional[i - 1])
+                * (pr.r_m[i] - pr.r_m[i - 1]);
+        }
+        assert!(rel(arc, integral) < 1e-4, "l0 {l0}: {arc} vs {integral}");
+    }
+}
+
+/// Tightening the tolerances moves the answer by less than the looser
+/// tolerance: the reported digits are converged.
+#[test]
+fn tolerances_converge() {
+    let loose = Options {
+        rel_tol: 1e-8,
+        tol: 1e-8,
+        ..Options::default()
+    };
+    let tight = Options {
+        rel_tol: 1e-12,
+        tol: 1e-12,
+        ..Options::default()
+    };
+    for big_p in [0.05, 1.0, 3.7] {
+        let p = big_p * C1 * T / A;
+        let a = solve_pressure(&neo(), &specimen(), p, &loose).unwrap();
+        let b = solve_pressure(&neo(), &specimen(), p, &tight).unwrap();
+        assert!(
+            rel(a.height_m, b.height_m) < 1e-7,
+            "{} {}",
+            a.height_m,
+            b.height_m
+        );
+    }
+}
+
+#[test]
+fn bad_input_is_refused() {
+    let o = Options::default();
+    assert!(matches!(
+        solve_pressure(&neo(), &specimen(), -1.0, &o),
+        Err(AxisymError::Pressure(_))
+    ));
+    assert!(matches!(
+        solve_pole_stretch(&neo(), &specimen(), 0.9, &o),
+        Err(AxisymError::PoleStretch(_))
+    ));
+    let bad = Specimen {
+        radius_m: -1.0,
+        ..specimen()
+    };
+    assert!(matches!(
+        solve_pressure(&neo(), &bad, 1.0, &o),
+        Err(AxisymError::Specimen(_))
+    ));
+    let bad_opts = Options { n_profile: 1, ..o };
+    assert!(matches!(
+        solve_pressure(&neo(), &specimen(), 1.0, &bad_opts),
+        Err(AxisymError::Options(_))
+    ));
+    let bad_mat = mat(Model::Linear { young_pa: 1e6 }, 0.5);
+    assert!(matches!(
+        solve_pressure(&bad_mat, &specimen(), 1.0, &o),
+        Err(AxisymError::Material(_))
+    ));
+    // Zero pressure and unit pole stretch are the flat disc.
+    let flat = solve_pressure(&neo(), &specimen(), 0.0, &o).unwrap();
+    assert_eq!(flat.height_m, 0.0);
+    assert_eq!(
+        solve_pole_stretch(&neo(), &specimen(), 1.0, &o)
+            .unwrap()
+            .pressure_pa,
+        0.0
+    );
+}
+
+#[test]
+fn profile_csv_has_the_columns() {
+    let o = Options {
+        n_profile: 5,
+        ..Options::default()
+    };
+    let s = solve_pole_stretch(&neo(), &specimen(), 1.2, &o).unwrap();
+    let text = String::from_utf8(profile_csv(&s).into_bytes()).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "r_m,rho_m,z_m,stretch_meridional,stretch_hoop");
+    assert_eq!(lines.len(), 6);
+    let first: Vec<f64> = lines[1].split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(first[0], 0.0);
+    assert_eq!(first[2], s.height_m);
+    let last: Vec<f64> = lines[5].split(',').map(|v| v.parse().unwrap()).collect();
+    assert!((last[4] - 1.0).abs() < 1e-9);
+}
+
+/// Prints the check table of docs/axisym.md (run with `--ignored --nocapture`).
+#[test]
+#[ignore]
+fn print_check_table() {
+    let o = Options::default();
+    for l0 in [1.01, 1.2, 2.0] {
+        let a = solve_pole_stretch(&neo(), &specimen(), l0, &o).unwrap();
+        let b = solve_pole_stretch(&mooney(), &specimen(), l0, &o).unwrap();
+        let (pa, ha) = dimless(&a);
+        let (pb, hb) = dimless(&b);
+        println!(
+            "| {l0:.2} | {pa:.6} | {ha:.6} | {pb:.6} | {hb:.6} | shots {} {} res {:.1e} {:.1e}",
+            a.iterations, b.iterations, a.residual, b.residual
+        );
+    }
+    let lp = limit_point(&neo(), &specimen(), &o).unwrap().unwrap();
+    let (p, h) = dimless(&lp);
+    println!(
+        "limit: P {p:.6} l0 {:.6} h/a {h:.6} shots {}",
+        lp.pole_stretch, lp.iterations
+    );
+    println!("Hencky, linear: relative error of w0 by w0/a");
+    for (nu, k) in [
+        (0.0, 0.71832),
+        (0.3, 0.65344),
+        (0.45, 0.61117),
+        (0.49, 0.59824),
+    ] {
+        let m = mat(Model::Linear { young_pa: 2.0e6 }, nu);
+        let mut line = format!("| {nu} |");
+        for w in [0.2f64, 0.1, 0.05, 0.02, 0.01] {
+            let q = (w / k).powi(3);
+            let s = solve_pressure(&m, &specimen(), q * 2.0e6 * T / A, &o).unwrap();
+            let want = k * A * q.cbrt();
+            line += &format!(" {:+.3} % |", 100.0 * (s.height_m / want - 1.0));
+        }
+        println!("{line}");
+    }
+    for model in [
+        Model::NeoHookean { c1_pa: 2.0e5 },
+        Model::MooneyRivlin {
+            c1_pa: 1.8e5,
+            c2_pa: 2.0e4,
+        },
+        Model::Ogden {
+            mu_pa: vec![6.3e5, 1.2e3, -1.0e4],
+            alpha: vec![1.3, 5.0, -2.0],
+        },
+    ] {
+        let e = model.initial_young_pa();
+        let mut line = format!("| {} |", model.name());
+        for w in [0.2f64, 0.1, 0.05, 0.02, 0.01] {
+            let q = (w / 0.59488).powi(3);
+            let s =
+                solve_pressure(&mat(model.clone(), 0.5), &specimen(), q * e * T / A, &o).unwrap();
+            let want = 0.59488 * A * q.cbrt();
+            line += &format!(" {:+.3} % |", 100.0 * (s.height_m / want - 1.0));
+        }
+        println!("{line}");
+    }
+    for (name, m) in [("neo", neo()), ("mr", mooney())] {
+        for big_p in [0.01, 0.5, 2.0, 3.5] {
+            let s = solve_pressure(&m, &specimen(), big_p * C1 * T / A, &o).unwrap();
+            println!(
+                "{name} P {big_p}: l0 {:.8} h/a {:.8} shots {} res {:.1e}",
+                s.pole_stretch,
+                s.height_m / A,
+                s.iterations,
+                s.residual
+            );
+        }
+    }
+}
+
+/// Hard cases, printed for docs/axisym.md (run with `--ignored --nocapture`).
+#[test]
+#[ignore]
+fn print_hard_cases() {
+    let o = Options::default();
+    for big_p in [1e-9, 1e-6, 1e-3] {
+        let r = solve_pressure(&neo(), &specimen(), big_p * C1 * T / A, &o);
+        match r {
+            Ok(s) => println!(
+                "tiny P {big_p:e}: l0-1 {:.6e} h/a {:.6e} shots {} (Hencky h/a {:.6e})",
+                s.pole_stretch - 1.0,
+                s.height_m / A,
+                s.iterations,
+                0.59488 * (big_p / 6.0f64).cbrt()
+            ),
+            Err(e) => println!("tiny P {big_p:e}: {e}"),
+        }
+    }
+    for f in [0.9, 0.999, 0.99999, 1.0 + 1e-6] {
+        let r = solve_pressure(&neo(), &specimen(), f * 3.758347 * C1 * T / A, &o);
+        match r {
+            Ok(s) => println!(
+                "near max {f}: l0 {:.6} shots {}",
+                s.pole_stretch, s.iterations
+            ),
+            Err(e) => println!("near max {f}: {e}"),
+        }
+    }
+    for l0 in [2.5, 3.0, 3.5, 4.0, 5.0] {
+        match solve_pole_stretch(&neo(), &specimen(), l0, &o) {
+            Ok(s) => {
+                let (p, h) = dimless(&s);
+                println!(
+                    "falling branch l0 {l0}: P {p:.6} h/a {h:.6} shots {}",
+                    s.iterations
+                )
+            }
+            Err(e) => println!("falling branch l0 {l0}: {e}"),
+        }
+    }
+    let bad = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.0e6, -3.0e6],
+            strain_range: [0.0, 0.2],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    for p in [2000.0, 20000.0] {
+        match solve_pressure(&bad, &specimen(), p, &o) {
+            Ok(s) => println!(
+                "softening quartic {p}: l0 {:.5} h {:.5}",
+                s.pole_stretch, s.height_m
+            ),
+            Err(e) => println!("softening quartic {p}: {e}"),
+        }
+    }
+    match solve_pole_stretch(&bad, &specimen(), 1.4, &o) {
+        Ok(s) => println!("softening quartic l0 1.4: p {:.5}", s.pressure_pa),
+        Err(e) => println!("softening quartic l0 1.4: {e}"),
+    }
+    let gent = mat(
+        Model::Gent {
+            mu_pa: 2.0e5,
+            jm: 20.0,
+        },
+        0.5,
+    );
+    match limit_point(&gent, &specimen(), &o) {
+        Ok(Some(s)) => println!(
+            "gent Jm 20 limit: p {:.3} l0 {:.4} shots {}",
+            s.pressure_pa, s.pole_stretch, s.iterations
+        ),
+        Ok(None) => println!("gent Jm 20: no limit up to 4"),
+        Err(e) => println!("gent: {e}"),
+    }
+    for p in [10_000.0, 100_000.0] {
+        match solve_pressure(&gent, &specimen(), p, &o) {
+            Ok(s) => println!(
+                "gent p {p}: l0 {:.5} h/a {:.5} shots {}",
+                s.pole_stretch,
+                s.height_m / A,
+                s.iterations
+            ),
+            Err(e) => println!("gent p {p}: {e}"),
+        }
+    }
+}
