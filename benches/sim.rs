@@ -61,7 +61,10 @@ fn solve3(model: SpringModel, solver: Solver, rings: usize, tol: f64) -> ([f64; 
     let mut its = 0;
     let mut p0 = 0.0;
     for (k, &p) in PRESSURES.iter().enumerate() {
-        let s = solve::continuation(&mut mem, &m.nodes, &mut x, p0, p, solver, &opts, &pred, &mut ws).unwrap();
+        let s = solve::continuation(
+            &mut mem, &m.nodes, &mut x, p0, p, solver, &opts, &pred, &mut ws,
+        )
+        .unwrap();
         its += s.iterations;
         h[k] = x[0].z;
         p0 = p;
@@ -111,12 +114,16 @@ fn bench_solve(c: &mut Criterion) {
     let mut g = c.benchmark_group("disc3");
     g.sample_size(10);
     for model in [SpringModel::Tp, SpringModel::VanGelder] {
-        for (solver, sizes) in [(Solver::Newton, &[12usize, 43, 140][..]), (Solver::Dr, &[12usize, 43][..])] {
+        for (solver, sizes) in [
+            (Solver::Newton, &[12usize, 43, 140][..]),
+            (Solver::Dr, &[12usize, 43][..]),
+        ] {
             for &rings in sizes {
                 let nodes = (rings + 1) * (rings + 2) / 2;
-                g.bench_function(BenchmarkId::new(format!("{}/{}", model.name(), solver.name()), nodes), |b| {
-                    b.iter(|| solve3(model, solver, rings, 1e-8))
-                });
+                g.bench_function(
+                    BenchmarkId::new(format!("{}/{}", model.name(), solver.name()), nodes),
+                    |b| b.iter(|| solve3(model, solver, rings, 1e-8)),
+                );
             }
         }
     }
@@ -125,7 +132,9 @@ fn bench_solve(c: &mut Criterion) {
 
 fn tables() {
     println!("## Disc at three pressures: time against mesh size and height error\n");
-    println!("Newton, tolerance 1e-8 (DR: 1e-6), one core, release build. Error: largest of the three");
+    println!(
+        "Newton, tolerance 1e-8 (DR: 1e-6), one core, release build. Error: largest of the three"
+    );
     println!("heights' deviation from the same model's finest mesh, %.\n");
     println!("| model | solver | rings | nodes | h(8940 Pa) mm | error % | iterations | time s |");
     println!("|---|---|---|---|---|---|---|---|");
@@ -142,9 +151,16 @@ fn tables() {
             let (h, its) = solve3(model, Solver::Dr, rings, 1e-6);
             rows.push((Solver::Dr, rings, h, its, t0.elapsed().as_secs_f64()));
         }
-        let href = rows.iter().find(|r| r.0 == Solver::Newton && r.1 == 446).expect("finest").2;
+        let href = rows
+            .iter()
+            .find(|r| r.0 == Solver::Newton && r.1 == 446)
+            .expect("finest")
+            .2;
         for (solver, rings, h, its, wall) in rows {
-            let err = (0..3).map(|k| ((h[k] - href[k]) / href[k]).abs()).fold(0.0, f64::max) * 100.0;
+            let err = (0..3)
+                .map(|k| ((h[k] - href[k]) / href[k]).abs())
+                .fold(0.0, f64::max)
+                * 100.0;
             println!(
                 "| {} | {} | {} | {} | {:.4} | {:.3} | {} | {:.4} |",
                 model.name(),

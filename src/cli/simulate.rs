@@ -78,11 +78,19 @@ pub struct Args {
     pub density: Option<f64>,
 }
 
-fn parse_list<T>(s: &str, what: &str, valid: &str, parse: impl Fn(&str) -> Option<T>) -> anyhow::Result<Vec<T>> {
+fn parse_list<T>(
+    s: &str,
+    what: &str,
+    valid: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> anyhow::Result<Vec<T>> {
     let mut out = Vec::new();
     for part in s.split(',') {
         out.push(parse(part).ok_or_else(|| {
-            anyhow!("--{what} `{}` is not one of {valid}; separate several with commas", part.trim())
+            anyhow!(
+                "--{what} `{}` is not one of {valid}; separate several with commas",
+                part.trim()
+            )
         })?);
     }
     Ok(out)
@@ -101,7 +109,9 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
         s
     } else if let Some(exp) = &args.experiment {
         let e = Experiment::read(exp)?;
-        let m = material.ok_or_else(|| anyhow!("--experiment needs --material material.toml (the material to simulate)"))?;
+        let m = material.ok_or_else(|| {
+            anyhow!("--experiment needs --material material.toml (the material to simulate)")
+        })?;
         if (m.poisson - e.specimen.poisson).abs() > 1e-12 {
             eprintln!(
                 "note: the material's poisson = {} is used; the specimen says {}",
@@ -112,7 +122,9 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
             eprintln!("note: the simulated disc starts flat; prebulge_height_m is not modelled");
         }
         if args.pressures.is_none() {
-            return Err(anyhow!("--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"));
+            return Err(anyhow!(
+                "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"
+            ));
         }
         Scene::from_specimen(&e.specimen, m, Vec::new())
     } else {
@@ -171,7 +183,13 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
 /// Runs `bulge simulate`.
 pub fn run(args: Args) -> Result<(), Failure> {
     let scene = build_scene(&args).bad_input()?;
-    let models = parse_list(&args.model, "model", "tp, tp-paper, van-gelder, lloyd", SpringModel::parse).bad_input()?;
+    let models = parse_list(
+        &args.model,
+        "model",
+        "tp, tp-paper, van-gelder, lloyd",
+        SpringModel::parse,
+    )
+    .bad_input()?;
     let solvers = parse_list(&args.solver, "solver", "newton, dr", Solver::parse).bad_input()?;
     let mut opts = Options {
         tolerance: args.tolerance,
@@ -181,8 +199,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
         opts.newton_iterations = n;
         opts.dr_steps = n;
     }
-    opts.validate().map_err(|e| anyhow!("--tolerance / --max-iterations: {e}")).bad_input()?;
-    let mesh = scene.build_mesh().context("building the mesh").bad_input()?;
+    opts.validate()
+        .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
+        .bad_input()?;
+    let mesh = scene
+        .build_mesh()
+        .context("building the mesh")
+        .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
 
     let mut header: Vec<&str> = vec![
@@ -200,12 +223,21 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut table = Vec::new();
-    let pb = super::progress((models.len() * solvers.len() * scene.pressures_pa.len()) as u64, "simulate");
+    let pb = super::progress(
+        (models.len() * solvers.len() * scene.pressures_pa.len()) as u64,
+        "simulate",
+    );
     for &model in &models {
         for &solver in &solvers {
-            let mut membrane = Membrane::new(&mesh, model, &scene.material, scene.thickness_m, scene.density_kg_m3)
-                .map_err(|e| anyhow!("{e}"))
-                .bad_input()?;
+            let mut membrane = Membrane::new(
+                &mesh,
+                model,
+                &scene.material,
+                scene.thickness_m,
+                scene.density_kg_m3,
+            )
+            .map_err(|e| anyhow!("{e}"))
+            .bad_input()?;
             membrane.node_loads = scene.node_loads(&mesh);
             let predictor: Box<dyn Predictor> = match scene.kind {
                 SceneKind::Disc { radius_m } => Box::new(DiscPredictor {
@@ -261,7 +293,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         ));
                         if let Some(dir) = &args.vtk {
                             let name = format!("{}_{}_{:03}.vtk", model.name(), solver.name(), ip);
-                            let title = format!("bulge {} {} {} Pa", model.name(), solver.name(), p);
+                            let title =
+                                format!("bulge {} {} {} Pa", model.name(), solver.name(), p);
                             vtks.push((
                                 dir.join(name),
                                 vtk::polydata(&mesh, &x, &membrane.triangle_stretch(&x), &title),

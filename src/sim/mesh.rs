@@ -223,7 +223,9 @@ impl Mesh {
                 )));
             }
             if e - s == 2 {
-                let dir = |h: &(u32, u32, usize, usize)| triangles[h.2][(h.3 + 1) % 3] < triangles[h.2][(h.3 + 2) % 3];
+                let dir = |h: &(u32, u32, usize, usize)| {
+                    triangles[h.2][(h.3 + 1) % 3] < triangles[h.2][(h.3 + 2) % 3]
+                };
                 if dir(&half[s]) == dir(&half[s + 1]) {
                     let t = half[s + 1].2;
                     return Err(SimError::InvertedTriangle {
@@ -369,9 +371,17 @@ pub fn disc(o: DiscOptions) -> Result<Mesh, SimError> {
     for s in 0..sectors {
         for k in 0..n {
             for i in 0..=k {
-                tris.push([idx(k, s * k + i), idx(k + 1, s * (k + 1) + i), idx(k + 1, s * (k + 1) + i + 1)]);
+                tris.push([
+                    idx(k, s * k + i),
+                    idx(k + 1, s * (k + 1) + i),
+                    idx(k + 1, s * (k + 1) + i + 1),
+                ]);
                 if i < k {
-                    tris.push([idx(k, s * k + i), idx(k + 1, s * (k + 1) + i + 1), idx(k, s * k + i + 1)]);
+                    tris.push([
+                        idx(k, s * k + i),
+                        idx(k + 1, s * (k + 1) + i + 1),
+                        idx(k, s * k + i + 1),
+                    ]);
                 }
             }
         }
@@ -465,11 +475,23 @@ pub fn sphere_segment(o: SphereOptions) -> Result<Mesh, SimError> {
     }
     if o.corners[1] == Corner::TypeII {
         // b = (n, 0): neighbours (n-1, 1) and (n-1, 0); opposite (n-2, 1)
-        flip(&mut tris, id[n][0], id[n - 1][1], id[n - 1][0], id[n - 2][1]);
+        flip(
+            &mut tris,
+            id[n][0],
+            id[n - 1][1],
+            id[n - 1][0],
+            id[n - 2][1],
+        );
     }
     if o.corners[2] == Corner::TypeII {
         // c = (0, n): neighbours (0, n-1) and (1, n-1); opposite (1, n-2)
-        flip(&mut tris, id[0][n], id[0][n - 1], id[1][n - 1], id[1][n - 2]);
+        flip(
+            &mut tris,
+            id[0][n],
+            id[0][n - 1],
+            id[1][n - 1],
+            id[1][n - 2],
+        );
     }
     let centre = {
         let t = n / 3;
@@ -622,7 +644,12 @@ mod tests {
             corners: [Corner::TypeII, Corner::TypeI, Corner::TypeI],
         };
         let m = sphere_segment(o).unwrap();
-        let count = |node: usize| m.triangles.iter().filter(|t| t.contains(&(node as u32))).count();
+        let count = |node: usize| {
+            m.triangles
+                .iter()
+                .filter(|t| t.contains(&(node as u32)))
+                .count()
+        };
         assert_eq!(count(m.probe("corner_a").unwrap()), 2);
         assert_eq!(count(m.probe("corner_b").unwrap()), 1);
         assert_eq!(count(m.probe("corner_c").unwrap()), 1);
@@ -648,11 +675,17 @@ mod tests {
         ];
         let c = vec![Constraint::Free; 4];
         let e = Mesh::new(nodes.clone(), vec![[0, 1, 2], [1, 2, 3]], c.clone()).unwrap_err();
-        assert!(matches!(e, SimError::InvertedTriangle { triangle: 1, .. }), "{e}");
+        assert!(
+            matches!(e, SimError::InvertedTriangle { triangle: 1, .. }),
+            "{e}"
+        );
         let mut flat = nodes.clone();
         flat[2] = Point3::new(2.0, 0.0, 0.0);
         let e = Mesh::new(flat, vec![[0, 1, 2]], vec![Constraint::Free; 4]).unwrap_err();
-        assert!(matches!(e, SimError::DegenerateTriangle { triangle: 0, .. }), "{e}");
+        assert!(
+            matches!(e, SimError::DegenerateTriangle { triangle: 0, .. }),
+            "{e}"
+        );
         assert!(Mesh::new(nodes, vec![[0, 1, 2], [1, 3, 2]], c).is_ok());
     }
 
@@ -664,7 +697,11 @@ mod tests {
             edge_length_m: 0.1,
         })
         .unwrap();
-        let fixed = m.constraints.iter().filter(|c| **c == Constraint::Fixed).count();
+        let fixed = m
+            .constraints
+            .iter()
+            .filter(|c| **c == Constraint::Fixed)
+            .count();
         assert_eq!(fixed, 11);
         let area: f64 = m
             .triangles

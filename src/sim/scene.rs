@@ -189,7 +189,10 @@ struct MeshFile {
 /// Checks a pressure list: non-empty, every value a finite number > 0.
 pub fn validate_pressures(p: &[f64]) -> Result<(), String> {
     if p.is_empty() {
-        return Err("the pressure list is empty: give at least one pressure in Pa, e.g. [5000, 7300]".into());
+        return Err(
+            "the pressure list is empty: give at least one pressure in Pa, e.g. [5000, 7300]"
+                .into(),
+        );
     }
     for (i, v) in p.iter().enumerate() {
         if !(v.is_finite() && *v > 0.0) {
@@ -229,10 +232,14 @@ fn parse_corner(s: &str) -> Option<Corner> {
 
 impl MeshSettings {
     fn from_file(m: &MeshFile) -> Result<MeshSettings, String> {
-        let given = [m.edge_length_m.is_some(), m.nodes.is_some(), m.accuracy.is_some()]
-            .iter()
-            .filter(|b| **b)
-            .count();
+        let given = [
+            m.edge_length_m.is_some(),
+            m.nodes.is_some(),
+            m.accuracy.is_some(),
+        ]
+        .iter()
+        .filter(|b| **b)
+        .count();
         if given > 1 {
             return Err("[mesh]: give at most one of edge_length_m, nodes, accuracy".into());
         }
@@ -252,11 +259,14 @@ impl MeshSettings {
         }
         if let Some(c) = &m.corners {
             if c.len() != 3 {
-                return Err(format!("[mesh] corners = {c:?}: give three, for corners a, b, c, each \"I\" or \"II\""));
+                return Err(format!(
+                    "[mesh] corners = {c:?}: give three, for corners a, b, c, each \"I\" or \"II\""
+                ));
             }
             for (k, name) in c.iter().enumerate() {
-                s.corners[k] = parse_corner(name)
-                    .ok_or_else(|| format!("[mesh] corners: `{name}` is not a corner type; write \"I\" or \"II\""))?;
+                s.corners[k] = parse_corner(name).ok_or_else(|| {
+                    format!("[mesh] corners: `{name}` is not a corner type; write \"I\" or \"II\"")
+                })?;
             }
         }
         s.validate()?;
@@ -269,7 +279,9 @@ impl MeshSettings {
             Some(MeshSize::EdgeLength(h)) if !(h.is_finite() && h > 0.0) => Err(format!(
                 "edge length {h} must be a positive length in metres"
             )),
-            Some(MeshSize::Nodes(n)) if n < 3 => Err(format!("nodes = {n}: ask for at least 3 nodes")),
+            Some(MeshSize::Nodes(n)) if n < 3 => {
+                Err(format!("nodes = {n}: ask for at least 3 nodes"))
+            }
             Some(MeshSize::Accuracy(a)) if !(a.is_finite() && a > 0.0 && a < 0.5) => Err(format!(
                 "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
             )),
@@ -283,10 +295,18 @@ impl Scene {
     pub fn read(path: &Path) -> Result<Scene, InputError> {
         let f: SceneFile = crate::io::read_toml(path)?;
         let err = |m: String| InputError::file(path, m);
-        let base = path.parent().filter(|p| !p.as_os_str().is_empty()).map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
         let material = match &f.material {
             toml::Value::String(p) => {
-                let mp = if Path::new(p).is_absolute() { PathBuf::from(p) } else { base.join(p) };
+                let mp = if Path::new(p).is_absolute() {
+                    PathBuf::from(p)
+                } else {
+                    base.join(p)
+                };
                 crate::io::read_toml::<Material>(&mp)?
             }
             toml::Value::Table(t) => t
@@ -356,7 +376,9 @@ impl Scene {
             }
         };
         match self.kind {
-            SceneKind::Disc { radius_m } | SceneKind::SphereSegment { radius_m } => pos(radius_m, "radius_m")?,
+            SceneKind::Disc { radius_m } | SceneKind::SphereSegment { radius_m } => {
+                pos(radius_m, "radius_m")?
+            }
             SceneKind::Sheet { length_m, width_m } => {
                 pos(length_m, "length_m")?;
                 pos(width_m, "width_m")?;
@@ -364,7 +386,10 @@ impl Scene {
         }
         pos(self.thickness_m, "thickness_m")?;
         if !(self.density_kg_m3.is_finite() && self.density_kg_m3 > 0.0) {
-            return Err(format!("density_kg_m3 = {} must be positive", self.density_kg_m3));
+            return Err(format!(
+                "density_kg_m3 = {} must be positive",
+                self.density_kg_m3
+            ));
         }
         let nu = self.material.poisson;
         if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
@@ -377,10 +402,16 @@ impl Scene {
                 return Err("[[load]] is only for kind = \"sheet\"".into());
             }
             if l.at != "middle" && l.at != "corner" {
-                return Err(format!("[[load]] at = \"{}\": write \"middle\" or \"corner\"", l.at));
+                return Err(format!(
+                    "[[load]] at = \"{}\": write \"middle\" or \"corner\"",
+                    l.at
+                ));
             }
             if l.force_n.iter().any(|v| !v.is_finite()) {
-                return Err(format!("[[load]] force_n = {:?} must be finite (N)", l.force_n));
+                return Err(format!(
+                    "[[load]] force_n = {:?} must be finite (N)",
+                    l.force_n
+                ));
             }
         }
         if need_pressures || !self.pressures_pa.is_empty() {
@@ -390,7 +421,11 @@ impl Scene {
     }
 
     /// The disc of an experiment's specimen.
-    pub fn from_specimen(spec: &crate::experiment::Specimen, material: Material, pressures_pa: Vec<f64>) -> Scene {
+    pub fn from_specimen(
+        spec: &crate::experiment::Specimen,
+        material: Material,
+        pressures_pa: Vec<f64>,
+    ) -> Scene {
         Scene {
             kind: SceneKind::Disc {
                 radius_m: spec.radius_m,
@@ -424,8 +459,12 @@ impl Scene {
             }
             SceneKind::SphereSegment { radius_m } => {
                 let n = match self.mesh.size {
-                    Some(MeshSize::EdgeLength(h)) => (std::f64::consts::FRAC_PI_2 * radius_m / h).ceil() as usize,
-                    Some(MeshSize::Nodes(n)) => (((8.0 * n as f64 + 1.0).sqrt() - 3.0) / 2.0).round() as usize,
+                    Some(MeshSize::EdgeLength(h)) => {
+                        (std::f64::consts::FRAC_PI_2 * radius_m / h).ceil() as usize
+                    }
+                    Some(MeshSize::Nodes(n)) => {
+                        (((8.0 * n as f64 + 1.0).sqrt() - 3.0) / 2.0).round() as usize
+                    }
                     Some(MeshSize::Accuracy(_)) | None => DEFAULT_SPHERE_DIVISIONS,
                 }
                 .clamp(2, 5000);
@@ -438,7 +477,9 @@ impl Scene {
             SceneKind::Sheet { length_m, width_m } => {
                 let h = match self.mesh.size {
                     Some(MeshSize::EdgeLength(h)) => h,
-                    Some(MeshSize::Nodes(n)) => (length_m * width_m * 2.0 / (3f64.sqrt() * n as f64)).sqrt(),
+                    Some(MeshSize::Nodes(n)) => {
+                        (length_m * width_m * 2.0 / (3f64.sqrt() * n as f64)).sqrt()
+                    }
                     Some(MeshSize::Accuracy(_)) | None => length_m.min(width_m) / 10.0,
                 };
                 mesh::sheet(mesh::SheetOptions {
@@ -493,7 +534,15 @@ impl Scene {
                 let at = |name: &str| mesh.probe(name).map(|i| r[i]).unwrap_or(f64::NAN);
                 (
                     mean - radius_m,
-                    vec![mean, min, max, at("centre"), at("corner_a"), at("corner_b"), at("corner_c")],
+                    vec![
+                        mean,
+                        min,
+                        max,
+                        at("centre"),
+                        at("corner_a"),
+                        at("corner_b"),
+                        at("corner_c"),
+                    ],
                 )
             }
             SceneKind::Sheet { .. } => {
@@ -542,7 +591,9 @@ impl Predictor for DiscPredictor {
     fn predict(&self, rest: &[Point3<f64>], x: &mut [Point3<f64>], p0: f64, p1: f64) {
         let a = self.radius_m;
         if p0 <= 0.0 {
-            let w0 = (hencky_k(self.poisson) * a * (p1 * a / (self.young_pa * self.thickness_m)).cbrt()).min(a);
+            let w0 =
+                (hencky_k(self.poisson) * a * (p1 * a / (self.young_pa * self.thickness_m)).cbrt())
+                    .min(a);
             for (xi, xr) in x.iter_mut().zip(rest) {
                 let r2 = (xr.x * xr.x + xr.y * xr.y) / (a * a);
                 if r2 < 1.0 - 1e-12 {

@@ -199,11 +199,14 @@ impl ModulusLaw {
                 (eps, e)
             }
             ModulusLaw::Secant { model, poisson } => {
-                let h = model.hyperelastic().expect("secant law of a hyperelastic model");
+                let h = model
+                    .hyperelastic()
+                    .expect("secant law of a hyperelastic model");
                 let d = lambda - 1.0;
                 let e = if d.abs() < 1e-5 {
                     let s = 1e-5;
-                    (1.0 - poisson) * (h.equibiaxial_nominal(1.0 + s) - h.equibiaxial_nominal(1.0 - s))
+                    (1.0 - poisson)
+                        * (h.equibiaxial_nominal(1.0 + s) - h.equibiaxial_nominal(1.0 - s))
                         / (2.0 * s)
                 } else {
                     (1.0 - poisson) * h.equibiaxial_nominal(lambda) / d
@@ -370,6 +373,11 @@ impl Membrane {
         self.edges.len()
     }
 
+    /// Shortest rest edge, m.
+    pub fn min_rest_edge(&self) -> f64 {
+        self.edge_l0.iter().cloned().fold(f64::INFINITY, f64::min)
+    }
+
     /// Node indices of triangle `t`.
     pub fn triangle_nodes(&self, t: usize) -> [u32; 3] {
         self.tris[t].v
@@ -410,10 +418,12 @@ impl Membrane {
         } else {
             for (ti, tri) in self.tris.iter().enumerate() {
                 let p = tri.v.map(|i| x[i as usize]);
-                let out = self.local(tri, &p).map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
-                    strain,
-                    young_pa,
-                    triangle: ti,
+                let out = self.local(tri, &p).map_err(|(strain, young_pa)| {
+                    SimError::NonPositiveModulus {
+                        strain,
+                        young_pa,
+                        triangle: ti,
+                    }
                 })?;
                 for k in 0..3 {
                     f[tri.v[k] as usize] += out[k];
@@ -490,7 +500,11 @@ impl Membrane {
     /// as a 9x9 matrix over its vertices' coordinates, by central differences
     /// of the local forces (step 1e-6 of the shortest rest side; truncation
     /// and round-off both below 1e-9 of the stiffness).
-    pub fn triangle_stiffness(&self, t: usize, x: &[Point3<f64>]) -> Result<[[f64; 9]; 9], SimError> {
+    pub fn triangle_stiffness(
+        &self,
+        t: usize,
+        x: &[Point3<f64>],
+    ) -> Result<[[f64; 9]; 9], SimError> {
         let tri = &self.tris[t];
         let h = 1e-6 * tri.l0[0].min(tri.l0[1]).min(tri.l0[2]);
         let p0 = tri.v.map(|i| x[i as usize]);
@@ -566,17 +580,23 @@ impl Membrane {
 
     /// The per-triangle force path even where the edge fast path exists (for
     /// tests comparing the two).
-    pub fn forces_by_triangle(&self, x: &[Point3<f64>], f: &mut [Vector3<f64>]) -> Result<(), SimError> {
+    pub fn forces_by_triangle(
+        &self,
+        x: &[Point3<f64>],
+        f: &mut [Vector3<f64>],
+    ) -> Result<(), SimError> {
         for v in f.iter_mut() {
             *v = Vector3::zeros();
         }
         for (ti, tri) in self.tris.iter().enumerate() {
             let p = tri.v.map(|i| x[i as usize]);
-            let out = self.local(tri, &p).map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
-                strain,
-                young_pa,
-                triangle: ti,
-            })?;
+            let out =
+                self.local(tri, &p)
+                    .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
+                        strain,
+                        young_pa,
+                        triangle: ti,
+                    })?;
             for k in 0..3 {
                 f[tri.v[k] as usize] += out[k];
             }
@@ -637,14 +657,18 @@ mod tests {
             mem.forces_by_triangle(&x, &mut g).unwrap();
             let scale = f.iter().map(|v| v.norm()).fold(0.0, f64::max);
             for i in 0..x.len() {
-                assert!((f[i] - g[i]).norm() < 1e-12 * scale, "fast and triangle paths differ");
+                assert!(
+                    (f[i] - g[i]).norm() < 1e-12 * scale,
+                    "fast and triangle paths differ"
+                );
                 for c in 0..3 {
                     let h = 1e-6;
                     let mut xp = x.clone();
                     xp[i][c] += h;
                     let mut xm = x.clone();
                     xm[i][c] -= h;
-                    let du = (mem.spring_energy(&xp).unwrap() - mem.spring_energy(&xm).unwrap()) / (2.0 * h);
+                    let du = (mem.spring_energy(&xp).unwrap() - mem.spring_energy(&xm).unwrap())
+                        / (2.0 * h);
                     assert!(
                         (f[i][c] + du).abs() < 1e-6 * scale,
                         "{model:?} node {i} dir {c}: force {} vs -dU/dx {}",
@@ -710,7 +734,11 @@ mod tests {
                 // recover tensions by solving the 3 sides' contributions instead:
                 let _ = want;
                 let tens = tensions(&mem, &p);
-                assert!((tens[k] - want).abs() < 1e-9 * want.abs(), "{model:?} side {k}: {} vs {want}", tens[k]);
+                assert!(
+                    (tens[k] - want).abs() < 1e-9 * want.abs(),
+                    "{model:?} side {k}: {} vs {want}",
+                    tens[k]
+                );
             }
             let _ = f;
         }
@@ -758,7 +786,10 @@ mod tests {
             let tens = tensions(&mem, &p);
             let lloyd = s3 / 4.0 * e * t * eps;
             for tk in tens {
-                assert!((tk - lloyd).abs() < 1e-9 * lloyd, "{model:?}: {tk} vs {lloyd}");
+                assert!(
+                    (tk - lloyd).abs() < 1e-9 * lloyd,
+                    "{model:?}: {tk} vs {lloyd}"
+                );
             }
         }
     }
@@ -788,11 +819,17 @@ mod tests {
             fit: None,
         };
         let mem = Membrane::new(&m, SpringModel::Tp, &q, 1e-3, 1000.0).unwrap();
-        let x: Vec<Point3<f64>> = m.nodes.iter().map(|p| Point3::from(p.coords * 1.3)).collect();
+        let x: Vec<Point3<f64>> = m
+            .nodes
+            .iter()
+            .map(|p| Point3::from(p.coords * 1.3))
+            .collect();
         let mut f = vec![Vector3::zeros(); x.len()];
         let err = mem.forces(&x, &mut f).unwrap_err();
         match err {
-            SimError::NonPositiveModulus { strain, young_pa, .. } => {
+            SimError::NonPositiveModulus {
+                strain, young_pa, ..
+            } => {
                 assert!((strain - 0.3).abs() < 1e-9, "{strain}");
                 assert!((young_pa - (1.0e6 - 5.0e6 * 0.3)).abs() < 1e-3);
             }

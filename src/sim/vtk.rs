@@ -12,7 +12,10 @@ use super::mesh::Mesh;
 pub fn polydata(mesh: &Mesh, x: &[Point3<f64>], stretch: &[f64], title: &str) -> String {
     let mut s = String::new();
     let title: String = title.chars().filter(|c| *c != '\n').take(250).collect();
-    let _ = writeln!(s, "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA");
+    let _ = writeln!(
+        s,
+        "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET POLYDATA"
+    );
     let _ = writeln!(s, "POINTS {} double", x.len());
     for p in x {
         let _ = writeln!(s, "{} {} {}", p.x, p.y, p.z);
@@ -27,7 +30,10 @@ pub fn polydata(mesh: &Mesh, x: &[Point3<f64>], stretch: &[f64], title: &str) ->
         let d = p - p0;
         let _ = writeln!(s, "{} {} {}", d.x, d.y, d.z);
     }
-    let _ = writeln!(s, "CELL_DATA {nt}\nSCALARS area_stretch double 1\nLOOKUP_TABLE default");
+    let _ = writeln!(
+        s,
+        "CELL_DATA {nt}\nSCALARS area_stretch double 1\nLOOKUP_TABLE default"
+    );
     for v in stretch {
         let _ = writeln!(s, "{v}");
     }
@@ -50,7 +56,14 @@ mod tests {
         let st = vec![1.0; m.triangles.len()];
         let s = polydata(&m, &m.nodes, &st, "t");
         assert!(s.contains(&format!("POINTS {} double", m.nodes.len())));
-        assert!(s.contains(&format!("POLYGONS {} {}", m.triangles.len(), 4 * m.triangles.len())));
-        assert_eq!(s.lines().count(), 5 + m.nodes.len() + 1 + m.triangles.len() + 2 + m.nodes.len() + 3 + m.triangles.len());
+        assert!(s.contains(&format!(
+            "POLYGONS {} {}",
+            m.triangles.len(),
+            4 * m.triangles.len()
+        )));
+        assert_eq!(
+            s.lines().count(),
+            5 + m.nodes.len() + 1 + m.triangles.len() + 2 + m.nodes.len() + 3 + m.triangles.len()
+        );
     }
 }

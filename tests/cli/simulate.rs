@@ -20,7 +20,9 @@ nodes = 60
 
 fn rows(path: &std::path::Path) -> Vec<Vec<String>> {
     let text = fs::read_to_string(path).unwrap();
-    text.lines().map(|l| l.split(',').map(str::to_string).collect()).collect()
+    text.lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
 }
 
 #[test]
@@ -29,11 +31,23 @@ fn disc_scene_two_models_rows_vtk_and_rising_heights() {
     fs::write(dir.path().join("scene.toml"), DISC).unwrap();
     bulge_in(
         dir.path(),
-        &["simulate", "scene.toml", "--model", "tp,van-gelder", "--vtk", "vtk", "-o", "out.csv"],
+        &[
+            "simulate",
+            "scene.toml",
+            "--model",
+            "tp,van-gelder",
+            "--vtk",
+            "vtk",
+            "-o",
+            "out.csv",
+        ],
     )
     .ok();
     let r = rows(&dir.path().join("out.csv"));
-    assert_eq!(r[0].join(","), "pressure_pa,height_m,model,solver,nodes,iterations,residual,wall_s");
+    assert_eq!(
+        r[0].join(","),
+        "pressure_pa,height_m,model,solver,nodes,iterations,residual,wall_s"
+    );
     assert_eq!(r.len(), 1 + 6);
     let h: Vec<f64> = r[1..].iter().map(|row| row[1].parse().unwrap()).collect();
     // heights rise with pressure, and follow the membrane law h ~ p^(1/3) within 10 %
@@ -110,10 +124,28 @@ fn bad_inputs_are_refused_with_exit_2_and_no_output() {
         assert!(!dir.path().join("out.csv").exists());
     }
     fs::write(dir.path().join("ok.toml"), DISC).unwrap();
-    bulge_in(dir.path(), &["simulate", "ok.toml", "--pressures", "100,abc", "-o", "out.csv"])
-        .bad_input(&["--pressures", "`abc`"]);
-    bulge_in(dir.path(), &["simulate", "ok.toml", "--pressures", "0", "-o", "out.csv"]).bad_input(&["pressure 1"]);
-    bulge_in(dir.path(), &["simulate", "ok.toml", "--model", "tp,fem", "-o", "out.csv"]).bad_input(&["`fem`"]);
+    bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            "ok.toml",
+            "--pressures",
+            "100,abc",
+            "-o",
+            "out.csv",
+        ],
+    )
+    .bad_input(&["--pressures", "`abc`"]);
+    bulge_in(
+        dir.path(),
+        &["simulate", "ok.toml", "--pressures", "0", "-o", "out.csv"],
+    )
+    .bad_input(&["pressure 1"]);
+    bulge_in(
+        dir.path(),
+        &["simulate", "ok.toml", "--model", "tp,fem", "-o", "out.csv"],
+    )
+    .bad_input(&["`fem`"]);
     assert!(!dir.path().join("out.csv").exists());
 }
 
