@@ -7,6 +7,8 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
+
+mod dynamic;
 use crate::experiment::Experiment;
 use crate::io::{CsvOut, fmt_num, read_toml, write_atomic};
 use crate::material::Material;
@@ -76,6 +78,9 @@ pub struct Args {
     /// Density in kg/m^3 for the lumped masses (default: the scene's, else 1100).
     #[arg(long)]
     pub density: Option<f64>,
+    /// Dynamic runs (--dynamic and its flags; see docs/dynamics.md).
+    #[command(flatten)]
+    pub dynamic: dynamic::DynArgs,
 }
 
 fn parse_list<T>(
@@ -182,6 +187,9 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
 
 /// Runs `bulge simulate`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    if args.dynamic.dynamic {
+        return dynamic::run(args);
+    }
     let scene = build_scene(&args).bad_input()?;
     let models = parse_list(
         &args.model,

@@ -158,6 +158,11 @@ pub struct DynOptions {
     pub xpbd_iterations: usize,
     /// Largest number of samples kept in the trace (default 4000).
     pub max_samples: usize,
+    /// Stop early once settled: at a sample, the residual force relative to
+    /// the load is below this and the kinetic energy below its square times
+    /// the loads' work `sum |f_load| |x - x0|` (amplitude about this share of
+    /// the displacement). Default `None`: run to `t_end_s`.
+    pub settle_tolerance: Option<f64>,
 }
 
 impl Default for DynOptions {
@@ -172,6 +177,7 @@ impl Default for DynOptions {
             newton_iterations: 25,
             xpbd_iterations: 20,
             max_samples: 4000,
+            settle_tolerance: None,
         }
     }
 }
@@ -729,6 +735,7 @@ impl<'a> Dynamics<'a> {
         };
         let mut xpbd_prev = x.to_vec();
         let mut lambdas = vec![0.0; self.mesh.edges.len()];
+        let mut steps_done = steps;
         for step in 0..steps {
             for sub in 0..substeps {
                 let t = (step * substeps + sub) as f64 * h;
@@ -816,11 +823,24 @@ impl<'a> Dynamics<'a> {
                 }
             }
             if (step + 1) % every == 0 || step + 1 == steps {
+                let ke = self.kinetic(v);
                 samples.push(Sample {
                     t_s: (step + 1) as f64 * opts.dt_s,
                     value_m: measure(x),
-                    kinetic_j: self.kinetic(v),
+                    kinetic_j: ke,
                 });
+                if let Some(tol) = opts.settle_tolerance {
+                    self.membrane.forces(x, &mut f)?;
+                    self.membrane.project(&mut f);
+                    let rn = f.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
+                    let ln = load_norm(self.membrane, x, &mut scratch).max(f64::MIN_POSITIVE);
+                    let work: f64 = (0..n).map(|i| scratch[i].norm() * (x[i] - x0[i]).norm()).sum();
+                    evals += 1;
+                    if rn <= tol * ln && ke <= tol * tol * work {
+                        steps_done = step + 1;
+                        break;
+                    }
+                }
             }
         }
         self.membrane.forces(x, &mut f)?;
@@ -829,7 +849,7 @@ impl<'a> Dynamics<'a> {
         let residual = rn / load.max(f64::MIN_POSITIVE);
         Ok(DynRun {
             samples,
-            steps,
+            steps: steps_done,
             substeps,
             h_s: h,
             estimate,
