@@ -1,14 +1,316 @@
-//! `bulge stress`.
+//! `bulge stress`: apex heights -> stress and strain ([`crate::mechanics`]).
+//!
+//! Reads `pressure_pa,height_m` (plus any other columns, carried through in
+//! input order), takes the specimen from `--experiment FILE.toml` or from
+//! flags, and writes `pressure_pa,height_m,radius_m,arc_length_m,stretch,
+//! strain,stress_pa,true_stress_pa,secant_modulus_pa`, followed by `*_std`
+//! columns when a height uncertainty is given. The output is built in memory
+//! and written whole, or not at all when any input is refused.
 
-use super::Failure;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, anyhow};
+
+use super::{Classify, Failure};
+use crate::experiment::{Experiment, Specimen};
+use crate::io::{CsvOut, InputError, Table, fmt_num, read_toml};
+use crate::mechanics::{
+    self, DERIVED_COLUMNS, Modulus, ModulusStress, Options, Point, STD_COLUMNS, StrainMeasure,
+    StressError, TrueStress,
+};
 
 /// Flags of `bulge stress`.
+///
+/// Example: `bulge stress heights.csv --experiment experiment.toml -o stress_strain.csv`
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(
+    after_help = "Heights are apex heights above the clamp plane (the paper's h + h0), in metres; \
+pressures are gauge pressures in pascals. Bad input exits with status 2 and writes nothing."
+)]
+pub struct Args {
+    /// Heights CSV with columns `pressure_pa` (gauge pressure, Pa, >= 0) and
+    /// `height_m` (apex height above the clamp plane, m, >= the pre-bulge
+    /// height); an optional `height_std_m` column gives each height's standard
+    /// deviation. Other columns (`frame`, `file`, ...) are copied to the output.
+    pub heights: PathBuf,
+
+    /// Output CSV (required, no default: bulge does not guess where to write;
+    /// parent folders are created; written whole or not at all).
+    #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
+    pub output: PathBuf,
+
+    /// Experiment file whose `[specimen]` table gives `radius_m`,
+    /// `thickness_m`, `poisson` and optionally `prebulge_height_m` (default 0).
+    /// No default: either this or the specimen flags below.
+    #[arg(long, value_name = "FILE.toml", conflicts_with_all = ["radius_m", "thickness_m", "poisson", "prebulge_height_m"])]
+    pub experiment: Option<PathBuf>,
+
+    /// Free radius `a` of the clamped disc, m (> 0). Required without
+    /// `--experiment`; no default (it sets every result).
+    #[arg(
+        long = "radius-m",
+        value_name = "M",
+        allow_hyphen_values = true,
+        required_unless_present = "experiment"
+    )]
+    pub radius_m: Option<f64>,
+
+    /// Initial thickness `t`, m (> 0). Required without `--experiment`; no
+    /// default (the stress scales with 1/t).
+    #[arg(
+        long = "thickness-m",
+        value_name = "M",
+        allow_hyphen_values = true,
+        required_unless_present = "experiment"
+    )]
+    pub thickness_m: Option<f64>,
+
+    /// Poisson ratio `nu`, in [0, 0.5) (latex/rubber: 0.45-0.499). Required
+    /// without `--experiment`; no default (it sets the biaxial modulus).
+    #[arg(
+        long,
+        value_name = "NU",
+        allow_hyphen_values = true,
+        required_unless_present = "experiment"
+    )]
+    pub poisson: Option<f64>,
+
+    /// Pre-bulge apex height `h0` at p = 0+, m (>= 0). Default 0: a disc
+    /// clamped flat. Heights below it are refused.
+    #[arg(
+        long = "prebulge-height-m",
+        value_name = "M",
+        allow_hyphen_values = true
+    )]
+    pub prebulge_height_m: Option<f64>,
+
+    /// Strain measure: `engineering` = lambda - 1 (paper 000 eq 24 with its
+    /// sign corrected) or `log` = ln lambda. Default engineering: it is what
+    /// the paper's secant-modulus procedure (section 7) uses.
+    #[arg(long, value_enum, default_value_t = StrainMeasure::Engineering)]
+    pub strain: StrainMeasure,
+
+    /// True stress: `paper` = lambda * pR/(2t) (eq 25, thickness t/lambda) or
+    /// `incompressible` = lambda^2 * pR/(2t) (thickness t/lambda^2, the
+    /// Cauchy stress of an incompressible membrane). Default paper, so that
+    /// the paper's procedure is reproduced; `incompressible` is the physically
+    /// consistent choice for rubber.
+    #[arg(long = "true-stress", value_enum, default_value_t = TrueStress::Paper)]
+    pub true_stress: TrueStress,
+
+    /// Secant modulus: `biaxial` = (1 - nu) S / strain (equibiaxial plane
+    /// stress at the pole, the paper's "2D case") or `uniaxial` = S / strain.
+    /// Default biaxial: the pole of a bubble is in equibiaxial tension.
+    #[arg(long, value_enum, default_value_t = Modulus::Biaxial)]
+    pub modulus: Modulus,
+
+    /// Stress S in the secant modulus: `nominal` = lambda * pR/(2t), the
+    /// force per unit reference area (first Piola-Kirchhoff; the same number
+    /// as eq 25), `engineering` = pR/(2t) (eq 18), or `true` = the
+    /// `--true-stress` value. Default nominal: the mass-spring models of
+    /// `bulge simulate` carry forces on the reference mesh with stiffness
+    /// proportional to E t (eqs 1, 10-17), so they reproduce the measured
+    /// tension per reference length, lambda pR/2, with E = (1 - nu) *
+    /// nominal / strain.
+    #[arg(long = "modulus-stress", value_enum, default_value_t = ModulusStress::Nominal)]
+    pub modulus_stress: ModulusStress,
+
+    /// Standard deviation of every height, m (>= 0). Default none: no `*_std`
+    /// columns unless the heights CSV has a `height_std_m` column. When given,
+    /// it is propagated to first order (|dq/dH| * std) into `*_std` columns
+    /// for every derived quantity. Refused together with a `height_std_m`
+    /// column (one source of uncertainty, not a silent override).
+    #[arg(long = "height-std-m", value_name = "M", allow_hyphen_values = true)]
+    pub height_std_m: Option<f64>,
+}
 
 /// Runs `bulge stress`.
-pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!(
-        "`bulge stress` is not built yet"
-    )))
+pub fn run(args: Args) -> Result<(), Failure> {
+    let spec = specimen(&args)?;
+    let opts = Options {
+        strain: args.strain,
+        true_stress: args.true_stress,
+        modulus: args.modulus,
+        modulus_stress: args.modulus_stress,
+    };
+    if let Some(sd) = args.height_std_m
+        && !(sd.is_finite() && sd >= 0.0)
+    {
+        return Err(anyhow!(
+            "--height-std-m {sd}: a standard deviation must be a finite number >= 0 (in metres, e.g. 5e-5)"
+        ))
+        .bad_input();
+    }
+    refuse_overwriting_input(&args.heights, &args.output)?;
+
+    let table = Table::read(&args.heights)?;
+    let p_col = table.require("pressure_pa")?;
+    let h_col = table.require("height_m")?;
+    let std_col = table.column_index("height_std_m");
+    if let (Some(sd), Some(_)) = (args.height_std_m, std_col) {
+        return Err(InputError::cell(
+            &args.heights,
+            1,
+            "height_std_m",
+            format!(
+                "--height-std-m {sd} was given and the file has a height_std_m column: drop the flag to use the column, or drop the column to use the flag"
+            ),
+        )
+        .into());
+    }
+
+    let mut points = Vec::with_capacity(table.len());
+    for r in 0..table.len() {
+        let height_std_m = match (args.height_std_m, std_col) {
+            (Some(sd), _) => Some(sd),
+            (None, Some(c)) if !table.cell(r, c).is_empty() => Some(table.number(r, c)?),
+            _ => None,
+        };
+        points.push(Point {
+            pressure_pa: table.number(r, p_col)?,
+            height_m: table.number(r, h_col)?,
+            height_std_m,
+        });
+    }
+
+    let rows = mechanics::stress_strain(&spec, &opts, &points).map_err(|e| match e {
+        StressError::Point { index, problem } => Failure::BadInput(
+            table
+                .error_at(index, problem.column(), problem.to_string())
+                .into(),
+        ),
+        StressError::Specimen(m) => Failure::BadInput(anyhow!("invalid specimen: {m}")),
+    })?;
+
+    // Columns: carried-through inputs, then pressure and height, then the
+    // derived values, then (with an uncertainty) their standard deviations.
+    let carried: Vec<usize> = (0..table.headers.len())
+        .filter(|&c| c != p_col && c != h_col)
+        .collect();
+    let with_std = args.height_std_m.is_some() || std_col.is_some();
+    let mut header: Vec<&str> = carried.iter().map(|&c| table.headers[c].as_str()).collect();
+    header.extend(["pressure_pa", "height_m"]);
+    header.extend(DERIVED_COLUMNS);
+    if with_std {
+        if args.height_std_m.is_some() {
+            header.push("height_std_m");
+        }
+        header.extend(STD_COLUMNS);
+    }
+    let mut out = CsvOut::new(&header);
+    for (r, row) in rows.iter().enumerate() {
+        let mut fields: Vec<String> = carried
+            .iter()
+            .map(|&c| table.cell(r, c).to_string())
+            .collect();
+        fields.push(table.cell(r, p_col).to_string());
+        fields.push(table.cell(r, h_col).to_string());
+        fields.extend(row.value.to_array().into_iter().map(fmt_num));
+        if with_std {
+            if args.height_std_m.is_some() {
+                fields.push(fmt_num(points[r].height_std_m));
+            }
+            let std = row.std.unwrap_or_default();
+            fields.extend(std.to_array().into_iter().map(fmt_num));
+        }
+        out.row(&fields);
+    }
+    out.write(&args.output)
+        .with_context(|| format!("cannot write {}", args.output.display()))
+        .failed()?;
+    eprintln!(
+        "bulge stress: {} rows -> {} (strain {}, true stress {}, modulus {} on {} stress{})",
+        rows.len(),
+        args.output.display(),
+        name(&opts.strain),
+        name(&opts.true_stress),
+        name(&opts.modulus),
+        name(&opts.modulus_stress),
+        if with_std { ", with *_std columns" } else { "" }
+    );
+    Ok(())
+}
+
+/// The command-line name of an option value.
+fn name<T: clap::ValueEnum>(v: &T) -> String {
+    v.to_possible_value()
+        .map(|p| p.get_name().to_string())
+        .unwrap_or_default()
+}
+
+/// The specimen from `--experiment` or from the flags, validated; errors name
+/// the file and the line of the offending field, or the flag.
+fn specimen(args: &Args) -> Result<Specimen, Failure> {
+    if let Some(path) = &args.experiment {
+        // Read without the lead's validation first, so that a bad field can
+        // be located to its line in the file.
+        let exp: Experiment = read_toml(path)?;
+        if let Err(m) = exp.specimen.validate() {
+            let field = m.split_whitespace().next().unwrap_or("");
+            let line = field_line(path, field);
+            return Err(InputError {
+                path: path.clone(),
+                line,
+                column: None,
+                message: format!("[specimen] {m}"),
+            }
+            .into());
+        }
+        return Ok(exp.specimen);
+    }
+    let missing = |flag: &str| anyhow!("{flag} is required without --experiment");
+    let spec = Specimen {
+        radius_m: args
+            .radius_m
+            .ok_or_else(|| missing("--radius-m"))
+            .bad_input()?,
+        thickness_m: args
+            .thickness_m
+            .ok_or_else(|| missing("--thickness-m"))
+            .bad_input()?,
+        poisson: args
+            .poisson
+            .ok_or_else(|| missing("--poisson"))
+            .bad_input()?,
+        prebulge_height_m: args.prebulge_height_m.unwrap_or(0.0),
+    };
+    spec.validate()
+        .map_err(|m| {
+            let field = m.split_whitespace().next().unwrap_or("");
+            let flag = match field {
+                "radius_m" => "--radius-m",
+                "thickness_m" => "--thickness-m",
+                "poisson" => "--poisson",
+                _ => "--prebulge-height-m",
+            };
+            anyhow!("flag {flag}: {m}")
+        })
+        .bad_input()?;
+    Ok(spec)
+}
+
+/// 1-based line of `field = ...` in a TOML file, when it can be found.
+fn field_line(path: &Path, field: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.lines()
+        .position(|l| {
+            let l = l.trim_start();
+            l.strip_prefix(field)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i as u64 + 1)
+}
+
+/// Inputs are never modified: refuse `-o` pointing at the heights file.
+fn refuse_overwriting_input(input: &Path, output: &Path) -> Result<(), Failure> {
+    if let (Ok(i), Ok(o)) = (input.canonicalize(), output.canonicalize())
+        && i == o
+    {
+        return Err(anyhow!(
+            "-o {} is the input file itself: choose another output file (inputs are never overwritten)",
+            output.display()
+        ))
+        .bad_input();
+    }
+    Ok(())
 }

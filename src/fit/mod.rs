@@ -1,1 +1,137 @@
-//! Stress/strain -> material: the quartic secant modulus and hyperelastic fits.
+//! Stress/strain -> material: the quartic secant modulus of paper 000
+//! (section 7) and the incompressible hyperelastic models that rubber users
+//! fit in practice.
+//!
+//! * [`quartic`]: `E(eps) = c0 + c1 eps + ... + cN eps^N` by linear least
+//!   squares ([`linear`]: column scaling and the SVD), with R^2, RMSE, the
+//!   condition number, standard errors and warnings where the law is
+//!   unphysical;
+//! * [`hyperelastic`]: neo-Hookean, Mooney-Rivlin, Yeoh, Ogden (1-3 terms) and
+//!   Gent fitted to equibiaxial stress by Levenberg-Marquardt ([`lm`], an
+//!   argmin solver) from one or many starting points, with a Drucker
+//!   stability check and AIC for comparing models ([`stats`]);
+//! * [`data`]: which columns of which file feed which fit, validated with
+//!   errors that name the file, line and value.
+//!
+//! Every entry point is a pure function from data to a fit; `bulge fit`
+//! (`src/cli/fit.rs`) reads the files and writes the outputs.
+
+pub mod data;
+pub mod hyperelastic;
+pub mod linear;
+pub mod lm;
+pub mod quartic;
+pub mod stats;
+
+use serde::{Deserialize, Serialize};
+
+/// Which stress a column of equibiaxial data holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum StressMeasure {
+    /// First Piola stress: force per unit reference (undeformed) area.
+    Nominal,
+    /// Cauchy (true) stress: force per unit current area.
+    Cauchy,
+}
+
+impl StressMeasure {
+    /// Name as written in files (`nominal`, `cauchy`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StressMeasure::Nominal => "nominal",
+            StressMeasure::Cauchy => "cauchy",
+        }
+    }
+}
+
+/// Why a fit was refused or failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// Fewer points than parameters.
+    #[error("{points} data points cannot determine the {parameters} parameters of {model}: supply at least {parameters} points or choose a model with fewer parameters")]
+    TooFewPoints {
+        /// The model.
+        model: String,
+        /// Points given.
+        points: usize,
+        /// Parameters to fit.
+        parameters: usize,
+    },
+    /// x and y of different lengths.
+    #[error("{x} abscissae but {y} ordinates")]
+    LengthMismatch {
+        /// Number of x values.
+        x: usize,
+        /// Number of y values.
+        y: usize,
+    },
+    /// A NaN or infinite value.
+    #[error("value {value} at point {index} is not finite")]
+    NonFinite {
+        /// 0-based index.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// The abscissa does not increase strictly.
+    #[error("point {index} ({value}) does not exceed the previous one ({previous}): abscissae must be strictly increasing without duplicates")]
+    NotIncreasing {
+        /// 0-based index of the offending point.
+        index: usize,
+        /// Its value.
+        value: f64,
+        /// The previous value.
+        previous: f64,
+    },
+    /// A stretch <= 0.
+    #[error("stretch {value} at point {index} is not positive")]
+    NonPositiveStretch {
+        /// 0-based index.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// Every stress is zero.
+    #[error("every stress is zero: there is nothing to fit")]
+    ZeroStress,
+    /// The linear least-squares problem has no unique solution.
+    #[error("{model}: {source}")]
+    Linear {
+        /// The model.
+        model: String,
+        /// Why.
+        source: linear::LinearError,
+    },
+    /// A request outside what is implemented.
+    #[error("{0}")]
+    Unsupported(String),
+    /// The nonlinear solver failed.
+    #[error("solver failed: {0}")]
+    Solver(String),
+}
+
+/// Refuses NaN and infinities.
+pub(crate) fn check_finite(v: &[f64]) -> Result<(), FitError> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(FitError::NonFinite {
+            index,
+            value: v[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Refuses abscissae that are not strictly increasing.
+pub(crate) fn check_increasing(v: &[f64]) -> Result<(), FitError> {
+    for i in 1..v.len() {
+        if v[i] <= v[i - 1] {
+            return Err(FitError::NotIncreasing {
+                index: i,
+                value: v[i],
+                previous: v[i - 1],
+            });
+        }
+    }
+    Ok(())
+}

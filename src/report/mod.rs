@@ -1,1 +1,3 @@
 //! Tables, plots and the HTML report.
+
+pub mod plot;

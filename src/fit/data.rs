@@ -1,0 +1,370 @@
+//! Which columns of which file feed which fit.
+//!
+//! Two kinds of input are recognised by their header:
+//!
+//! * **`stress_strain.csv` from `bulge stress`** (it has `secant_modulus_pa`):
+//!   - the quartic takes `strain` and `secant_modulus_pa` as they are, so the
+//!     law inherits the stress stage's choices (strain measure, which stress,
+//!     biaxial or uniaxial modulus) and the simulator that reads it back with
+//!     the same conventions gets the modulus that was measured. Rows with an
+//!     empty modulus (zero strain) are skipped. The strain measure written to
+//!     `material.toml` is recognised from the columns (`strain = stretch - 1`
+//!     or `ln stretch`);
+//!   - the hyperelastic models take `stretch` and `stress_pa` (`p R / 2 t`,
+//!     eq 18, the membrane force per unit *undeformed* thickness), converted
+//!     for an incompressible membrane: Cauchy `sigma = l^2 p R / 2 t`, nominal
+//!     `P = l p R / 2 t`; Cauchy by default (`--stress-measure` to change).
+//!     `true_stress_pa` is not used because its meaning depends on the
+//!     stress stage's `--true-stress` option (the paper's eq 25, `l p R/2t`,
+//!     is for an incompressible membrane the *nominal* stress, not the true
+//!     one), which the file does not record; `stress_pa` is unambiguous.
+//!     Cauchy is the default because the residuals then weigh the points as
+//!     the measured quantity (pressure times radius) does, up to the known
+//!     factor `l^2`.
+//!
+//!     The stretch of `stress_strain.csv` is the mean meridional stretch of
+//!     the cap (eq 23), which understates the pole stretch that the
+//!     equibiaxial formulas assume (NOTES section 1: 1.179 against 1.20 at
+//!     h/a = 0.53): hyperelastic parameters from bubble data carry that bias.
+//! * **raw equibiaxial data** `stretch` plus one stress column: `nominal_stress_pa`
+//!   or `cauchy_stress_pa` (the measure follows from the name), or
+//!   `stress_pa` with `--stress-measure` saying which. The hyperelastic models
+//!   are fitted in that measure. The quartic is fitted to the secant modulus
+//!   `k sigma / eps` built from the Cauchy stress and the chosen strain
+//!   (`k = 1 - nu` biaxial, `1` uniaxial), points at zero strain skipped.
+
+use super::StressMeasure;
+use super::hyperelastic::Equibiaxial;
+use crate::io::{InputError, Table};
+use crate::material::StrainMeasure;
+
+/// How the secant modulus relates stress and strain (must match `bulge stress`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Default)]
+pub enum ModulusConvention {
+    /// Equibiaxial plane stress: `E = (1 - nu) sigma / eps`.
+    #[default]
+    Biaxial,
+    /// `E = sigma / eps`.
+    Uniaxial,
+}
+
+impl ModulusConvention {
+    /// `k` in `E = k sigma / eps`.
+    pub fn factor(self, poisson: f64) -> f64 {
+        match self {
+            ModulusConvention::Biaxial => 1.0 - poisson,
+            ModulusConvention::Uniaxial => 1.0,
+        }
+    }
+
+    /// Name for files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ModulusConvention::Biaxial => "biaxial",
+            ModulusConvention::Uniaxial => "uniaxial",
+        }
+    }
+}
+
+/// What the input file was.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// `stress_strain.csv` of `bulge stress`.
+    StressStage,
+    /// Raw `stretch` plus stress.
+    Raw,
+}
+
+/// Choices that decide how a file is read.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadOptions {
+    /// Stress measure of the raw stress column, or of the hyperelastic fit
+    /// for `stress_strain.csv`; `None` infers it.
+    pub stress_measure: Option<StressMeasure>,
+    /// Strain measure; `None` infers it (stress stage) or takes engineering.
+    pub strain_measure: Option<StrainMeasure>,
+    /// Poisson ratio for the raw-data secant modulus.
+    pub poisson: f64,
+    /// Modulus convention for the raw-data secant modulus.
+    pub modulus: ModulusConvention,
+}
+
+/// Validated data ready for the fits.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// Which kind of file.
+    pub source: Source,
+    /// Stretch and stress for the hyperelastic fits.
+    pub equibiaxial: Equibiaxial,
+    /// Name of the stress column used for the hyperelastic fits and how.
+    pub stress_column: String,
+    /// Strain of every row.
+    pub strain: Vec<f64>,
+    /// Secant modulus of every row (None at zero strain), Pa.
+    pub modulus_pa: Vec<Option<f64>>,
+    /// The strain measure of `strain`.
+    pub strain_measure: StrainMeasure,
+    /// 1-based file line of every row.
+    pub lines: Vec<u64>,
+}
+
+impl Loaded {
+    /// The `(strain, modulus)` points the polynomial law is fitted to.
+    pub fn modulus_points(&self) -> (Vec<f64>, Vec<f64>) {
+        self.strain
+            .iter()
+            .zip(&self.modulus_pa)
+            .filter_map(|(&e, m)| m.map(|m| (e, m)))
+            .unzip()
+    }
+}
+
+/// Reads and validates a table (see the module docs).
+pub fn load(t: &Table, opts: &LoadOptions) -> Result<Loaded, InputError> {
+    let stretch = t.numbers("stretch")?;
+    for (r, &l) in stretch.iter().enumerate() {
+        if l <= 0.0 {
+            return Err(t.error_at(
+                r,
+                "stretch",
+                format!("stretch {l} is not positive: a stretch is deformed/undeformed length, > 0 (1 at rest); fix or drop the row"),
+            ));
+        }
+    }
+    increasing(t, &stretch, "stretch")?;
+    if t.column_index("secant_modulus_pa").is_some() {
+        load_stress_stage(t, stretch, opts)
+    } else {
+        load_raw(t, stretch, opts)
+    }
+}
+
+fn increasing(t: &Table, v: &[f64], col: &str) -> Result<(), InputError> {
+    for r in 1..v.len() {
+        if v[r] <= v[r - 1] {
+            let what = if v[r] == v[r - 1] { "repeats" } else { "is smaller than" };
+            return Err(t.error_at(
+                r,
+                col,
+                format!(
+                    "{col} {} {what} {} on line {}: the fit needs one row per {col}, in increasing order; \
+                     sort the rows, and average or drop repeated points (unloading branches included)",
+                    v[r],
+                    v[r - 1],
+                    t.lines[r - 1]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn load_stress_stage(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, InputError> {
+    let strain = t.numbers("strain")?;
+    let stress = t.numbers("stress_pa")?;
+    let modulus_pa = t
+        .optional_numbers("secant_modulus_pa")?
+        .expect("checked by the caller");
+    increasing(t, &strain, "strain")?;
+    let tol = |x: f64| 1e-6 * x.abs().max(1e-3);
+    let matches = |m: StrainMeasure| {
+        stretch
+            .iter()
+            .zip(&strain)
+            .position(|(&l, &e)| (m.of_stretch(l) - e).abs() > tol(e))
+    };
+    let strain_measure = match opts.strain_measure {
+        Some(m) => {
+            if let Some(r) = matches(m) {
+                return Err(t.error_at(
+                    r,
+                    "strain",
+                    format!(
+                        "strain {} is not the {} strain of stretch {} (that would be {}): \
+                         drop --strain-measure to let bulge recognise it, or pass the other measure",
+                        strain[r],
+                        measure_name(m),
+                        stretch[r],
+                        m.of_stretch(stretch[r])
+                    ),
+                ));
+            }
+            m
+        }
+        None => match (matches(StrainMeasure::Engineering), matches(StrainMeasure::Log)) {
+            (None, _) => StrainMeasure::Engineering,
+            (Some(_), None) => StrainMeasure::Log,
+            (Some(r), Some(_)) => {
+                return Err(t.error_at(
+                    r,
+                    "strain",
+                    format!(
+                        "strain {} is neither stretch - 1 nor ln(stretch) for stretch {}: \
+                         the modulus law needs to know its strain; regenerate the file with `bulge stress`",
+                        strain[r], stretch[r]
+                    ),
+                ));
+            }
+        },
+    };
+    let measure = opts.stress_measure.unwrap_or(StressMeasure::Cauchy);
+    let stress_pa = stretch
+        .iter()
+        .zip(&stress)
+        .map(|(&l, &s)| match measure {
+            StressMeasure::Cauchy => l * l * s,
+            StressMeasure::Nominal => l * s,
+        })
+        .collect();
+    let stress_column = match measure {
+        StressMeasure::Cauchy => "stretch^2 * stress_pa (Cauchy, incompressible)",
+        StressMeasure::Nominal => "stretch * stress_pa (nominal, incompressible)",
+    };
+    Ok(Loaded {
+        source: Source::StressStage,
+        equibiaxial: Equibiaxial {
+            stretch,
+            stress_pa,
+            measure,
+        },
+        stress_column: stress_column.into(),
+        strain,
+        modulus_pa,
+        strain_measure,
+        lines: t.lines.clone(),
+    })
+}
+
+fn measure_name(m: StrainMeasure) -> &'static str {
+    match m {
+        StrainMeasure::Engineering => "engineering",
+        StrainMeasure::Log => "log",
+    }
+}
+
+fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, InputError> {
+    let has = |c: &str| t.column_index(c).is_some();
+    let (column, measure) = match opts.stress_measure {
+        Some(m) => {
+            let named = format!("{}_stress_pa", m.name());
+            if has(&named) {
+                (named, m)
+            } else if has("stress_pa") {
+                ("stress_pa".to_string(), m)
+            } else {
+                return Err(InputError::cell(
+                    &t.path,
+                    1,
+                    &named,
+                    format!(
+                        "no stress column: expected `{named}` or `stress_pa` next to `stretch` (found: {})",
+                        t.headers.join(", ")
+                    ),
+                ));
+            }
+        }
+        None => match (has("nominal_stress_pa"), has("cauchy_stress_pa")) {
+            (true, false) => ("nominal_stress_pa".to_string(), StressMeasure::Nominal),
+            (false, true) => ("cauchy_stress_pa".to_string(), StressMeasure::Cauchy),
+            (true, true) => {
+                return Err(InputError::file(
+                    &t.path,
+                    "both `nominal_stress_pa` and `cauchy_stress_pa` are present: pass --stress-measure to choose one",
+                ));
+            }
+            (false, false) => {
+                return Err(InputError::file(
+                    &t.path,
+                    format!(
+                        "no stress column: expected `nominal_stress_pa` or `cauchy_stress_pa` (or `stress_pa` with \
+                         --stress-measure nominal|cauchy), or a `stress_strain.csv` from `bulge stress` (found: {})",
+                        t.headers.join(", ")
+                    ),
+                ));
+            }
+        },
+    };
+    let stress_pa = t.numbers(&column)?;
+    let strain_measure = opts.strain_measure.unwrap_or_default();
+    let strain: Vec<f64> = stretch.iter().map(|&l| strain_measure.of_stretch(l)).collect();
+    let k = opts.modulus.factor(opts.poisson);
+    let modulus_pa = stretch
+        .iter()
+        .zip(&stress_pa)
+        .zip(&strain)
+        .map(|((&l, &s), &e)| {
+            let cauchy = match measure {
+                StressMeasure::Cauchy => s,
+                StressMeasure::Nominal => l * s,
+            };
+            (e != 0.0).then(|| k * cauchy / e)
+        })
+        .collect();
+    Ok(Loaded {
+        source: Source::Raw,
+        equibiaxial: Equibiaxial {
+            stretch,
+            stress_pa,
+            measure,
+        },
+        stress_column: format!("{column} ({})", measure.name()),
+        strain,
+        modulus_pa,
+        strain_measure,
+        lines: t.lines.clone(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn opts() -> LoadOptions {
+        LoadOptions {
+            stress_measure: None,
+            strain_measure: None,
+            poisson: 0.45,
+            modulus: ModulusConvention::Biaxial,
+        }
+    }
+
+    #[test]
+    fn stress_stage_columns_and_strain_measure() {
+        let csv = "pressure_pa,height_m,radius_m,arc_length_m,stretch,strain,stress_pa,true_stress_pa,secant_modulus_pa\n\
+                   0,0,,0.075,1,0,0,0,\n\
+                   1000,0.01,0.08,0.077,1.1,0.09531017980432493,100000,120000,577000\n\
+                   2000,0.02,0.05,0.08,1.2,0.1823215567939546,200000,280000,603000\n";
+        let t = Table::parse(Path::new("s.csv"), csv.as_bytes()).unwrap();
+        let d = load(&t, &opts()).unwrap();
+        assert_eq!(d.source, Source::StressStage);
+        assert_eq!(d.strain_measure, StrainMeasure::Log);
+        assert_eq!(d.equibiaxial.measure, StressMeasure::Cauchy);
+        assert!((d.equibiaxial.stress_pa[2] - 1.44 * 200000.0).abs() < 1e-6);
+        let (e, m) = d.modulus_points();
+        assert_eq!(e.len(), 2);
+        assert_eq!(m, vec![577000.0, 603000.0]);
+    }
+
+    #[test]
+    fn raw_measure_from_column_name_and_errors_located() {
+        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n1.5,2\n2,3\n").unwrap();
+        let d = load(&t, &opts()).unwrap();
+        assert_eq!(d.equibiaxial.measure, StressMeasure::Nominal);
+        // Secant modulus from Cauchy stress: 0.55 * 1.5 * 2 / 0.5.
+        assert!((d.modulus_pa[1].unwrap() - 3.3).abs() < 1e-12);
+        assert!(d.modulus_pa[0].is_none());
+        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n1.5,2\n1.5,3\n").unwrap();
+        let e = load(&t, &opts()).unwrap_err().to_string();
+        assert!(e.contains("r.csv, line 4") && e.contains("repeats"), "{e}");
+        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n0.9,2\n").unwrap();
+        let e = load(&t, &opts()).unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("smaller"), "{e}");
+        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n-1,0\n0.9,2\n").unwrap();
+        let e = load(&t, &opts()).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains("not positive"), "{e}");
+        let t = Table::parse(Path::new("r.csv"), b"stretch,stress_pa\n1,0\n1.2,2\n").unwrap();
+        let e = load(&t, &opts()).unwrap_err().to_string();
+        assert!(e.contains("--stress-measure"), "{e}");
+    }
+}

@@ -1,0 +1,872 @@
+//! Incompressible hyperelastic models fitted to equibiaxial data, the state
+//! at the pole of an inflated membrane (`l1 = l2 = l`, `l3 = l^-2`).
+//!
+//! With `J = I1 - 3 = 2 l^2 + l^-4 - 3` the equibiaxial nominal (first Piola)
+//! stress `P = dW/dl1 (l, l)` of each model is (the Cauchy stress is `l P`):
+//!
+//! | model | `P(l)` | parameters |
+//! |---|---|---|
+//! | neo-Hookean | `2 C1 (l - l^-5)` | `C1` |
+//! | Mooney-Rivlin | `2 (l - l^-5) (C1 + C2 l^2)` | `C1, C2` |
+//! | Yeoh | `2 (l - l^-5) (C1 + 2 C2 J + 3 C3 J^2)` | `C1, C2, C3` |
+//! | Ogden, N terms | `sum mu_i (l^(alpha_i - 1) - l^(-2 alpha_i - 1))` | `mu_i, alpha_i` |
+//! | Gent | `mu (l - l^-5) / (1 - J / Jm)` | `mu, Jm > max J` |
+//!
+//! These closed forms and their derivatives in the parameters drive the
+//! fit; the reported residuals are recomputed from the general energies of
+//! [`crate::material`] (dual numbers), and a unit test checks that the two
+//! agree.
+//!
+//! The residuals are `model - data` in the stress measure of the data
+//! (nominal for Treloar-style tables, Cauchy for `stress_strain.csv`),
+//! unweighted. Neo-Hookean, Mooney-Rivlin and Yeoh are linear in their
+//! parameters for either measure: their least-squares problem is convex and
+//! the linear solution ([`super::linear`]) is the global minimum; it starts
+//! the Levenberg-Marquardt iteration ([`super::lm`], run by argmin), which
+//! then only confirms it. Ogden (in `alpha`) and Gent (in `Jm`) are not
+//! convex: they are started from a grid of the nonlinear parameters, the
+//! linear ones (`mu`) set at each grid point by linear least squares, and the
+//! best end point kept, preferring end points that are Drucker-stable over
+//! the fitted range (see [`drucker`]).
+//!
+//! Bounds, enforced by rejecting trial steps outside them: Gent
+//! `mu > 0` and `Jm > max_i J(l_i)` (the log in `W` must stay defined at every
+//! data point); Ogden `0.05 <= |alpha_i| <= 30` (an exponent of 0 makes
+//! `mu/alpha` singular).
+
+use super::FitError;
+use super::StressMeasure;
+use super::linear;
+use super::lm;
+use super::stats::Stats;
+use crate::material::Model;
+use argmin::core::{Error as ArgminError, Jacobian, Operator};
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+/// Which hyperelastic model to fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `W = C1 (I1 - 3)`.
+    NeoHookean,
+    /// `W = C1 (I1 - 3) + C2 (I2 - 3)`.
+    MooneyRivlin,
+    /// Three-term Yeoh.
+    Yeoh,
+    /// Ogden with 1 to 3 terms.
+    Ogden(usize),
+    /// Gent.
+    Gent,
+}
+
+impl Kind {
+    /// All models compared by `bulge fit --model all`.
+    pub fn all() -> Vec<Kind> {
+        vec![
+            Kind::NeoHookean,
+            Kind::MooneyRivlin,
+            Kind::Yeoh,
+            Kind::Ogden(1),
+            Kind::Ogden(2),
+            Kind::Ogden(3),
+            Kind::Gent,
+        ]
+    }
+
+    /// Display name, e.g. `ogden-3`.
+    pub fn label(&self) -> String {
+        match self {
+            Kind::NeoHookean => "neo-hookean".into(),
+            Kind::MooneyRivlin => "mooney-rivlin".into(),
+            Kind::Yeoh => "yeoh".into(),
+            Kind::Ogden(n) => format!("ogden-{n}"),
+            Kind::Gent => "gent".into(),
+        }
+    }
+
+    /// Number of fitted parameters.
+    pub fn n_params(&self) -> usize {
+        match self {
+            Kind::NeoHookean => 1,
+            Kind::MooneyRivlin | Kind::Gent => 2,
+            Kind::Yeoh => 3,
+            Kind::Ogden(n) => 2 * n,
+        }
+    }
+
+    /// Whether the least-squares problem is linear in the parameters.
+    pub fn is_linear(&self) -> bool {
+        matches!(self, Kind::NeoHookean | Kind::MooneyRivlin | Kind::Yeoh)
+    }
+
+    /// Parameter names with units, in fit order.
+    pub fn param_names(&self) -> Vec<String> {
+        match self {
+            Kind::NeoHookean => vec!["c1_pa".into()],
+            Kind::MooneyRivlin => vec!["c1_pa".into(), "c2_pa".into()],
+            Kind::Yeoh => vec!["c1_pa".into(), "c2_pa".into(), "c3_pa".into()],
+            Kind::Ogden(n) => (1..=*n)
+                .map(|i| format!("mu{i}_pa"))
+                .chain((1..=*n).map(|i| format!("alpha{i}")))
+                .collect(),
+            Kind::Gent => vec!["mu_pa".into(), "jm".into()],
+        }
+    }
+
+    /// Whether parameter `k` has the unit of stress (scaled in the fit).
+    fn is_stress(&self, k: usize) -> bool {
+        match self {
+            Kind::Ogden(n) => k < *n,
+            Kind::Gent => k == 0,
+            _ => true,
+        }
+    }
+
+    /// The material for parameters `x` (stress parameters in Pa).
+    pub fn model(&self, x: &[f64]) -> Model {
+        match self {
+            Kind::NeoHookean => Model::NeoHookean { c1_pa: x[0] },
+            Kind::MooneyRivlin => Model::MooneyRivlin {
+                c1_pa: x[0],
+                c2_pa: x[1],
+            },
+            Kind::Yeoh => Model::Yeoh {
+                c1_pa: x[0],
+                c2_pa: x[1],
+                c3_pa: x[2],
+            },
+            Kind::Ogden(n) => Model::Ogden {
+                mu_pa: x[..*n].to_vec(),
+                alpha: x[*n..].to_vec(),
+            },
+            Kind::Gent => Model::Gent {
+                mu_pa: x[0],
+                jm: x[1],
+            },
+        }
+    }
+
+    /// Parameters of a material of this kind (inverse of [`Kind::model`]).
+    pub fn params_of(&self, m: &Model) -> Option<Vec<f64>> {
+        match (self, m) {
+            (Kind::NeoHookean, Model::NeoHookean { c1_pa }) => Some(vec![*c1_pa]),
+            (Kind::MooneyRivlin, Model::MooneyRivlin { c1_pa, c2_pa }) => Some(vec![*c1_pa, *c2_pa]),
+            (
+                Kind::Yeoh,
+                Model::Yeoh {
+                    c1_pa,
+                    c2_pa,
+                    c3_pa,
+                },
+            ) => Some(vec![*c1_pa, *c2_pa, *c3_pa]),
+            (Kind::Ogden(n), Model::Ogden { mu_pa, alpha }) if mu_pa.len() == *n && alpha.len() == *n => {
+                Some(mu_pa.iter().chain(alpha).copied().collect())
+            }
+            (Kind::Gent, Model::Gent { mu_pa, jm }) => Some(vec![*mu_pa, *jm]),
+            _ => None,
+        }
+    }
+}
+
+/// `J = I1 - 3` in equibiaxial stretch `l`.
+fn j_of(l: f64) -> f64 {
+    2.0 * l * l + l.powi(-4) - 3.0
+}
+
+/// Equibiaxial nominal stress of `kind` with parameters `x` at stretch `l`,
+/// and its gradient in `x` written into `grad`. NaN outside the bounds.
+fn nominal_and_grad(kind: Kind, x: &[f64], l: f64, grad: &mut [f64]) -> f64 {
+    let b = l - l.powi(-5);
+    match kind {
+        Kind::NeoHookean => {
+            grad[0] = 2.0 * b;
+            2.0 * b * x[0]
+        }
+        Kind::MooneyRivlin => {
+            grad[0] = 2.0 * b;
+            grad[1] = 2.0 * b * l * l;
+            grad[0] * x[0] + grad[1] * x[1]
+        }
+        Kind::Yeoh => {
+            let j = j_of(l);
+            grad[0] = 2.0 * b;
+            grad[1] = 4.0 * b * j;
+            grad[2] = 6.0 * b * j * j;
+            grad[0] * x[0] + grad[1] * x[1] + grad[2] * x[2]
+        }
+        Kind::Ogden(n) => {
+            let ln = l.ln();
+            let mut p = 0.0;
+            for i in 0..n {
+                let (mu, a) = (x[i], x[n + i]);
+                if !(OGDEN_ALPHA_MIN..=OGDEN_ALPHA_MAX).contains(&a.abs()) {
+                    return f64::NAN;
+                }
+                let t1 = l.powf(a - 1.0);
+                let t2 = l.powf(-2.0 * a - 1.0);
+                grad[i] = t1 - t2;
+                grad[n + i] = mu * ln * (t1 + 2.0 * t2);
+                p += mu * (t1 - t2);
+            }
+            p
+        }
+        Kind::Gent => {
+            let (mu, jm) = (x[0], x[1]);
+            let j = j_of(l);
+            if !(mu > 0.0) || !(jm > j) {
+                return f64::NAN;
+            }
+            let f = jm / (jm - j);
+            grad[0] = b * f;
+            grad[1] = -mu * b * j / ((jm - j) * (jm - j));
+            mu * b * f
+        }
+    }
+}
+
+const OGDEN_ALPHA_MIN: f64 = 0.05;
+const OGDEN_ALPHA_MAX: f64 = 30.0;
+
+/// The least-squares problem handed to argmin: parameters scaled so that
+/// stress parameters are in units of `scale` Pa.
+struct Problem<'a> {
+    kind: Kind,
+    stretch: &'a [f64],
+    target: Vec<f64>,
+    measure: StressMeasure,
+    scale: f64,
+    jm_min: f64,
+}
+
+impl Problem<'_> {
+    fn unscale(&self, x: &DVector<f64>) -> Vec<f64> {
+        (0..x.len())
+            .map(|k| if self.kind.is_stress(k) { x[k] * self.scale } else { x[k] })
+            .collect()
+    }
+
+    /// Residuals (scaled) and Jacobian (scaled) at `x`.
+    fn eval(&self, x: &DVector<f64>, want_jac: bool) -> (DVector<f64>, DMatrix<f64>) {
+        let p = self.kind.n_params();
+        let n = self.stretch.len();
+        let xu = self.unscale(x);
+        let mut r = DVector::zeros(n);
+        let mut jac = DMatrix::zeros(if want_jac { n } else { 0 }, p);
+        let mut g = vec![0.0; p];
+        let gent_ok = !matches!(self.kind, Kind::Gent) || xu[1] > self.jm_min;
+        for (i, &l) in self.stretch.iter().enumerate() {
+            let mut v = nominal_and_grad(self.kind, &xu, l, &mut g);
+            let factor = match self.measure {
+                StressMeasure::Nominal => 1.0,
+                StressMeasure::Cauchy => l,
+            };
+            v *= factor;
+            r[i] = if gent_ok { v / self.scale - self.target[i] } else { f64::NAN };
+            if want_jac {
+                for k in 0..p {
+                    // d(v/scale)/d(x_k) with x_k = xu_k / scale for stress parameters.
+                    let s = if self.kind.is_stress(k) { 1.0 } else { 1.0 / self.scale };
+                    jac[(i, k)] = factor * g[k] * s;
+                }
+            }
+        }
+        (r, jac)
+    }
+}
+
+impl Operator for Problem<'_> {
+    type Param = DVector<f64>;
+    type Output = DVector<f64>;
+    fn apply(&self, x: &DVector<f64>) -> Result<DVector<f64>, ArgminError> {
+        Ok(self.eval(x, false).0)
+    }
+}
+
+impl Jacobian for Problem<'_> {
+    type Param = DVector<f64>;
+    type Jacobian = DMatrix<f64>;
+    fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
+        Ok(self.eval(x, true).1)
+    }
+}
+
+/// Equibiaxial data: stretch and stress in a stated measure.
+#[derive(Debug, Clone)]
+pub struct Equibiaxial {
+    /// Equibiaxial stretch, strictly increasing, > 0.
+    pub stretch: Vec<f64>,
+    /// Stress, Pa.
+    pub stress_pa: Vec<f64>,
+    /// Which stress `stress_pa` is.
+    pub measure: StressMeasure,
+}
+
+impl Equibiaxial {
+    /// Model stress at stretch `l` in the measure of this data set, from the
+    /// general energy of [`crate::material`].
+    pub fn predict(&self, model: &Model, l: f64) -> f64 {
+        let h = model.hyperelastic().expect("a hyperelastic model");
+        match self.measure {
+            StressMeasure::Nominal => h.equibiaxial_nominal(l),
+            StressMeasure::Cauchy => h.equibiaxial_cauchy(l),
+        }
+    }
+
+    /// Residuals `data - model` at the data points, Pa.
+    pub fn residuals(&self, model: &Model) -> Vec<f64> {
+        self.stretch
+            .iter()
+            .zip(&self.stress_pa)
+            .map(|(&l, &s)| s - self.predict(model, l))
+            .collect()
+    }
+
+    fn validate(&self, kind: Kind) -> Result<(), FitError> {
+        if self.stretch.len() != self.stress_pa.len() {
+            return Err(FitError::LengthMismatch {
+                x: self.stretch.len(),
+                y: self.stress_pa.len(),
+            });
+        }
+        super::check_finite(&self.stretch)?;
+        super::check_finite(&self.stress_pa)?;
+        if let Some(i) = self.stretch.iter().position(|&l| l <= 0.0) {
+            return Err(FitError::NonPositiveStretch {
+                index: i,
+                value: self.stretch[i],
+            });
+        }
+        super::check_increasing(&self.stretch)?;
+        if self.stretch.len() < kind.n_params() {
+            return Err(FitError::TooFewPoints {
+                model: kind.label(),
+                points: self.stretch.len(),
+                parameters: kind.n_params(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One fitted parameter.
+#[derive(Debug, Clone, Serialize)]
+pub struct Param {
+    /// Name with unit suffix (`c1_pa`, `alpha2`).
+    pub name: String,
+    /// Value (Pa for stress parameters).
+    pub value: f64,
+    /// Standard error from the Jacobian at the minimum; `None` without
+    /// residual degrees of freedom or with a singular Jacobian.
+    pub std_error: Option<f64>,
+}
+
+/// A fitted hyperelastic model.
+#[derive(Debug, Clone)]
+pub struct HyperFit {
+    /// Which model.
+    pub kind: Kind,
+    /// The material, parameters in Pa.
+    pub model: Model,
+    /// The parameters with standard errors.
+    pub params: Vec<Param>,
+    /// Goodness of fit in the stress measure of the data (RMSE in Pa).
+    pub stats: Stats,
+    /// `data - model` at each point, Pa.
+    pub residuals_pa: Vec<f64>,
+    /// Drucker stability over the fitted stretch range.
+    pub drucker: drucker::Report,
+    /// Starting points tried.
+    pub starts: usize,
+    /// Levenberg-Marquardt iterations of the kept run.
+    pub iterations: u64,
+}
+
+/// Candidate Ogden exponents for the multi-start grid.
+const OGDEN_ALPHAS: [f64; 10] = [-6.0, -4.0, -2.0, -1.0, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0];
+/// Candidate Gent `Jm / max J` ratios.
+const GENT_RATIOS: [f64; 7] = [1.02, 1.1, 1.5, 3.0, 10.0, 30.0, 100.0];
+/// LM iteration cap per start.
+const MAX_ITERS: u64 = 500;
+
+/// Fits `kind` to `data` (see the module docs for the method).
+pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
+    if let Kind::Ogden(n) = kind
+        && !(1..=3).contains(&n)
+    {
+        return Err(FitError::Unsupported(format!(
+            "Ogden with {n} terms: use 1, 2 or 3 terms"
+        )));
+    }
+    data.validate(kind)?;
+    let scale = data.stress_pa.iter().fold(0.0f64, |m, s| m.max(s.abs()));
+    if scale == 0.0 {
+        return Err(FitError::ZeroStress);
+    }
+    let jm_min = data.stretch.iter().map(|&l| j_of(l)).fold(0.0f64, f64::max);
+    let problem = || Problem {
+        kind,
+        stretch: &data.stretch,
+        target: data.stress_pa.iter().map(|s| s / scale).collect(),
+        measure: data.measure,
+        scale,
+        jm_min,
+    };
+    let starts = starting_points(kind, data, scale, jm_min)?;
+    let n_starts = starts.len();
+    let mut best: Option<(bool, f64, lm::LmResult)> = None;
+    let mut last_err = None;
+    for x0 in starts {
+        let run = match lm::minimize(problem(), x0, MAX_ITERS) {
+            Ok(r) => r,
+            Err(e) => {
+                last_err = Some(e.to_string());
+                continue;
+            }
+        };
+        let c = run.residuals.norm_squared();
+        if !c.is_finite() {
+            continue;
+        }
+        let xu = problem().unscale(&run.x);
+        let stable = drucker::check(&kind.model(&xu), &data.stretch).stable;
+        let better = match &best {
+            None => true,
+            Some((bs, bc, _)) => (stable && !bs) || (stable == *bs && c < *bc),
+        };
+        if better {
+            best = Some((stable, c, run));
+        }
+    }
+    let (_, _, run) = best.ok_or_else(|| {
+        FitError::Solver(format!(
+            "{}: no start converged ({})",
+            kind.label(),
+            last_err.unwrap_or_else(|| "every end point was outside the bounds".into())
+        ))
+    })?;
+    let pb = problem();
+    let xu = pb.unscale(&run.x);
+    let model = kind.model(&xu);
+    let residuals_pa = data.residuals(&model);
+    let stats = Stats::new(&data.stress_pa, &residuals_pa, kind.n_params());
+    let std_errors = param_std_errors(&run.jacobian, stats.rss / (scale * scale), stats.n, &kind, scale);
+    let params = kind
+        .param_names()
+        .into_iter()
+        .enumerate()
+        .map(|(k, name)| Param {
+            name,
+            value: xu[k],
+            std_error: std_errors.as_ref().map(|s| s[k]),
+        })
+        .collect();
+    let drucker = drucker::check(&model, &data.stretch);
+    Ok(HyperFit {
+        kind,
+        model,
+        params,
+        stats,
+        residuals_pa,
+        drucker,
+        starts: n_starts,
+        iterations: run.iterations,
+    })
+}
+
+/// `s^2 (J^T J)^-1` on the diagonal, via the SVD of the (scaled) Jacobian,
+/// unscaled to the units of the parameters.
+fn param_std_errors(
+    jac: &DMatrix<f64>,
+    rss_scaled: f64,
+    n: usize,
+    kind: &Kind,
+    scale: f64,
+) -> Option<Vec<f64>> {
+    let p = jac.ncols();
+    if n <= p {
+        return None;
+    }
+    let svd = jac.clone().svd(false, true);
+    let sv = &svd.singular_values;
+    if !(sv.min() > 1e-13 * sv.max()) {
+        return None;
+    }
+    let vt = svd.v_t.as_ref()?;
+    let s2 = rss_scaled / (n - p) as f64;
+    Some(
+        (0..p)
+            .map(|j| {
+                let var: f64 = (0..p).map(|k| (vt[(k, j)] / sv[k]).powi(2)).sum();
+                let se = (s2 * var).sqrt();
+                if kind.is_stress(j) { se * scale } else { se }
+            })
+            .collect(),
+    )
+}
+
+/// Starting points (scaled parameters) for the LM runs.
+fn starting_points(
+    kind: Kind,
+    data: &Equibiaxial,
+    scale: f64,
+    jm_min: f64,
+) -> Result<Vec<DVector<f64>>, FitError> {
+    let target = DVector::from_iterator(data.stretch.len(), data.stress_pa.iter().map(|s| s / scale));
+    // Design matrix of the linear parameters at fixed nonlinear ones.
+    let design = |x_fixed: &[f64]| -> DMatrix<f64> {
+        let p = kind.n_params();
+        let mut xu = x_fixed.to_vec();
+        xu.resize(p, 0.0);
+        let mut g = vec![0.0; p];
+        let n_lin = match kind {
+            Kind::Ogden(n) => n,
+            Kind::Gent => 1,
+            _ => p,
+        };
+        let mut a = DMatrix::zeros(data.stretch.len(), n_lin);
+        for (i, &l) in data.stretch.iter().enumerate() {
+            let factor = match data.measure {
+                StressMeasure::Nominal => 1.0,
+                StressMeasure::Cauchy => l,
+            };
+            // For Gent the design column is dP/dmu at mu = 1.
+            if let Kind::Gent = kind {
+                xu[0] = 1.0;
+            }
+            nominal_and_grad(kind, &xu, l, &mut g);
+            for k in 0..n_lin {
+                a[(i, k)] = factor * g[k];
+            }
+        }
+        a
+    };
+    match kind {
+        Kind::NeoHookean | Kind::MooneyRivlin | Kind::Yeoh => {
+            let a = design(&[]);
+            let sol = linear::solve(&a, &target).map_err(|e| FitError::Linear {
+                model: kind.label(),
+                source: e,
+            })?;
+            Ok(vec![sol.coefficients])
+        }
+        Kind::Ogden(n) => {
+            let mut out = Vec::new();
+            for combo in combinations(OGDEN_ALPHAS.len(), n) {
+                let alphas: Vec<f64> = combo.iter().map(|&i| OGDEN_ALPHAS[i]).collect();
+                let mut fixed = vec![0.0; n];
+                fixed.extend(&alphas);
+                let a = design(&fixed);
+                if let Ok(sol) = linear::solve(&a, &target) {
+                    let mut x: Vec<f64> = sol.coefficients.iter().copied().collect();
+                    x.extend(&alphas);
+                    out.push(DVector::from_vec(x));
+                }
+            }
+            if out.is_empty() {
+                return Err(FitError::Solver(format!("{}: no usable start", kind.label())));
+            }
+            Ok(out)
+        }
+        Kind::Gent => {
+            let mut out = Vec::new();
+            for ratio in GENT_RATIOS {
+                let jm = jm_min.max(1e-6) * ratio;
+                let a = design(&[0.0, jm]);
+                if let Ok(sol) = linear::solve(&a, &target)
+                    && sol.coefficients[0] > 0.0
+                {
+                    out.push(DVector::from_vec(vec![sol.coefficients[0], jm]));
+                }
+            }
+            if out.is_empty() {
+                return Err(FitError::Solver(
+                    "gent: no start with a positive shear modulus (is the stress negative?)".into(),
+                ));
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// All `k`-subsets of `0..n` in lexicographic order.
+fn combinations(n: usize, k: usize) -> Vec<Vec<usize>> {
+    let mut out = Vec::new();
+    let mut cur = Vec::with_capacity(k);
+    fn rec(start: usize, n: usize, k: usize, cur: &mut Vec<usize>, out: &mut Vec<Vec<usize>>) {
+        if cur.len() == k {
+            out.push(cur.clone());
+            return;
+        }
+        for i in start..n {
+            cur.push(i);
+            rec(i + 1, n, k, cur, out);
+            cur.pop();
+        }
+    }
+    rec(0, n, k, &mut cur, &mut out);
+    out
+}
+
+pub mod drucker {
+    //! Drucker stability of an incompressible membrane in plane stress.
+    //!
+    //! Drucker's postulate asks `d sigma : d eps > 0` for every strain
+    //! increment. For a membrane (`sigma_3 = 0`) with the thickness stretch
+    //! eliminated by incompressibility, `sigma_i = l_i dW/dl_i` and log
+    //! strains `eps_i = ln l_i` (i = 1, 2), this is positive definiteness of
+    //! the symmetric 2x2 tangent
+    //!
+    //! $$D_{ij} = \frac{\partial \sigma_i}{\partial \varepsilon_j} = \lambda_i \lambda_j W_{,ij} + \delta_{ij} \lambda_i W_{,i},$$
+    //!
+    //! evaluated with the exact Hessian of [`crate::material`]. It is
+    //! checked, as commercial FE codes do, in the three homogeneous modes
+    //! a membrane sees (equibiaxial at the pole, planar tension at the clamp,
+    //! uniaxial), at 200 stretches spanning the fitted range (and `l = 1`).
+
+    use crate::material::Model;
+    use serde::Serialize;
+
+    /// A homogeneous deformation mode `l -> (l1, l2)`.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+    #[serde(rename_all = "kebab-case")]
+    pub enum Mode {
+        /// `(l, l)`.
+        Equibiaxial,
+        /// `(l, 1)`.
+        Planar,
+        /// `(l, l^-1/2)`.
+        Uniaxial,
+    }
+
+    impl Mode {
+        /// In-plane stretches of the mode at stretch `l`.
+        pub fn stretches(self, l: f64) -> (f64, f64) {
+            match self {
+                Mode::Equibiaxial => (l, l),
+                Mode::Planar => (l, 1.0),
+                Mode::Uniaxial => (l, 1.0 / l.sqrt()),
+            }
+        }
+
+        /// Name for messages.
+        pub fn name(self) -> &'static str {
+            match self {
+                Mode::Equibiaxial => "equibiaxial",
+                Mode::Planar => "planar",
+                Mode::Uniaxial => "uniaxial",
+            }
+        }
+    }
+
+    /// The result of a stability check.
+    #[derive(Debug, Clone, PartialEq, Serialize)]
+    pub struct Report {
+        /// True when `D` is positive definite at every checked point.
+        pub stable: bool,
+        /// Per mode, the smallest stretch where `D` is not positive definite.
+        pub first_unstable: Vec<(Mode, f64)>,
+        /// Stretch range checked.
+        pub range: [f64; 2],
+    }
+
+    /// Whether the tangent `D` is positive definite at `(l1, l2)`.
+    pub fn is_stable_at(model: &Model, l1: f64, l2: f64) -> bool {
+        let h = model.hyperelastic().expect("a hyperelastic model");
+        let d = h.derivatives(l1, l2);
+        let l = [l1, l2];
+        let mut m = [[0.0; 2]; 2];
+        for i in 0..2 {
+            for j in 0..2 {
+                m[i][j] = l[i] * l[j] * d.hess[i][j] + if i == j { l[i] * d.grad[i] } else { 0.0 };
+            }
+        }
+        let tr = m[0][0] + m[1][1];
+        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        tr > 0.0 && det > 0.0 && m[0][0] > 0.0
+    }
+
+    /// Checks the three modes at stretches spanning `[min(1, l_min), l_max]`
+    /// of the data.
+    pub fn check(model: &Model, stretch: &[f64]) -> Report {
+        let lo = stretch.iter().copied().fold(1.0f64, f64::min);
+        let hi = stretch.iter().copied().fold(1.0f64, f64::max);
+        let samples = 200;
+        let mut first_unstable = Vec::new();
+        for mode in [Mode::Equibiaxial, Mode::Planar, Mode::Uniaxial] {
+            for k in 0..=samples {
+                let l = lo + (hi - lo) * k as f64 / samples as f64;
+                let (l1, l2) = mode.stretches(l);
+                if !is_stable_at(model, l1, l2) {
+                    first_unstable.push((mode, l));
+                    break;
+                }
+            }
+        }
+        Report {
+            stable: first_unstable.is_empty(),
+            first_unstable,
+            range: [lo, hi],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample_models() -> Vec<(Kind, Vec<f64>)> {
+        vec![
+            (Kind::NeoHookean, vec![2.0e5]),
+            (Kind::MooneyRivlin, vec![1.8e5, 2.0e4]),
+            (Kind::Yeoh, vec![1.8e5, -2.0e3, 50.0]),
+            (Kind::Ogden(3), vec![6.3e5, 1.2e3, -1.0e4, 1.3, 5.0, -2.0]),
+            (Kind::Gent, vec![3.5e5, 80.0]),
+        ]
+    }
+
+    /// The closed forms used by the fit against the general energies of
+    /// `material.rs` (dual numbers), and their parameter gradients against
+    /// central differences.
+    #[test]
+    fn closed_forms_match_material_energies() {
+        for (kind, x) in sample_models() {
+            let m = kind.model(&x);
+            let h = m.hyperelastic().unwrap();
+            for l in [1.0, 1.1, 1.7, 2.5, 4.4] {
+                let mut g = vec![0.0; x.len()];
+                let p = nominal_and_grad(kind, &x, l, &mut g);
+                let want = h.equibiaxial_nominal(l);
+                assert!((p - want).abs() <= 1e-10 * want.abs().max(1.0), "{kind:?} {l}: {p} vs {want}");
+                for k in 0..x.len() {
+                    let e = 1e-6 * x[k].abs().max(1e-3);
+                    let mut xp = x.clone();
+                    let mut xm = x.clone();
+                    xp[k] += e;
+                    xm[k] -= e;
+                    let mut tmp = vec![0.0; x.len()];
+                    let fd = (nominal_and_grad(kind, &xp, l, &mut tmp) - nominal_and_grad(kind, &xm, l, &mut tmp)) / (2.0 * e);
+                    assert!((g[k] - fd).abs() <= 1e-6 * g[k].abs().max(1.0), "{kind:?} {l} d/dx{k}: {} vs {fd}", g[k]);
+                }
+            }
+        }
+    }
+
+    /// Data generated by a known model are fitted back to it.
+    #[test]
+    fn synthetic_parameters_recovered() {
+        let stretch: Vec<f64> = (0..25).map(|i| 1.0 + 0.1 * i as f64).collect();
+        for (kind, x) in [
+            (Kind::NeoHookean, vec![2.0e5]),
+            (Kind::MooneyRivlin, vec![1.8e5, 2.0e4]),
+            (Kind::Yeoh, vec![1.8e5, -2.0e3, 50.0]),
+            (Kind::Ogden(1), vec![4.0e5, 2.5]),
+            (Kind::Ogden(2), vec![4.0e5, 3.0e3, 1.5, 5.0]),
+            (Kind::Gent, vec![3.5e5, 30.0]),
+        ] {
+            let m = kind.model(&x);
+            for measure in [StressMeasure::Nominal, StressMeasure::Cauchy] {
+                let mut data = Equibiaxial {
+                    stretch: stretch.clone(),
+                    stress_pa: vec![],
+                    measure,
+                };
+                data.stress_pa = stretch.iter().map(|&l| data.predict(&m, l)).collect();
+                let f = fit(kind, &data).unwrap();
+                let got = kind.params_of(&f.model).unwrap();
+                for (g, w) in got.iter().zip(&x) {
+                    assert!(((g - w) / w).abs() < 1e-6, "{kind:?} {measure:?}: {got:?} vs {x:?}");
+                }
+                assert!(f.drucker.stable);
+            }
+        }
+    }
+
+    #[test]
+    fn drucker_flags_negative_modulus() {
+        let m = Model::NeoHookean { c1_pa: -1.0e5 };
+        let r = drucker::check(&m, &[1.0, 2.0]);
+        assert!(!r.stable);
+        assert_eq!(r.first_unstable.len(), 3);
+        // Mooney-Rivlin with a large negative C2 loses stability at large
+        // equibiaxial stretch: d sigma/d eps changes sign.
+        let m = Model::MooneyRivlin {
+            c1_pa: 1.0e5,
+            c2_pa: -0.3e5,
+        };
+        assert!(drucker::is_stable_at(&m, 1.0, 1.0));
+        assert!(!drucker::check(&m, &[1.0, 3.0]).stable);
+        assert!(drucker::check(&Model::NeoHookean { c1_pa: 1.0e5 }, &[1.0, 5.0]).stable);
+    }
+
+    #[test]
+    fn gent_bound_and_too_few_points() {
+        let data = Equibiaxial {
+            stretch: vec![1.1, 1.2],
+            stress_pa: vec![1.0, 2.0],
+            measure: StressMeasure::Nominal,
+        };
+        assert!(matches!(fit(Kind::Yeoh, &data), Err(FitError::TooFewPoints { points: 2, parameters: 3, .. })));
+        let data = Equibiaxial {
+            stretch: vec![0.0, 1.2, 1.3],
+            stress_pa: vec![1.0, 2.0, 3.0],
+            measure: StressMeasure::Nominal,
+        };
+        assert!(matches!(fit(Kind::NeoHookean, &data), Err(FitError::NonPositiveStretch { index: 0, .. })));
+    }
+
+    fn treloar() -> (Equibiaxial, std::collections::HashMap<String, f64>) {
+        use crate::io::Table;
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let t = Table::read(&root.join("data/treloar_equibiaxial.csv")).unwrap();
+        let data = Equibiaxial {
+            stretch: t.numbers("stretch").unwrap(),
+            stress_pa: t.numbers("nominal_stress_pa").unwrap(),
+            measure: StressMeasure::Nominal,
+        };
+        let r = Table::read(&root.join("fixtures/fit/treloar_reference.csv")).unwrap();
+        let q = r.require("quantity").unwrap();
+        let v = r.numbers("value").unwrap();
+        let refs = (0..r.len()).map(|i| (r.cell(i, q).to_string(), v[i])).collect();
+        (data, refs)
+    }
+
+    /// Neo-Hookean and Mooney-Rivlin on Treloar against the independent
+    /// linear least-squares fit (fixtures/fit/treloar_reference.py); the
+    /// issue asks for 3 significant digits, the check is 1e-6 relative.
+    #[test]
+    fn treloar_neo_hookean_and_mooney_rivlin_match_independent_fit() {
+        let (data, refs) = treloar();
+        let nh = fit(Kind::NeoHookean, &data).unwrap();
+        let c1 = refs["neo_hookean_c1_pa"];
+        assert!(((nh.params[0].value - c1) / c1).abs() < 1e-6, "{} vs {c1}", nh.params[0].value);
+        let rm = refs["neo_hookean_rmse_pa"];
+        assert!(((nh.stats.rmse - rm) / rm).abs() < 1e-6);
+        let mr = fit(Kind::MooneyRivlin, &data).unwrap();
+        for (p, key) in mr.params.iter().zip(["mooney_rivlin_c1_pa", "mooney_rivlin_c2_pa"]) {
+            let want = refs[key];
+            assert!(((p.value - want) / want).abs() < 1e-6, "{key}: {} vs {want}", p.value);
+        }
+        let rm = refs["mooney_rivlin_rmse_pa"];
+        assert!(((mr.stats.rmse - rm) / rm).abs() < 1e-6);
+    }
+
+    /// The three-term Ogden fit is no worse on Treloar's equibiaxial points
+    /// than Ogden's published parameters (NOTES section 3), whose RMSE is
+    /// computed independently by the fixture script and checked here against
+    /// material.rs.
+    #[test]
+    fn treloar_ogden3_no_worse_than_published() {
+        let (data, refs) = treloar();
+        let published = Model::Ogden {
+            mu_pa: vec![0.63e6, 0.0012e6, -0.01e6],
+            alpha: vec![1.3, 5.0, -2.0],
+        };
+        let res = data.residuals(&published);
+        let rmse_pub = Stats::new(&data.stress_pa, &res, 6).rmse;
+        let want = refs["ogden_1972_rmse_pa"];
+        assert!(((rmse_pub - want) / want).abs() < 1e-9, "{rmse_pub} vs {want}");
+        let f = fit(Kind::Ogden(3), &data).unwrap();
+        eprintln!("ogden-3 fit {:?} rmse {} vs published {}", f.params, f.stats.rmse, want);
+        assert!(f.stats.rmse <= want, "{} > {want}", f.stats.rmse);
+    }
+}
