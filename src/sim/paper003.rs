@@ -379,6 +379,7 @@ pub struct StepResponse {
 }
 
 /// Runs the pressure step `p` on the bubble disc from rest for `t_end_s`.
+#[allow(clippy::too_many_arguments)]
 pub fn pressure_step(
     rings: usize,
     model: SpringModel,
