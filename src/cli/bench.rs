@@ -69,8 +69,9 @@ fn disc_reference() -> anyhow::Result<f64> {
         poisson: mat.poisson,
         prebulge_height_m: 0.0,
     };
-    let sol = crate::axisym::solve_pressure(&mat, &spec, DISC_P, &crate::axisym::Options::default())
-        .map_err(|e| anyhow!("axisymmetric reference: {e}"))?;
+    let sol =
+        crate::axisym::solve_pressure(&mat, &spec, DISC_P, &crate::axisym::Options::default())
+            .map_err(|e| anyhow!("axisymmetric reference: {e}"))?;
     Ok(sol.height_m)
 }
 
@@ -98,9 +99,29 @@ fn static_run(
     let t0 = Instant::now();
     let p = mem.pressure_pa;
     let out = if disc {
-        solve::continuation(mem, &mesh.nodes, &mut x, 0.0, p, solver, &opts, &pred, &mut ws)
+        solve::continuation(
+            mem,
+            &mesh.nodes,
+            &mut x,
+            0.0,
+            p,
+            solver,
+            &opts,
+            &pred,
+            &mut ws,
+        )
     } else {
-        solve::continuation(mem, &mesh.nodes, &mut x, 0.0, p, solver, &opts, &solve::Stay, &mut ws)
+        solve::continuation(
+            mem,
+            &mesh.nodes,
+            &mut x,
+            0.0,
+            p,
+            solver,
+            &opts,
+            &solve::Stay,
+            &mut ws,
+        )
     };
     let wall = t0.elapsed().as_secs_f64();
     match out {
@@ -137,14 +158,20 @@ fn dynamic_run(
         };
         let mut x = mesh.nodes.clone();
         let mut v = vec![Vector3::zeros(); x.len()];
-        let run = d.run(&mut x, &mut v, &opts, measure).map_err(|e| e.to_string())?;
+        let run = d
+            .run(&mut x, &mut v, &opts, measure)
+            .map_err(|e| e.to_string())?;
         let settled = (run.steps as f64) < steps - 0.5;
         Ok((measure(&x), run.steps * run.substeps, settled))
     })();
     let wall = t0.elapsed().as_secs_f64();
     match out {
         Ok((v, steps, true)) => (wall, steps, Ok(v)),
-        Ok((v, steps, false)) => (wall, steps, Err(format!("not settled by t = {t_cap} s (value {v:.4e} m)"))),
+        Ok((v, steps, false)) => (
+            wall,
+            steps,
+            Err(format!("not settled by t = {t_cap} s (value {v:.4e} m)")),
+        ),
         Err(e) => (wall, 0, Err(e)),
     }
 }
@@ -197,7 +224,15 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
                     let mut mem = Membrane::new(&mesh, model, &mat, T, 1100.0)?;
                     mem.pressure_pa = DISC_P;
                     let r = static_run(&mut mem, &mesh, solver, tol, true, &measure);
-                    out.push(entry("disc", solver.name(), model, mesh.nodes.len(), tol, r, href));
+                    out.push(entry(
+                        "disc",
+                        solver.name(),
+                        model,
+                        mesh.nodes.len(),
+                        tol,
+                        r,
+                        href,
+                    ));
                     pb.tick();
                 }
             }
@@ -214,8 +249,25 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
             for &tol in tols {
                 let mut mem = Membrane::new(&mesh, model, &mat, T, 1100.0)?;
                 mem.pressure_pa = DISC_P;
-                let r = dynamic_run(&mut mem, &mesh, integ, factor, DampingLaw::Critical(1.0), tol, 0.5, &measure);
-                out.push(entry("disc", integ.name(), model, mesh.nodes.len(), tol, r, href));
+                let r = dynamic_run(
+                    &mut mem,
+                    &mesh,
+                    integ,
+                    factor,
+                    DampingLaw::Critical(1.0),
+                    tol,
+                    0.5,
+                    &measure,
+                );
+                out.push(entry(
+                    "disc",
+                    integ.name(),
+                    model,
+                    mesh.nodes.len(),
+                    tol,
+                    r,
+                    href,
+                ));
                 pb.tick();
             }
         }
@@ -234,7 +286,15 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
             for &tol in tols {
                 let mut m = setup.membrane(&mesh, "middle", 10.0);
                 let r = static_run(&mut m, &mesh, solver, tol, false, &measure);
-                out.push(entry("sheet", solver.name(), setup.model, mesh.nodes.len(), tol, r, uref));
+                out.push(entry(
+                    "sheet",
+                    solver.name(),
+                    setup.model,
+                    mesh.nodes.len(),
+                    tol,
+                    r,
+                    uref,
+                ));
                 pb.tick();
             }
         }
@@ -246,8 +306,25 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
             };
             for &tol in tols {
                 let mut m = setup.membrane(&mesh, "middle", 10.0);
-                let r = dynamic_run(&mut m, &mesh, integ, factor, DampingLaw::Critical(1.0), tol, 60.0, &measure);
-                out.push(entry("sheet", integ.name(), setup.model, mesh.nodes.len(), tol, r, uref));
+                let r = dynamic_run(
+                    &mut m,
+                    &mesh,
+                    integ,
+                    factor,
+                    DampingLaw::Critical(1.0),
+                    tol,
+                    60.0,
+                    &measure,
+                );
+                out.push(entry(
+                    "sheet",
+                    integ.name(),
+                    setup.model,
+                    mesh.nodes.len(),
+                    tol,
+                    r,
+                    uref,
+                ));
                 pb.tick();
             }
         }
@@ -298,7 +375,9 @@ fn markdown(entries: &[Entry]) -> String {
                 e.tolerance,
                 e.wall_s,
                 e.steps,
-                e.error.map(|v| format!("{v:.2e}")).unwrap_or_else(|| "-".into()),
+                e.error
+                    .map(|v| format!("{v:.2e}"))
+                    .unwrap_or_else(|| "-".into()),
                 if front.contains(&i) { "yes" } else { "" },
                 e.status.replace('|', "/")
             );
@@ -319,16 +398,20 @@ fn plot(entries: &[Entry]) -> Figure {
     ];
     let mut panels = Vec::new();
     for case in ["disc", "sheet"] {
-        let mut panel = Panel::new("log10 wall time (s)", "log10 relative error").titled(if case == "disc" {
-            "disc bubble against the axisymmetric solution"
-        } else {
-            "003 sheet against the converged static solution"
-        });
+        let mut panel =
+            Panel::new("log10 wall time (s)", "log10 relative error").titled(if case == "disc" {
+                "disc bubble against the axisymmetric solution"
+            } else {
+                "003 sheet against the converged static solution"
+            });
         for (k, m) in methods.iter().enumerate() {
             let pts: Vec<(f64, f64)> = entries
                 .iter()
                 .filter(|e| e.case == case && e.method == *m)
-                .filter_map(|e| e.error.map(|err| (e.wall_s.max(1e-6).log10(), err.max(1e-16).log10())))
+                .filter_map(|e| {
+                    e.error
+                        .map(|err| (e.wall_s.max(1e-6).log10(), err.max(1e-16).log10()))
+                })
                 .collect();
             if !pts.is_empty() {
                 panel = panel.with(Series::scatter(*m, pts).color(k));
@@ -338,7 +421,10 @@ fn plot(entries: &[Entry]) -> Figure {
             .into_iter()
             .map(|i| {
                 let e = &entries[i];
-                (e.wall_s.max(1e-6).log10(), e.error.expect("front").max(1e-16).log10())
+                (
+                    e.wall_s.max(1e-6).log10(),
+                    e.error.expect("front").max(1e-16).log10(),
+                )
             })
             .collect();
         if !front.is_empty() {
@@ -370,7 +456,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "pareto",
         "status",
     ]);
-    let fronts: Vec<usize> = ["disc", "sheet"].iter().flat_map(|c| pareto(&entries, c)).collect();
+    let fronts: Vec<usize> = ["disc", "sheet"]
+        .iter()
+        .flat_map(|c| pareto(&entries, c))
+        .collect();
     for (i, e) in entries.iter().enumerate() {
         csv.row(&[
             e.case.to_string(),
@@ -395,11 +484,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))
         .failed()?;
-    csv.write(&args.out.join("bench.csv")).context("writing bench.csv").failed()?;
+    csv.write(&args.out.join("bench.csv"))
+        .context("writing bench.csv")
+        .failed()?;
     write_atomic(&args.out.join("bench.md"), md.as_bytes())
         .context("writing bench.md")
         .failed()?;
-    fig.write_png(&args.out.join("bench.png")).map_err(|e| anyhow!("{e}")).failed()?;
+    fig.write_png(&args.out.join("bench.png"))
+        .map_err(|e| anyhow!("{e}"))
+        .failed()?;
     if let Some(p) = &paper {
         write_atomic(&args.out.join("paper003.md"), p.as_bytes())
             .context("writing paper003.md")
@@ -409,7 +502,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     if let Some(p) = &paper {
         println!("{p}");
     }
-    println!("wrote {}/bench.csv, bench.md, bench.png{}", args.out.display(), if paper.is_some() { ", paper003.md" } else { "" });
+    println!(
+        "wrote {}/bench.csv, bench.md, bench.png{}",
+        args.out.display(),
+        if paper.is_some() { ", paper003.md" } else { "" }
+    );
     Ok(())
 }
 
@@ -429,13 +526,27 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
         setup.damping
     );
     // Table 2.2.1
-    let points: &[usize] = if quick { &[60, 120] } else { &[200, 500, 1000, 2000, 4000] };
-    let paper_time = [(200, 0.5, 0.3), (500, 1.7, 1.2), (1000, 2.78, 2.0), (2000, 3.14, 2.67), (4000, 3.96, 3.12)];
+    let points: &[usize] = if quick {
+        &[60, 120]
+    } else {
+        &[200, 500, 1000, 2000, 4000]
+    };
+    let paper_time = [
+        (200, 0.5, 0.3),
+        (500, 1.7, 1.2),
+        (1000, 2.78, 2.0),
+        (2000, 3.14, 2.67),
+        (4000, 3.96, 3.12),
+    ];
     let t_end = 1.0;
     let rows = paper003::time_table(
         &setup,
         points,
-        &[Integrator::ExplicitEuler, Integrator::Verlet, Integrator::ImplicitEuler],
+        &[
+            Integrator::ExplicitEuler,
+            Integrator::Verlet,
+            Integrator::ImplicitEuler,
+        ],
         10.0,
         t_end,
     )?;
@@ -462,7 +573,13 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     }
     // Table 2.2.2
     let np = if quick { 120 } else { 1000 };
-    let rows = paper003::step_table(&setup, np, 10.0, if quick { 600 } else { 1500 }, &Integrator::ALL)?;
+    let rows = paper003::step_table(
+        &setup,
+        np,
+        10.0,
+        if quick { 600 } else { 1500 },
+        &Integrator::ALL,
+    )?;
     let paper_step = |i: Integrator| match i {
         Integrator::ExplicitEuler => "0.5",
         Integrator::ImplicitEuler => "49.0",
@@ -488,11 +605,26 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
             Some(m) if r.estimate_s.is_finite() => format!("{:.3}", m / r.estimate_s),
             _ => "-".into(),
         };
-        let _ = writeln!(s, "| {} | {} | {} | {} | {} |", r.integrator.name(), paper_step(r.integrator), est, meas, ratio);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.integrator.name(),
+            paper_step(r.integrator),
+            est,
+            meas,
+            ratio
+        );
     }
     // Table 2.2.3
     let loads = [0.0, 2.0, 4.0, 6.0, 8.0, 10.0];
-    let paper_def = [(0.0, 0.0), (1.583356, 1.298453), (3.248017, 1.972952), (4.183456, 2.7839), (9.492629, 6.93582), (12.423452, 8.1674)];
+    let paper_def = [
+        (0.0, 0.0),
+        (1.583356, 1.298453),
+        (3.248017, 1.972952),
+        (4.183456, 2.7839),
+        (9.492629, 6.93582),
+        (12.423452, 8.1674),
+    ];
     let np = if quick { 120 } else { 1000 };
     let t3 = 2.0;
     let _ = writeln!(
@@ -505,7 +637,11 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
             np,
             at,
             &loads,
-            &[Integrator::ExplicitEuler, Integrator::Verlet, Integrator::ImplicitEuler],
+            &[
+                Integrator::ExplicitEuler,
+                Integrator::Verlet,
+                Integrator::ImplicitEuler,
+            ],
             t3,
         )?;
         let _ = writeln!(
@@ -552,7 +688,16 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
         (Integrator::ImplicitEuler, 1.0, 0.9),
         (Integrator::ImplicitEuler, 1.0, 10.0),
     ] {
-        let r = paper003::pressure_step(rings, SpringModel::Tp, DISC_P, integ, f * vl, 0.1, DampingLaw::Critical(z), hs)?;
+        let r = paper003::pressure_step(
+            rings,
+            SpringModel::Tp,
+            DISC_P,
+            integ,
+            f * vl,
+            0.1,
+            DampingLaw::Critical(z),
+            hs,
+        )?;
         let _ = writeln!(
             s,
             "| {} | {z} | {:.3e} | {:.5e} | {:.3} | {:.4} | {:.5e} | {:.5} | {} | {:.3} |",

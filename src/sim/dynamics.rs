@@ -834,7 +834,9 @@ impl<'a> Dynamics<'a> {
                     self.membrane.project(&mut f);
                     let rn = f.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
                     let ln = load_norm(self.membrane, x, &mut scratch).max(f64::MIN_POSITIVE);
-                    let work: f64 = (0..n).map(|i| scratch[i].norm() * (x[i] - x0[i]).norm()).sum();
+                    let work: f64 = (0..n)
+                        .map(|i| scratch[i].norm() * (x[i] - x0[i]).norm())
+                        .sum();
                     evals += 1;
                     if rn <= tol * ln && ke <= tol * tol * work {
                         steps_done = step + 1;

@@ -29,6 +29,7 @@
 //! ```
 
 pub mod dynamics;
+pub mod hard;
 pub mod mesh;
 pub mod paper003;
 pub mod scene;

@@ -111,7 +111,9 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
         .to_string();
     // a sheet may be loaded by its nodal loads alone
     let need_p = !(matches!(scene.kind, SceneKind::Sheet { .. }) && !scene.loads.is_empty());
-    scene.validate(need_p).map_err(|m| anyhow!("{origin}: {m}"))?;
+    scene
+        .validate(need_p)
+        .map_err(|m| anyhow!("{origin}: {m}"))?;
     Ok(scene)
 }
 
@@ -119,8 +121,13 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
 pub fn run(args: Args) -> Result<(), Failure> {
     let d = args.dynamic.clone();
     let scene = build_scene(&args).bad_input()?;
-    let models =
-        parse_list(&args.model, "model", "tp, tp-paper, van-gelder, lloyd", SpringModel::parse).bad_input()?;
+    let models = parse_list(
+        &args.model,
+        "model",
+        "tp, tp-paper, van-gelder, lloyd",
+        SpringModel::parse,
+    )
+    .bad_input()?;
     let integrators = parse_list(
         &d.integrator,
         "integrator",
@@ -150,7 +157,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
             )));
         }
     };
-    let mut mesh = scene.build_mesh().context("building the mesh").bad_input()?;
+    let mut mesh = scene
+        .build_mesh()
+        .context("building the mesh")
+        .bad_input()?;
     let pressures: Vec<f64> = if scene.pressures_pa.is_empty() {
         vec![0.0]
     } else {
@@ -184,14 +194,30 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "substeps",
         "dt_limit_s",
     ]);
-    let mut trace = CsvOut::new(&["t_s", "value_m", "kinetic_j", "pressure_pa", "model", "integrator"]);
+    let mut trace = CsvOut::new(&[
+        "t_s",
+        "value_m",
+        "kinetic_j",
+        "pressure_pa",
+        "model",
+        "integrator",
+    ]);
     let mut table = Vec::new();
     let mut failures = Vec::new();
-    let pb = super::super::progress((models.len() * integrators.len() * pressures.len()) as u64, "dynamic");
+    let pb = super::super::progress(
+        (models.len() * integrators.len() * pressures.len()) as u64,
+        "dynamic",
+    );
     for &model in &models {
-        let mut membrane = Membrane::new(&mesh, model, &scene.material, scene.thickness_m, scene.density_kg_m3)
-            .map_err(|e| anyhow!("{e}"))
-            .bad_input()?;
+        let mut membrane = Membrane::new(
+            &mesh,
+            model,
+            &scene.material,
+            scene.thickness_m,
+            scene.density_kg_m3,
+        )
+        .map_err(|e| anyhow!("{e}"))
+        .bad_input()?;
         membrane.node_loads = scene.node_loads(&mesh);
         let measure = |x: &[Point3<f64>]| scene.measure(&mesh, x).0;
         for &p in &pressures {
@@ -211,8 +237,18 @@ pub fn run(args: Args) -> Result<(), Failure> {
                 let mut ws = None;
                 let opts = Options::default();
                 let ok = if p > 0.0 {
-                    solve::continuation(&mut m2, &mesh.nodes, &mut x, 0.0, p, Solver::Newton, &opts, pred.as_ref(), &mut ws)
-                        .is_ok()
+                    solve::continuation(
+                        &mut m2,
+                        &mesh.nodes,
+                        &mut x,
+                        0.0,
+                        p,
+                        Solver::Newton,
+                        &opts,
+                        pred.as_ref(),
+                        &mut ws,
+                    )
+                    .is_ok()
                 } else {
                     solve::newton(&mut m2, &mut x, 0.0, &opts).is_ok()
                 };
@@ -220,11 +256,16 @@ pub fn run(args: Args) -> Result<(), Failure> {
             };
             for &integ in &integrators {
                 membrane.pressure_pa = p;
-                let mut dynm = Dynamics::new(&mut membrane, &mesh, damping).map_err(|e| anyhow!("{e}")).bad_input()?;
+                let mut dynm = Dynamics::new(&mut membrane, &mesh, damping)
+                    .map_err(|e| anyhow!("{e}"))
+                    .bad_input()?;
                 let dt = match d.dt {
                     Some(dt) => dt,
                     None => {
-                        let est = dynm.estimate_step(&mesh.nodes).map_err(|e| anyhow!("{e}")).failed()?;
+                        let est = dynm
+                            .estimate_step(&mesh.nodes)
+                            .map_err(|e| anyhow!("{e}"))
+                            .failed()?;
                         0.9 * est.limit(Integrator::Verlet)
                     }
                 };
@@ -248,10 +289,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         let h = run.last();
                         let peak = run.peak();
                         let (overshoot, settle) = match static_h {
-                            Some(s) if s != 0.0 => (Some((peak - s) / s), Some(run.settling_time(s, 0.02))),
+                            Some(s) if s != 0.0 => {
+                                (Some((peak - s) / s), Some(run.settling_time(s, 0.02)))
+                            }
                             _ => (None, None),
                         };
-                        let limit = run.estimate.map(|e| e.limit(integ)).filter(|l| l.is_finite());
+                        let limit = run
+                            .estimate
+                            .map(|e| e.limit(integ))
+                            .filter(|l| l.is_finite());
                         csv.row(&[
                             fmt_num(Some(p)),
                             fmt_num(Some(h)),
@@ -292,11 +338,23 @@ pub fn run(args: Args) -> Result<(), Failure> {
                             wall
                         ));
                     }
-                    Err(e @ (DynError::BadParameter(_) | DynError::StepTooLarge { .. } | DynError::NoStableStep)) => {
+                    Err(
+                        e @ (DynError::BadParameter(_)
+                        | DynError::StepTooLarge { .. }
+                        | DynError::NoStableStep),
+                    ) => {
                         pb.finish_and_clear();
-                        return Err(Failure::BadInput(anyhow!("{} / {}: {e}", model.name(), integ.name())));
+                        return Err(Failure::BadInput(anyhow!(
+                            "{} / {}: {e}",
+                            model.name(),
+                            integ.name()
+                        )));
                     }
-                    Err(e) => failures.push(format!("{} / {} at {p} Pa: {e}", model.name(), integ.name())),
+                    Err(e) => failures.push(format!(
+                        "{} / {} at {p} Pa: {e}",
+                        model.name(),
+                        integ.name()
+                    )),
                 }
             }
         }
@@ -310,7 +368,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .with_context(|| format!("writing {}", t.display()))
             .failed()?;
     }
-    println!("  pressure_pa    model       integrator      final_m       peak_m     static_m       dt_s    steps   wall_s");
+    println!(
+        "  pressure_pa    model       integrator      final_m       peak_m     static_m       dt_s    steps   wall_s"
+    );
     for line in &table {
         println!("{line}");
     }
