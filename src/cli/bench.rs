@@ -83,7 +83,7 @@ fn static_run(
     tol: f64,
     disc: bool,
     measure: &dyn Fn(&[nalgebra::Point3<f64>]) -> f64,
-) -> (f64, usize, Result<f64, String>) {
+) -> (f64, usize, Result<f64, String>, String) {
     let mut x = mesh.nodes.clone();
     let opts = Options {
         tolerance: tol,
@@ -125,8 +125,8 @@ fn static_run(
     };
     let wall = t0.elapsed().as_secs_f64();
     match out {
-        Ok(s) => (wall, s.iterations, Ok(measure(&x))),
-        Err(e) => (wall, 0, Err(e.to_string())),
+        Ok(s) => (wall, s.iterations, Ok(measure(&x)), "ok".into()),
+        Err(e) => (wall, 0, Err(e.to_string()), String::new()),
     }
 }
 
@@ -140,12 +140,19 @@ fn dynamic_run(
     tol: f64,
     t_cap: f64,
     measure: &dyn Fn(&[nalgebra::Point3<f64>]) -> f64,
-) -> (f64, usize, Result<f64, String>) {
+) -> (f64, usize, Result<f64, String>, String) {
     let t0 = Instant::now();
-    let out = (|| -> Result<(f64, usize, bool), String> {
+    let out = (|| -> Result<(f64, usize, bool, f64), String> {
         let mut d = Dynamics::new(mem, mesh, damping).map_err(|e| e.to_string())?;
         let est = d.estimate_step(&mesh.nodes).map_err(|e| e.to_string())?;
         let dt = step_factor * est.limit(Integrator::Verlet);
+        // XPBD's projections are serial and it settles to its own (compliant,
+        // under-iterated) state: at most 3000 steps
+        let t_cap = if integ == Integrator::Xpbd {
+            t_cap.min(3000.0 * dt)
+        } else {
+            t_cap
+        };
         let steps = (t_cap / dt).ceil();
         let opts = DynOptions {
             integrator: integ,
@@ -162,17 +169,18 @@ fn dynamic_run(
             .run(&mut x, &mut v, &opts, measure)
             .map_err(|e| e.to_string())?;
         let settled = (run.steps as f64) < steps - 0.5;
-        Ok((measure(&x), run.steps * run.substeps, settled))
+        Ok((measure(&x), run.steps * run.substeps, settled, t_cap))
     })();
     let wall = t0.elapsed().as_secs_f64();
     match out {
-        Ok((v, steps, true)) => (wall, steps, Ok(v)),
-        Ok((v, steps, false)) => (
+        Ok((v, steps, true, _)) => (wall, steps, Ok(v), "ok".into()),
+        Ok((v, steps, false, t)) => (
             wall,
             steps,
-            Err(format!("not settled by t = {t_cap} s (value {v:.4e} m)")),
+            Ok(v),
+            format!("not settled to the tolerance by t = {t:.3e} s (error at that time)"),
         ),
-        Err(e) => (wall, 0, Err(e)),
+        Err(e) => (wall, 0, Err(e), String::new()),
     }
 }
 
@@ -182,12 +190,12 @@ fn entry(
     model: SpringModel,
     nodes: usize,
     tol: f64,
-    r: (f64, usize, Result<f64, String>),
+    r: (f64, usize, Result<f64, String>, String),
     reference: f64,
 ) -> Entry {
-    let (wall_s, steps, out) = r;
+    let (wall_s, steps, out, note) = r;
     let (error, status) = match out {
-        Ok(v) => (Some(((v - reference) / reference).abs()), "ok".to_string()),
+        Ok(v) => (Some(((v - reference) / reference).abs()), note),
         Err(e) => (None, e),
     };
     Entry {
@@ -208,7 +216,7 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
     // --- the disc bubble ---
     let href = disc_reference()?;
     let rings: &[usize] = if quick { &[3, 5] } else { &[4, 8, 16, 32] };
-    let dyn_rings: &[usize] = if quick { &[3] } else { &[4, 8, 16] };
+    let dyn_rings: &[usize] = if quick { &[3] } else { &[4, 8] };
     let tols: &[f64] = if quick { &[1e-3] } else { &[1e-3, 1e-6] };
     let pb = super::progress(0, "bench");
     let (_, mat) = paper003::bubble_disc(2);
@@ -275,6 +283,7 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
     // --- paper 003's sheet, loaded at the middle with 10 N/m ---
     let setup = SheetSetup::default();
     let points: &[usize] = if quick { &[60] } else { &[200, 1000] };
+    let dyn_points: usize = if quick { 60 } else { 200 };
     for &np in points {
         let mesh = setup.mesh(np);
         let node = mesh.probe("middle").expect("sheet probe");
@@ -297,6 +306,9 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
                 ));
                 pb.tick();
             }
+        }
+        if mesh.nodes.len() > 2 * dyn_points {
+            continue;
         }
         for integ in Integrator::ALL {
             let factor = match integ {
@@ -337,7 +349,9 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
 /// is both faster and more accurate), by increasing wall time.
 fn pareto(entries: &[Entry], case: &str) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..entries.len())
-        .filter(|&i| entries[i].case == case && entries[i].error.is_some())
+        .filter(|&i| {
+            entries[i].case == case && entries[i].error.is_some() && entries[i].status == "ok"
+        })
         .collect();
     idx.sort_by(|&a, &b| entries[a].wall_s.total_cmp(&entries[b].wall_s));
     let mut front = Vec::new();
@@ -362,7 +376,7 @@ fn markdown(entries: &[Entry]) -> String {
             if case == "disc" {
                 "Disc bubble (a = 37.5 mm, t = 0.35 mm, E = 1 MPa, nu = 0.45, 5 kPa): error of the apex height against the axisymmetric solution"
             } else {
-                "003 sheet (0.1 m, E = 3.5 kPa, 10 N/m at the middle): error of the loaded node's displacement against Newton at 1e-10 on the same mesh"
+                "003 sheet (0.1 m, E = 50 kPa, 10 N/m at the middle): error of the loaded node's displacement against Newton at 1e-10 on the same mesh"
             }
         );
         for (i, e) in entries.iter().enumerate().filter(|(_, e)| e.case == case) {

@@ -215,6 +215,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .context("building the mesh")
         .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
+    for &model in &models {
+        for w in crate::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+            eprintln!("warning ({}): {w}", model.name());
+        }
+    }
 
     let mut header: Vec<&str> = vec![
         "pressure_pa",
@@ -319,7 +324,14 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         )));
                     }
                     Err(e) => {
-                        failures.push(format!("{} / {}: {e}", model.name(), solver.name()));
+                        let mut msg = format!("{} / {}: {e}", model.name(), solver.name());
+                        // dyn: the disc's limit pressure from the axisymmetric solution
+                        if let SceneKind::Disc { radius_m } = scene.kind
+                            && let Some(note) = crate::sim::hard::limit_note(&scene.material, radius_m, scene.thickness_m, p)
+                        {
+                            msg.push_str(&format!(" ({note})"));
+                        }
+                        failures.push(msg);
                         pb.inc((scene.pressures_pa.len() - ip - 1) as u64);
                         break;
                     }

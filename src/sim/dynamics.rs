@@ -182,6 +182,17 @@ impl Default for DynOptions {
     }
 }
 
+fn divergence_hint(integrator: &str, h_s: &f64, dt_crit_s: &f64) -> &'static str {
+    if integrator == "explicit-euler" && h_s <= dt_crit_s {
+        ", but explicit Euler also amplifies every slow mode its dashpots leave undamped (|1 + h lambda| > 1 for an undamped oscillation; a bubble's transverse modes are carried by tension, not by the springs' stretch): use symplectic-euler, verlet or implicit-euler"
+    } else {
+        "; lower --dt or use implicit-euler"
+    }
+}
+
+/// Halvings of an implicit Euler step whose Newton iteration failed.
+pub const IMPLICIT_HALVINGS: usize = 8;
+
 /// Share of the step limit used when sub-stepping.
 pub const STEP_SAFETY: f64 = 0.9;
 
@@ -216,7 +227,8 @@ pub enum DynError {
     NoStableStep,
     /// The watch fired.
     #[error(
-        "{integrator} diverged at t = {t_s:.4e} s (step {step}, sub-step {h_s:.3e} s): {what}. Its estimated step limit here is {dt_crit_s:.3e} s; lower --dt or use implicit-euler. No result was written for this run"
+        "{integrator} diverged at t = {t_s:.4e} s (step {step}, sub-step {h_s:.3e} s): {what}. Its estimated step limit at the start was {dt_crit_s:.3e} s{}. No result was written for this run",
+        divergence_hint(.integrator, .h_s, .dt_crit_s)
     )]
     Diverged {
         /// Integrator name.
@@ -769,7 +781,7 @@ impl<'a> Dynamics<'a> {
                     }
                     Integrator::ImplicitEuler => {
                         let ws = implicit.as_mut().expect("created above");
-                        let (its, ev) = self.implicit_step(ws, x, v, h, opts, t)?;
+                        let (its, ev) = self.implicit_step_halving(ws, x, v, h, opts, t, 0)?;
                         newton_its += its;
                         evals += ev;
                     }
@@ -945,6 +957,32 @@ impl<'a> Dynamics<'a> {
             v[i] = (x[i] - prev[i]) / h;
         }
         Ok(())
+    }
+
+    /// An implicit Euler step of `h`; when Newton fails, the step is taken
+    /// as two halves, at most [`IMPLICIT_HALVINGS`] times deep, before the
+    /// failure is reported.
+    #[allow(clippy::too_many_arguments)]
+    fn implicit_step_halving(
+        &self,
+        ws: &mut ImplicitWorkspace,
+        x: &mut [Point3<f64>],
+        v: &mut [Vector3<f64>],
+        h: f64,
+        opts: &DynOptions,
+        t: f64,
+        depth: usize,
+    ) -> Result<(usize, usize), DynError> {
+        match self.implicit_step(ws, x, v, h, opts, t) {
+            Ok(r) => Ok(r),
+            Err(DynError::NewtonFailed { .. }) if depth < IMPLICIT_HALVINGS => {
+                let (a, b) = self.implicit_step_halving(ws, x, v, 0.5 * h, opts, t, depth + 1)?;
+                let (c, d) =
+                    self.implicit_step_halving(ws, x, v, 0.5 * h, opts, t + 0.5 * h, depth + 1)?;
+                Ok((a + c, b + d))
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// One implicit Euler step: `M (dx - h v) - h^2 f(x + dx) + h C dx = 0`,

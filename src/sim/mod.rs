@@ -32,6 +32,7 @@ pub mod dynamics;
 pub mod hard;
 pub mod mesh;
 pub mod paper003;
+pub mod par;
 pub mod scene;
 pub mod solve;
 pub mod springs;

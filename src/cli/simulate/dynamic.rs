@@ -176,6 +176,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
         );
     }
     eprintln!("{}", describe(&mesh, &scene));
+    for &model in &models {
+        for w in crate::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+            eprintln!("warning ({}): {w}", model.name());
+        }
+    }
 
     let mut csv = CsvOut::new(&[
         "pressure_pa",
