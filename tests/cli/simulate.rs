@@ -1,3 +1,165 @@
 //! Integration tests of `bulge simulate`.
-#![allow(unused_imports)]
-use crate::util;
+use std::fs;
+
+use crate::util::{bulge_in, tempdir};
+
+const DISC: &str = r#"
+kind = "disc"
+radius_m = 0.0375
+thickness_m = 0.00035
+pressure_pa = [1000, 2000, 3000]
+
+[material]
+model = "linear"
+young_pa = 1.0e6
+poisson = 0.45
+
+[mesh]
+nodes = 60
+"#;
+
+fn rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    let text = fs::read_to_string(path).unwrap();
+    text.lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn disc_scene_two_models_rows_vtk_and_rising_heights() {
+    let dir = tempdir();
+    fs::write(dir.path().join("scene.toml"), DISC).unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            "scene.toml",
+            "--model",
+            "tp,van-gelder",
+            "--vtk",
+            "vtk",
+            "-o",
+            "out.csv",
+        ],
+    )
+    .ok();
+    let r = rows(&dir.path().join("out.csv"));
+    assert_eq!(
+        r[0].join(","),
+        "pressure_pa,height_m,model,solver,nodes,iterations,residual,wall_s"
+    );
+    assert_eq!(r.len(), 1 + 6);
+    let h: Vec<f64> = r[1..].iter().map(|row| row[1].parse().unwrap()).collect();
+    // heights rise with pressure, and follow the membrane law h ~ p^(1/3) within 10 %
+    assert!(h[0] < h[1] && h[1] < h[2], "{h:?}");
+    let ratio = h[2] / h[0];
+    assert!((ratio / 3f64.cbrt() - 1.0).abs() < 0.1, "{ratio}");
+    // Van Gelder at nu = 0.45 is softer than TP in equibiaxial tension: higher
+    assert!(h[3] > h[0] && h[5] > h[2], "{h:?}");
+    assert_eq!(fs::read_dir(dir.path().join("vtk")).unwrap().count(), 6);
+}
+
+#[test]
+fn experiment_material_and_pressures_route() {
+    let dir = tempdir();
+    fs::write(
+        dir.path().join("exp.toml"),
+        "[specimen]\nradius_m = 0.0375\nthickness_m = 0.00035\npoisson = 0.45\n",
+    )
+    .unwrap();
+    fs::write(
+        dir.path().join("material.toml"),
+        "model = \"quartic\"\npoisson = 0.45\ncoefficients_pa = [1.2e6, -1.0e6, 2.0e6, 0.0, 0.0]\nstrain_range = [0.0, 0.6]\n",
+    )
+    .unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            "--experiment",
+            "exp.toml",
+            "--material",
+            "material.toml",
+            "--pressures",
+            "5000,7300,8940",
+            "--solver",
+            "newton,dr",
+            "--max-iterations",
+            "100000",
+            "--nodes",
+            "40",
+        ],
+    )
+    .ok();
+    let r = rows(&dir.path().join("simulated.csv"));
+    assert_eq!(r.len(), 7);
+    for k in 0..3 {
+        let hn: f64 = r[1 + k][1].parse().unwrap();
+        let hd: f64 = r[4 + k][1].parse().unwrap();
+        assert!((hn - hd).abs() < 1e-5 * hn, "newton {hn} vs dr {hd}");
+    }
+}
+
+#[test]
+fn bad_inputs_are_refused_with_exit_2_and_no_output() {
+    let dir = tempdir();
+    let cases: [(&str, &[&str]); 5] = [
+        ("pressure_pa = [1000, -5]", &["pressure 2", "-5"]),
+        ("pressure_pa = [1000, \"x\"]", &["pressure_pa entry 2"]),
+        ("poisson = 0.5", &["poisson = 0.5", "[0, 0.5)"]),
+        ("poisson = -0.2", &["poisson = -0.2"]),
+        ("young_pa = -1.0", &["young_pa = -1"]),
+    ];
+    for (i, (edit, needles)) in cases.iter().enumerate() {
+        let text = if edit.starts_with("pressure_pa") {
+            DISC.replace("pressure_pa = [1000, 2000, 3000]", edit)
+        } else if edit.starts_with("poisson") {
+            DISC.replace("poisson = 0.45", edit)
+        } else {
+            DISC.replace("young_pa = 1.0e6", edit)
+        };
+        let name = format!("s{i}.toml");
+        fs::write(dir.path().join(&name), text).unwrap();
+        bulge_in(dir.path(), &["simulate", &name, "-o", "out.csv"]).bad_input(needles);
+        assert!(!dir.path().join("out.csv").exists());
+    }
+    fs::write(dir.path().join("ok.toml"), DISC).unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            "ok.toml",
+            "--pressures",
+            "100,abc",
+            "-o",
+            "out.csv",
+        ],
+    )
+    .bad_input(&["--pressures", "`abc`"]);
+    bulge_in(
+        dir.path(),
+        &["simulate", "ok.toml", "--pressures", "0", "-o", "out.csv"],
+    )
+    .bad_input(&["pressure 1"]);
+    bulge_in(
+        dir.path(),
+        &["simulate", "ok.toml", "--model", "tp,fem", "-o", "out.csv"],
+    )
+    .bad_input(&["`fem`"]);
+    assert!(!dir.path().join("out.csv").exists());
+}
+
+#[test]
+fn modulus_that_turns_negative_is_named_with_its_strain() {
+    let dir = tempdir();
+    // E(eps) = 1e6 (1 - 5 eps): zero at eps = 0.2, reached well below 20 kPa
+    let text = DISC
+        .replace(
+            "model = \"linear\"\nyoung_pa = 1.0e6",
+            "model = \"quartic\"\ncoefficients_pa = [1.0e6, -5.0e6]\nstrain_range = [0.0, 0.5]",
+        )
+        .replace("pressure_pa = [1000, 2000, 3000]", "pressure_pa = [20000]");
+    fs::write(dir.path().join("neg.toml"), text).unwrap();
+    bulge_in(dir.path(), &["simulate", "neg.toml", "-o", "out.csv"]).bad_input(&["<= 0 at strain"]);
+    assert!(!dir.path().join("out.csv").exists());
+}

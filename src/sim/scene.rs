@@ -1,0 +1,610 @@
+//! Scene files: what to simulate, and the quantities reported.
+//!
+//! ```toml
+//! kind = "disc"                 # disc | sphere-segment | sheet
+//! radius_m = 0.0375             # disc: free radius a; sphere-segment: R0
+//! thickness_m = 0.00035         # initial thickness t
+//! pressure_pa = [5000, 7300, 8940]
+//! density_kg_m3 = 1100          # optional (default 1100, rubber)
+//! material = "material.toml"    # a path (relative to this file) ...
+//!
+//! [material]                    # ... or the material inline, as in material.toml
+//! model = "linear"
+//! young_pa = 1.0e6
+//! poisson = 0.45
+//!
+//! [mesh]                        # at most one of edge_length_m, nodes, accuracy
+//! edge_length_m = 0.002         # target edge length, m
+//! nodes = 2000                  # or about this many nodes solved
+//! accuracy = 0.005              # or the relative height error wanted (disc)
+//! symmetry = true               # disc: 60 degree sector with mirror planes
+//! corners = ["II", "I", "I"]    # sphere-segment: topology at corners a, b, c
+//!
+//! # sheet only: length_m (away from the clamped edge), width_m, and
+//! [[load]]
+//! at = "corner"                 # middle | corner of the free edge
+//! force_n = [0.0, 0.0, -1.0]
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::{Point3, Vector3};
+use serde::Deserialize;
+
+use super::SimError;
+use super::mesh::{self, Corner, Mesh};
+use super::solve::Predictor;
+use crate::io::InputError;
+use crate::material::Material;
+
+/// Default density, kg/m^3 (natural rubber 910-1100; latex about 960-1000).
+pub const DEFAULT_DENSITY_KG_M3: f64 = 1100.0;
+
+/// Hencky's coefficient `K(nu)` of the clamped disc's centre deflection
+/// `w0 = K a (p a / (E t))^(1/3)`, from the table in NOTES section 3,
+/// linearly interpolated (used for the first guess only).
+pub fn hencky_k(nu: f64) -> f64 {
+    const T: [(f64, f64); 8] = [
+        (0.0, 0.71832),
+        (0.25, 0.66579),
+        (0.3, 0.65344),
+        (1.0 / 3.0, 0.64478),
+        (0.4, 0.62626),
+        (0.45, 0.61117),
+        (0.49, 0.59824),
+        (0.5, 0.59488),
+    ];
+    let nu = nu.clamp(0.0, 0.5);
+    for w in T.windows(2) {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        if nu <= x1 {
+            return y0 + (y1 - y0) * (nu - x0) / (x1 - x0);
+        }
+    }
+    T[7].1
+}
+
+/// The geometry of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SceneKind {
+    /// Clamped circular membrane.
+    Disc {
+        /// Free radius a, m.
+        radius_m: f64,
+    },
+    /// Paper 000's sphere octant.
+    SphereSegment {
+        /// Rest radius R0, m.
+        radius_m: f64,
+    },
+    /// Rectangle clamped on its edge x = 0.
+    Sheet {
+        /// Along x, m.
+        length_m: f64,
+        /// Along y, m.
+        width_m: f64,
+    },
+}
+
+impl SceneKind {
+    /// The name in scene files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            SceneKind::Disc { .. } => "disc",
+            SceneKind::SphereSegment { .. } => "sphere-segment",
+            SceneKind::Sheet { .. } => "sheet",
+        }
+    }
+}
+
+/// How fine the mesh is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MeshSize {
+    /// Target edge length, m.
+    EdgeLength(f64),
+    /// About this many nodes solved.
+    Nodes(usize),
+    /// Relative height error wanted (disc; see [`disc_rings_for_accuracy`]).
+    Accuracy(f64),
+}
+
+/// Mesh settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeshSettings {
+    /// Size; `None` takes the scene's default.
+    pub size: Option<MeshSize>,
+    /// Disc: solve the 60 degree sector (default true).
+    pub symmetry: bool,
+    /// Sphere: corner topologies at a, b, c (default II, I, I as in Fig. 7).
+    pub corners: [Corner; 3],
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        MeshSettings {
+            size: None,
+            symmetry: true,
+            corners: [Corner::TypeII, Corner::TypeI, Corner::TypeI],
+        }
+    }
+}
+
+/// A load on a named node of the sheet.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodeLoad {
+    /// Probe name: `middle` or `corner` (of the free edge).
+    pub at: String,
+    /// Force, N.
+    pub force_n: [f64; 3],
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Geometry.
+    pub kind: SceneKind,
+    /// Thickness, m.
+    pub thickness_m: f64,
+    /// Pressures to solve, Pa, in order.
+    pub pressures_pa: Vec<f64>,
+    /// Material.
+    pub material: Material,
+    /// Density, kg/m^3.
+    pub density_kg_m3: f64,
+    /// Mesh settings.
+    pub mesh: MeshSettings,
+    /// Nodal loads (sheet).
+    pub loads: Vec<NodeLoad>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    kind: String,
+    radius_m: Option<f64>,
+    length_m: Option<f64>,
+    width_m: Option<f64>,
+    thickness_m: f64,
+    #[serde(default)]
+    pressure_pa: Vec<toml::Value>,
+    material: toml::Value,
+    density_kg_m3: Option<f64>,
+    #[serde(default)]
+    mesh: MeshFile,
+    #[serde(default)]
+    load: Vec<NodeLoad>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeshFile {
+    edge_length_m: Option<f64>,
+    nodes: Option<usize>,
+    accuracy: Option<f64>,
+    symmetry: Option<bool>,
+    corners: Option<Vec<String>>,
+}
+
+/// Checks a pressure list: non-empty, every value a finite number > 0.
+pub fn validate_pressures(p: &[f64]) -> Result<(), String> {
+    if p.is_empty() {
+        return Err(
+            "the pressure list is empty: give at least one pressure in Pa, e.g. [5000, 7300]"
+                .into(),
+        );
+    }
+    for (i, v) in p.iter().enumerate() {
+        if !(v.is_finite() && *v > 0.0) {
+            return Err(format!(
+                "pressure {} of the list is {v}: every pressure must be a positive number of Pa",
+                i + 1
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Parses a comma-separated pressure list (`5000,7300,8940`).
+pub fn parse_pressures(s: &str) -> Result<Vec<f64>, String> {
+    let mut out = Vec::new();
+    for (i, part) in s.split(',').enumerate() {
+        let v: f64 = part.trim().parse().map_err(|_| {
+            format!(
+                "pressure {} is `{}`, not a number: write positive pressures in Pa separated by commas, e.g. 5000,7300,8940",
+                i + 1,
+                part.trim()
+            )
+        })?;
+        out.push(v);
+    }
+    validate_pressures(&out)?;
+    Ok(out)
+}
+
+fn parse_corner(s: &str) -> Option<Corner> {
+    match s.trim() {
+        "I" | "1" => Some(Corner::TypeI),
+        "II" | "2" => Some(Corner::TypeII),
+        _ => None,
+    }
+}
+
+impl MeshSettings {
+    fn from_file(m: &MeshFile) -> Result<MeshSettings, String> {
+        let given = [
+            m.edge_length_m.is_some(),
+            m.nodes.is_some(),
+            m.accuracy.is_some(),
+        ]
+        .iter()
+        .filter(|b| **b)
+        .count();
+        if given > 1 {
+            return Err("[mesh]: give at most one of edge_length_m, nodes, accuracy".into());
+        }
+        let size = if let Some(h) = m.edge_length_m {
+            Some(MeshSize::EdgeLength(h))
+        } else if let Some(n) = m.nodes {
+            Some(MeshSize::Nodes(n))
+        } else {
+            m.accuracy.map(MeshSize::Accuracy)
+        };
+        let mut s = MeshSettings {
+            size,
+            ..MeshSettings::default()
+        };
+        if let Some(sym) = m.symmetry {
+            s.symmetry = sym;
+        }
+        if let Some(c) = &m.corners {
+            if c.len() != 3 {
+                return Err(format!(
+                    "[mesh] corners = {c:?}: give three, for corners a, b, c, each \"I\" or \"II\""
+                ));
+            }
+            for (k, name) in c.iter().enumerate() {
+                s.corners[k] = parse_corner(name).ok_or_else(|| {
+                    format!("[mesh] corners: `{name}` is not a corner type; write \"I\" or \"II\"")
+                })?;
+            }
+        }
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// Checks the size.
+    pub fn validate(&self) -> Result<(), String> {
+        match self.size {
+            Some(MeshSize::EdgeLength(h)) if !(h.is_finite() && h > 0.0) => Err(format!(
+                "edge length {h} must be a positive length in metres"
+            )),
+            Some(MeshSize::Nodes(n)) if n < 3 => {
+                Err(format!("nodes = {n}: ask for at least 3 nodes"))
+            }
+            Some(MeshSize::Accuracy(a)) if !(a.is_finite() && a > 0.0 && a < 0.5) => Err(format!(
+                "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl Scene {
+    /// Reads a scene file; paths in it are relative to its folder.
+    pub fn read(path: &Path) -> Result<Scene, InputError> {
+        let f: SceneFile = crate::io::read_toml(path)?;
+        let err = |m: String| InputError::file(path, m);
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        let material = match &f.material {
+            toml::Value::String(p) => {
+                let mp = if Path::new(p).is_absolute() {
+                    PathBuf::from(p)
+                } else {
+                    base.join(p)
+                };
+                crate::io::read_toml::<Material>(&mp)?
+            }
+            toml::Value::Table(t) => t
+                .clone()
+                .try_into::<Material>()
+                .map_err(|e| err(format!("[material]: {}", e.message())))?,
+            other => {
+                return Err(err(format!(
+                    "material = {other}: give a path to a material.toml or a [material] table"
+                )));
+            }
+        };
+        let mut pressures = Vec::new();
+        for (i, v) in f.pressure_pa.iter().enumerate() {
+            let p = match v {
+                toml::Value::Integer(k) => *k as f64,
+                toml::Value::Float(x) => *x,
+                other => {
+                    return Err(err(format!(
+                        "pressure_pa entry {} is {other}: every pressure must be a positive number of Pa",
+                        i + 1
+                    )));
+                }
+            };
+            pressures.push(p);
+        }
+        let need = |v: Option<f64>, name: &str| {
+            v.ok_or_else(|| err(format!("kind = \"{}\" needs {name} (m)", f.kind)))
+        };
+        let kind = match f.kind.as_str() {
+            "disc" => SceneKind::Disc {
+                radius_m: need(f.radius_m, "radius_m")?,
+            },
+            "sphere-segment" => SceneKind::SphereSegment {
+                radius_m: need(f.radius_m, "radius_m")?,
+            },
+            "sheet" => SceneKind::Sheet {
+                length_m: need(f.length_m, "length_m")?,
+                width_m: need(f.width_m, "width_m")?,
+            },
+            other => {
+                return Err(err(format!(
+                    "kind = \"{other}\" is not a scene; write \"disc\", \"sphere-segment\" or \"sheet\""
+                )));
+            }
+        };
+        let scene = Scene {
+            kind,
+            thickness_m: f.thickness_m,
+            pressures_pa: pressures,
+            material,
+            density_kg_m3: f.density_kg_m3.unwrap_or(DEFAULT_DENSITY_KG_M3),
+            mesh: MeshSettings::from_file(&f.mesh).map_err(err)?,
+            loads: f.load,
+        };
+        scene.validate(false).map_err(err)?;
+        Ok(scene)
+    }
+
+    /// Checks lengths, loads and (when `need_pressures`) the pressure list.
+    pub fn validate(&self, need_pressures: bool) -> Result<(), String> {
+        let pos = |v: f64, name: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} = {v} must be a positive length in metres"))
+            }
+        };
+        match self.kind {
+            SceneKind::Disc { radius_m } | SceneKind::SphereSegment { radius_m } => {
+                pos(radius_m, "radius_m")?
+            }
+            SceneKind::Sheet { length_m, width_m } => {
+                pos(length_m, "length_m")?;
+                pos(width_m, "width_m")?;
+            }
+        }
+        pos(self.thickness_m, "thickness_m")?;
+        if !(self.density_kg_m3.is_finite() && self.density_kg_m3 > 0.0) {
+            return Err(format!(
+                "density_kg_m3 = {} must be positive",
+                self.density_kg_m3
+            ));
+        }
+        let nu = self.material.poisson;
+        if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
+            return Err(format!(
+                "poisson = {nu} must be in [0, 0.5): the plane-stress spring formulas divide by 1 - nu^2 and 1 - nu"
+            ));
+        }
+        for l in &self.loads {
+            if !matches!(self.kind, SceneKind::Sheet { .. }) {
+                return Err("[[load]] is only for kind = \"sheet\"".into());
+            }
+            if l.at != "middle" && l.at != "corner" {
+                return Err(format!(
+                    "[[load]] at = \"{}\": write \"middle\" or \"corner\"",
+                    l.at
+                ));
+            }
+            if l.force_n.iter().any(|v| !v.is_finite()) {
+                return Err(format!(
+                    "[[load]] force_n = {:?} must be finite (N)",
+                    l.force_n
+                ));
+            }
+        }
+        if need_pressures || !self.pressures_pa.is_empty() {
+            validate_pressures(&self.pressures_pa)?;
+        }
+        self.mesh.validate()
+    }
+
+    /// The disc of an experiment's specimen.
+    pub fn from_specimen(
+        spec: &crate::experiment::Specimen,
+        material: Material,
+        pressures_pa: Vec<f64>,
+    ) -> Scene {
+        Scene {
+            kind: SceneKind::Disc {
+                radius_m: spec.radius_m,
+            },
+            thickness_m: spec.thickness_m,
+            pressures_pa,
+            material,
+            density_kg_m3: DEFAULT_DENSITY_KG_M3,
+            mesh: MeshSettings::default(),
+            loads: Vec::new(),
+        }
+    }
+
+    /// Builds the mesh.
+    pub fn build_mesh(&self) -> Result<Mesh, SimError> {
+        match self.kind {
+            SceneKind::Disc { radius_m } => {
+                let sector = self.mesh.symmetry;
+                let rings = match self.mesh.size {
+                    Some(MeshSize::EdgeLength(h)) => (radius_m / h).ceil() as usize,
+                    Some(MeshSize::Nodes(n)) => mesh::disc_rings_for_nodes(n, sector),
+                    Some(MeshSize::Accuracy(a)) => disc_rings_for_accuracy(a),
+                    None => DEFAULT_DISC_RINGS,
+                }
+                .clamp(1, 5000);
+                mesh::disc(mesh::DiscOptions {
+                    radius_m,
+                    rings,
+                    sector,
+                })
+            }
+            SceneKind::SphereSegment { radius_m } => {
+                let n = match self.mesh.size {
+                    Some(MeshSize::EdgeLength(h)) => {
+                        (std::f64::consts::FRAC_PI_2 * radius_m / h).ceil() as usize
+                    }
+                    Some(MeshSize::Nodes(n)) => {
+                        (((8.0 * n as f64 + 1.0).sqrt() - 3.0) / 2.0).round() as usize
+                    }
+                    Some(MeshSize::Accuracy(_)) | None => DEFAULT_SPHERE_DIVISIONS,
+                }
+                .clamp(2, 5000);
+                mesh::sphere_segment(mesh::SphereOptions {
+                    radius_m,
+                    divisions: n,
+                    corners: self.mesh.corners,
+                })
+            }
+            SceneKind::Sheet { length_m, width_m } => {
+                let h = match self.mesh.size {
+                    Some(MeshSize::EdgeLength(h)) => h,
+                    Some(MeshSize::Nodes(n)) => {
+                        (length_m * width_m * 2.0 / (3f64.sqrt() * n as f64)).sqrt()
+                    }
+                    Some(MeshSize::Accuracy(_)) | None => length_m.min(width_m) / 10.0,
+                };
+                mesh::sheet(mesh::SheetOptions {
+                    length_m,
+                    width_m,
+                    edge_length_m: h,
+                })
+            }
+        }
+    }
+
+    /// The nodal loads of the scene on a mesh.
+    pub fn node_loads(&self, mesh: &Mesh) -> Vec<(usize, Vector3<f64>)> {
+        self.loads
+            .iter()
+            .filter_map(|l| mesh.probe(&l.at).map(|n| (n, Vector3::from(l.force_n))))
+            .collect()
+    }
+
+    /// Names of the extra output columns of this scene (after the common ones).
+    pub fn extra_columns(&self) -> Vec<&'static str> {
+        match self.kind {
+            SceneKind::SphereSegment { .. } => vec![
+                "radius_mean_m",
+                "radius_min_m",
+                "radius_max_m",
+                "radius_centre_m",
+                "radius_corner_a_m",
+                "radius_corner_b_m",
+                "radius_corner_c_m",
+            ],
+            _ => vec![],
+        }
+    }
+
+    /// The reported height and the extra columns at positions `x`.
+    ///
+    /// * disc: `height_m` = apex height above the clamp plane;
+    /// * sphere segment: `height_m` = growth of the mean radius `R - R0`;
+    ///   radii are node distances from the centre (mean over all nodes, min,
+    ///   max, at the centre point P of the segment and at the corners);
+    /// * sheet: `height_m` = displacement magnitude of the first loaded node
+    ///   (else of the middle of the free edge).
+    pub fn measure(&self, mesh: &Mesh, x: &[Point3<f64>]) -> (f64, Vec<f64>) {
+        match self.kind {
+            SceneKind::Disc { .. } => (x[mesh.probe("apex").unwrap_or(0)].z, vec![]),
+            SceneKind::SphereSegment { radius_m } => {
+                let r: Vec<f64> = x.iter().map(|p| p.coords.norm()).collect();
+                let mean = r.iter().sum::<f64>() / r.len() as f64;
+                let min = r.iter().cloned().fold(f64::INFINITY, f64::min);
+                let max = r.iter().cloned().fold(0.0, f64::max);
+                let at = |name: &str| mesh.probe(name).map(|i| r[i]).unwrap_or(f64::NAN);
+                (
+                    mean - radius_m,
+                    vec![
+                        mean,
+                        min,
+                        max,
+                        at("centre"),
+                        at("corner_a"),
+                        at("corner_b"),
+                        at("corner_c"),
+                    ],
+                )
+            }
+            SceneKind::Sheet { .. } => {
+                let node = self
+                    .loads
+                    .first()
+                    .and_then(|l| mesh.probe(&l.at))
+                    .or_else(|| mesh.probe("middle"))
+                    .unwrap_or(0);
+                ((x[node] - mesh.nodes[node]).norm(), vec![])
+            }
+        }
+    }
+}
+
+/// Default disc rings (a 60 degree sector of 16 rings: 153 nodes).
+pub const DEFAULT_DISC_RINGS: usize = 16;
+/// Default divisions of the sphere octant's edges.
+pub const DEFAULT_SPHERE_DIVISIONS: usize = 16;
+
+/// Rings of the disc mesh for a relative height error `acc` against the
+/// mesh-converged height of the same spring model. The error of the ring mesh
+/// falls as `C / n^2`; `C` is the largest of the four models' constants
+/// measured in docs/simulate.md (mesh-convergence table).
+pub fn disc_rings_for_accuracy(acc: f64) -> usize {
+    (DISC_ERROR_CONSTANT / acc).sqrt().ceil() as usize
+}
+
+/// `C` of the disc's height error `C / n^2` (see [`disc_rings_for_accuracy`]).
+pub const DISC_ERROR_CONSTANT: f64 = 0.5;
+
+/// First guesses for the disc: Hencky's profile at the first pressure, then
+/// the last displacement scaled by `(p1 / p0)^(1/3)` (membrane scaling).
+pub struct DiscPredictor {
+    /// Free radius, m.
+    pub radius_m: f64,
+    /// Small-strain modulus, Pa.
+    pub young_pa: f64,
+    /// Thickness, m.
+    pub thickness_m: f64,
+    /// Poisson ratio.
+    pub poisson: f64,
+}
+
+impl Predictor for DiscPredictor {
+    fn predict(&self, rest: &[Point3<f64>], x: &mut [Point3<f64>], p0: f64, p1: f64) {
+        let a = self.radius_m;
+        if p0 <= 0.0 {
+            let w0 =
+                (hencky_k(self.poisson) * a * (p1 * a / (self.young_pa * self.thickness_m)).cbrt())
+                    .min(a);
+            for (xi, xr) in x.iter_mut().zip(rest) {
+                let r2 = (xr.x * xr.x + xr.y * xr.y) / (a * a);
+                if r2 < 1.0 - 1e-12 {
+                    *xi = Point3::new(xr.x, xr.y, w0 * (1.0 - r2));
+                }
+            }
+        } else {
+            let s = (p1 / p0).cbrt();
+            for (xi, xr) in x.iter_mut().zip(rest) {
+                *xi = xr + (*xi - xr) * s;
+            }
+        }
+    }
+}
