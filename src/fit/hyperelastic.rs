@@ -150,7 +150,9 @@ impl Kind {
     pub fn params_of(&self, m: &Model) -> Option<Vec<f64>> {
         match (self, m) {
             (Kind::NeoHookean, Model::NeoHookean { c1_pa }) => Some(vec![*c1_pa]),
-            (Kind::MooneyRivlin, Model::MooneyRivlin { c1_pa, c2_pa }) => Some(vec![*c1_pa, *c2_pa]),
+            (Kind::MooneyRivlin, Model::MooneyRivlin { c1_pa, c2_pa }) => {
+                Some(vec![*c1_pa, *c2_pa])
+            }
             (
                 Kind::Yeoh,
                 Model::Yeoh {
@@ -159,7 +161,9 @@ impl Kind {
                     c3_pa,
                 },
             ) => Some(vec![*c1_pa, *c2_pa, *c3_pa]),
-            (Kind::Ogden(n), Model::Ogden { mu_pa, alpha }) if mu_pa.len() == *n && alpha.len() == *n => {
+            (Kind::Ogden(n), Model::Ogden { mu_pa, alpha })
+                if mu_pa.len() == *n && alpha.len() == *n =>
+            {
                 Some(mu_pa.iter().chain(alpha).copied().collect())
             }
             (Kind::Gent, Model::Gent { mu_pa, jm }) => Some(vec![*mu_pa, *jm]),
@@ -241,7 +245,13 @@ struct Problem<'a> {
 impl Problem<'_> {
     fn unscale(&self, x: &DVector<f64>) -> Vec<f64> {
         (0..x.len())
-            .map(|k| if self.kind.is_stress(k) { x[k] * self.scale } else { x[k] })
+            .map(|k| {
+                if self.kind.is_stress(k) {
+                    x[k] * self.scale
+                } else {
+                    x[k]
+                }
+            })
             .collect()
     }
 
@@ -261,11 +271,19 @@ impl Problem<'_> {
                 StressMeasure::Cauchy => l,
             };
             v *= factor;
-            r[i] = if gent_ok { v / self.scale - self.target[i] } else { f64::NAN };
+            r[i] = if gent_ok {
+                v / self.scale - self.target[i]
+            } else {
+                f64::NAN
+            };
             if want_jac {
                 for k in 0..p {
                     // d(v/scale)/d(x_k) with x_k = xu_k / scale for stress parameters.
-                    let s = if self.kind.is_stress(k) { 1.0 } else { 1.0 / self.scale };
+                    let s = if self.kind.is_stress(k) {
+                        1.0
+                    } else {
+                        1.0 / self.scale
+                    };
                     jac[(i, k)] = factor * g[k] * s;
                 }
             }
@@ -449,7 +467,13 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
     let model = kind.model(&xu);
     let residuals_pa = data.residuals(&model);
     let stats = Stats::new(&data.stress_pa, &residuals_pa, kind.n_params());
-    let std_errors = param_std_errors(&run.jacobian, stats.rss / (scale * scale), stats.n, &kind, scale);
+    let std_errors = param_std_errors(
+        &run.jacobian,
+        stats.rss / (scale * scale),
+        stats.n,
+        &kind,
+        scale,
+    );
     let params = kind
         .param_names()
         .into_iter()
@@ -511,7 +535,8 @@ fn starting_points(
     scale: f64,
     jm_min: f64,
 ) -> Result<Vec<DVector<f64>>, FitError> {
-    let target = DVector::from_iterator(data.stretch.len(), data.stress_pa.iter().map(|s| s / scale));
+    let target =
+        DVector::from_iterator(data.stretch.len(), data.stress_pa.iter().map(|s| s / scale));
     // Design matrix of the linear parameters at fixed nonlinear ones.
     let design = |x_fixed: &[f64]| -> DMatrix<f64> {
         let p = kind.n_params();
@@ -563,7 +588,10 @@ fn starting_points(
                 }
             }
             if out.is_empty() {
-                return Err(FitError::Solver(format!("{}: no usable start", kind.label())));
+                return Err(FitError::Solver(format!(
+                    "{}: no usable start",
+                    kind.label()
+                )));
             }
             Ok(out)
         }
@@ -736,7 +764,10 @@ mod tests {
                 let mut g = vec![0.0; x.len()];
                 let p = nominal_and_grad(kind, &x, l, &mut g);
                 let want = h.equibiaxial_nominal(l);
-                assert!((p - want).abs() <= 1e-10 * want.abs().max(1.0), "{kind:?} {l}: {p} vs {want}");
+                assert!(
+                    (p - want).abs() <= 1e-10 * want.abs().max(1.0),
+                    "{kind:?} {l}: {p} vs {want}"
+                );
                 for k in 0..x.len() {
                     let e = 1e-6 * x[k].abs().max(1e-3);
                     let mut xp = x.clone();
@@ -744,8 +775,14 @@ mod tests {
                     xp[k] += e;
                     xm[k] -= e;
                     let mut tmp = vec![0.0; x.len()];
-                    let fd = (nominal_and_grad(kind, &xp, l, &mut tmp) - nominal_and_grad(kind, &xm, l, &mut tmp)) / (2.0 * e);
-                    assert!((g[k] - fd).abs() <= 1e-6 * g[k].abs().max(1.0), "{kind:?} {l} d/dx{k}: {} vs {fd}", g[k]);
+                    let fd = (nominal_and_grad(kind, &xp, l, &mut tmp)
+                        - nominal_and_grad(kind, &xm, l, &mut tmp))
+                        / (2.0 * e);
+                    assert!(
+                        (g[k] - fd).abs() <= 1e-6 * g[k].abs().max(1.0),
+                        "{kind:?} {l} d/dx{k}: {} vs {fd}",
+                        g[k]
+                    );
                 }
             }
         }
@@ -774,7 +811,10 @@ mod tests {
                 let f = fit(kind, &data).unwrap();
                 let got = kind.params_of(&f.model).unwrap();
                 for (g, w) in got.iter().zip(&x) {
-                    assert!(((g - w) / w).abs() < 1e-6, "{kind:?} {measure:?}: {got:?} vs {x:?}");
+                    assert!(
+                        ((g - w) / w).abs() < 1e-6,
+                        "{kind:?} {measure:?}: {got:?} vs {x:?}"
+                    );
                 }
                 assert!(f.drucker.stable);
             }
@@ -805,13 +845,23 @@ mod tests {
             stress_pa: vec![1.0, 2.0],
             measure: StressMeasure::Nominal,
         };
-        assert!(matches!(fit(Kind::Yeoh, &data), Err(FitError::TooFewPoints { points: 2, parameters: 3, .. })));
+        assert!(matches!(
+            fit(Kind::Yeoh, &data),
+            Err(FitError::TooFewPoints {
+                points: 2,
+                parameters: 3,
+                ..
+            })
+        ));
         let data = Equibiaxial {
             stretch: vec![0.0, 1.2, 1.3],
             stress_pa: vec![1.0, 2.0, 3.0],
             measure: StressMeasure::Nominal,
         };
-        assert!(matches!(fit(Kind::NeoHookean, &data), Err(FitError::NonPositiveStretch { index: 0, .. })));
+        assert!(matches!(
+            fit(Kind::NeoHookean, &data),
+            Err(FitError::NonPositiveStretch { index: 0, .. })
+        ));
     }
 
     fn treloar() -> (Equibiaxial, std::collections::HashMap<String, f64>) {
@@ -826,7 +876,9 @@ mod tests {
         let r = Table::read(&root.join("fixtures/fit/treloar_reference.csv")).unwrap();
         let q = r.require("quantity").unwrap();
         let v = r.numbers("value").unwrap();
-        let refs = (0..r.len()).map(|i| (r.cell(i, q).to_string(), v[i])).collect();
+        let refs = (0..r.len())
+            .map(|i| (r.cell(i, q).to_string(), v[i]))
+            .collect();
         (data, refs)
     }
 
@@ -838,13 +890,25 @@ mod tests {
         let (data, refs) = treloar();
         let nh = fit(Kind::NeoHookean, &data).unwrap();
         let c1 = refs["neo_hookean_c1_pa"];
-        assert!(((nh.params[0].value - c1) / c1).abs() < 1e-6, "{} vs {c1}", nh.params[0].value);
+        assert!(
+            ((nh.params[0].value - c1) / c1).abs() < 1e-6,
+            "{} vs {c1}",
+            nh.params[0].value
+        );
         let rm = refs["neo_hookean_rmse_pa"];
         assert!(((nh.stats.rmse - rm) / rm).abs() < 1e-6);
         let mr = fit(Kind::MooneyRivlin, &data).unwrap();
-        for (p, key) in mr.params.iter().zip(["mooney_rivlin_c1_pa", "mooney_rivlin_c2_pa"]) {
+        for (p, key) in mr
+            .params
+            .iter()
+            .zip(["mooney_rivlin_c1_pa", "mooney_rivlin_c2_pa"])
+        {
             let want = refs[key];
-            assert!(((p.value - want) / want).abs() < 1e-6, "{key}: {} vs {want}", p.value);
+            assert!(
+                ((p.value - want) / want).abs() < 1e-6,
+                "{key}: {} vs {want}",
+                p.value
+            );
         }
         let rm = refs["mooney_rivlin_rmse_pa"];
         assert!(((mr.stats.rmse - rm) / rm).abs() < 1e-6);
@@ -864,9 +928,15 @@ mod tests {
         let res = data.residuals(&published);
         let rmse_pub = Stats::new(&data.stress_pa, &res, 6).rmse;
         let want = refs["ogden_1972_rmse_pa"];
-        assert!(((rmse_pub - want) / want).abs() < 1e-9, "{rmse_pub} vs {want}");
+        assert!(
+            ((rmse_pub - want) / want).abs() < 1e-9,
+            "{rmse_pub} vs {want}"
+        );
         let f = fit(Kind::Ogden(3), &data).unwrap();
-        eprintln!("ogden-3 fit {:?} rmse {} vs published {}", f.params, f.stats.rmse, want);
+        eprintln!(
+            "ogden-3 fit {:?} rmse {} vs published {}",
+            f.params, f.stats.rmse, want
+        );
         assert!(f.stats.rmse <= want, "{} > {want}", f.stats.rmse);
     }
 }

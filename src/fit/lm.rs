@@ -110,9 +110,15 @@ where
         problem: &mut Problem<O>,
         mut state: LmState,
     ) -> Result<(LmState, Option<KV>), Error> {
-        let x = state.take_param().ok_or_else(|| Error::msg("LM: no parameters"))?;
-        let r = state.take_residuals().ok_or_else(|| Error::msg("LM: no residuals"))?;
-        let j = state.take_jacobian().ok_or_else(|| Error::msg("LM: no Jacobian"))?;
+        let x = state
+            .take_param()
+            .ok_or_else(|| Error::msg("LM: no parameters"))?;
+        let r = state
+            .take_residuals()
+            .ok_or_else(|| Error::msg("LM: no residuals"))?;
+        let j = state
+            .take_jacobian()
+            .ok_or_else(|| Error::msg("LM: no Jacobian"))?;
         let (n, p) = j.shape();
         let c0 = cost(&r);
         for (k, col) in j.column_iter().enumerate() {
@@ -199,7 +205,9 @@ where
         .run()?;
     let mut state = res.state().clone();
     let iterations = state.get_iter();
-    let x = state.take_param().ok_or_else(|| Error::msg("LM: no result"))?;
+    let x = state
+        .take_param()
+        .ok_or_else(|| Error::msg("LM: no result"))?;
     let residuals = state
         .take_residuals()
         .ok_or_else(|| Error::msg("LM: no residuals"))?;
@@ -224,14 +232,21 @@ mod tests {
         type Param = DVector<f64>;
         type Output = DVector<f64>;
         fn apply(&self, p: &DVector<f64>) -> Result<DVector<f64>, Error> {
-            Ok(DVector::from_vec(vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]))
+            Ok(DVector::from_vec(vec![
+                10.0 * (p[1] - p[0] * p[0]),
+                1.0 - p[0],
+            ]))
         }
     }
     impl Jacobian for Rosen {
         type Param = DVector<f64>;
         type Jacobian = DMatrix<f64>;
         fn jacobian(&self, p: &DVector<f64>) -> Result<DMatrix<f64>, Error> {
-            Ok(DMatrix::from_row_slice(2, 2, &[-20.0 * p[0], 10.0, -1.0, 0.0]))
+            Ok(DMatrix::from_row_slice(
+                2,
+                2,
+                &[-20.0 * p[0], 10.0, -1.0, 0.0],
+            ))
         }
     }
 

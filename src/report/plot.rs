@@ -305,7 +305,12 @@ impl Figure {
         let root = root
             .titled(&self.title, (FONT, 22).into_font())
             .map_err(draw_err)?;
-        let total: f64 = self.panels.iter().map(|p| p.weight.max(0.0)).sum::<f64>().max(1e-9);
+        let total: f64 = self
+            .panels
+            .iter()
+            .map(|p| p.weight.max(0.0))
+            .sum::<f64>()
+            .max(1e-9);
         let mut rest = root;
         for (k, panel) in self.panels.iter().enumerate() {
             let area = if k + 1 == self.panels.len() {
@@ -377,7 +382,10 @@ impl Figure {
     }
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), PlotError> {
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+) -> Result<(), PlotError> {
     let Some(((x0, x1), (y0, y1))) = panel.ranges() else {
         return Ok(());
     };
@@ -389,7 +397,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     if let Some(t) = &panel.title {
         builder.caption(t, (FONT, 17).into_font());
     }
-    let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
+    let mut chart = builder
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(draw_err)?;
     chart
         .configure_mesh()
         .x_desc(panel.x_label.as_str())
@@ -403,7 +413,10 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         .map_err(draw_err)?;
     if panel.zero_line {
         chart
-            .draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], RGBColor(150, 150, 150)))
+            .draw_series(LineSeries::new(
+                [(x0, 0.0), (x1, 0.0)],
+                RGBColor(150, 150, 150),
+            ))
             .map_err(draw_err)?;
     }
     let mut legend = false;
@@ -423,7 +436,14 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
                         .finite()
                         .filter_map(|(i, (x, y))| {
                             let e = err.get(i).copied().filter(|e| e.is_finite())?.abs();
-                            Some(ErrorBar::new_vertical(x, y - e, y, y + e, color.stroke_width(1), 6))
+                            Some(ErrorBar::new_vertical(
+                                x,
+                                y - e,
+                                y,
+                                y + e,
+                                color.stroke_width(1),
+                                6,
+                            ))
                         })
                         .collect();
                     chart.draw_series(bars).map_err(draw_err)?;
@@ -439,9 +459,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
                 Style::Scatter => anno
                     .label(s.name.as_str())
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled())),
-                _ => anno
-                    .label(s.name.as_str())
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))),
+                _ => anno.label(s.name.as_str()).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))
+                }),
             };
         }
     }
@@ -464,26 +484,45 @@ mod tests {
 
     fn figure() -> Figure {
         let fit = Panel::new("stretch (-)", "stress (MPa)")
-            .with(Series::scatter("data", vec![(1.0, 0.0), (1.5, 0.4), (2.0, 0.6)]).with_errors(vec![0.02, 0.03, f64::NAN]))
-            .with(Series::line("fit", vec![(1.0, 0.0), (1.5, 0.41), (2.0, 0.59)]))
+            .with(
+                Series::scatter("data", vec![(1.0, 0.0), (1.5, 0.4), (2.0, 0.6)])
+                    .with_errors(vec![0.02, 0.03, f64::NAN]),
+            )
+            .with(Series::line(
+                "fit",
+                vec![(1.0, 0.0), (1.5, 0.41), (2.0, 0.59)],
+            ))
             .with(Series::line("other", vec![(1.0, 0.0), (2.0, 0.7)]).dashed())
             .weight(2.0);
         let res = Panel::new("stretch (-)", "residual (kPa)")
-            .with(Series::scatter("", vec![(1.0, 0.0), (1.5, -10.0), (2.0, 10.0), (2.5, f64::NAN)]))
+            .with(Series::scatter(
+                "",
+                vec![(1.0, 0.0), (1.5, -10.0), (2.0, 10.0), (2.5, f64::NAN)],
+            ))
             .zero_line();
         Figure::new("Test figure", vec![fit, res])
     }
 
     #[test]
     fn font_registers() {
-        assert!(plotters::style::register_font("bulge-test", FontStyle::Normal, DEJAVU_SANS).is_ok());
+        assert!(
+            plotters::style::register_font("bulge-test", FontStyle::Normal, DEJAVU_SANS).is_ok()
+        );
     }
 
     #[test]
     fn svg_has_labels_and_series() {
         let svg = figure().to_svg().unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..100]);
-        for needle in ["Test figure", "stress (MPa)", "residual (kPa)", "data", "fit", "<circle", "<polyline"] {
+        for needle in [
+            "Test figure",
+            "stress (MPa)",
+            "residual (kPa)",
+            "data",
+            "fit",
+            "<circle",
+            "<polyline",
+        ] {
             assert!(svg.contains(needle), "missing {needle}");
         }
     }
@@ -500,7 +539,10 @@ mod tests {
 
     #[test]
     fn empty_figure_refused() {
-        let f = Figure::new("x", vec![Panel::new("a", "b").with(Series::line("n", vec![(f64::NAN, 1.0)]))]);
+        let f = Figure::new(
+            "x",
+            vec![Panel::new("a", "b").with(Series::line("n", vec![(f64::NAN, 1.0)]))],
+        );
         assert!(matches!(f.to_svg(), Err(PlotError::Empty)));
     }
 

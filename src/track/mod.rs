@@ -23,6 +23,7 @@
 //! Image coordinates: the centre of the top-left pixel is (0, 0), x to the
 //! right, y down (OpenCV's convention).
 
+pub mod annotate;
 pub mod image;
 pub mod matcher;
 pub mod synth;
@@ -1098,9 +1099,17 @@ mod tests {
         };
         let a = accuracy(&s, 6, Refine::Edge);
         eprintln!("{a:?}");
-        assert!(a.reported[1] <= 0.1, "RMS apex row error {} px > 0.1", a.reported[1]);
+        assert!(
+            a.reported[1] <= 0.1,
+            "RMS apex row error {} px > 0.1",
+            a.reported[1]
+        );
         // The full-resolution integer match agrees with the edge to a pixel.
-        assert!(a.integer[1] <= 1.0, "integer match row error {} px", a.integer[1]);
+        assert!(
+            a.integer[1] <= 1.0,
+            "integer match row error {} px",
+            a.integer[1]
+        );
     }
 
     #[test]
