@@ -92,6 +92,9 @@ fn accuracy_table() {
 fn speed(c: &mut Criterion) {
     accuracy_table();
     let quick = std::env::var_os("BULGE_BENCH_QUICK").is_some();
+    println!("Paired runs (median of alternating decode-only / track runs), photos per second:");
+    println!("| size | photos | decode only | track (edge) | ratio |");
+    println!("|---|---|---|---|---|");
     for (w, h, n) in [(640usize, 480usize, 32usize), (4000, 3000, 8)] {
         let dir = tempfile::tempdir().unwrap();
         let (setup, written) = write(dir.path(), &spec(w, h, 9, 1.0, 2.0, Encoding::Jpeg(90)), n);
@@ -99,6 +102,42 @@ fn speed(c: &mut Criterion) {
         eprintln!(
             "{w}x{h}: {n} JPEG photos, {:.1} MB",
             written.photo_bytes as f64 / 1e6
+        );
+        let t = track::track(&setup, &Options::default(), &|| {}).unwrap();
+        eprintln!(
+            "{w}x{h}: matching and fitting take {:.2} ms per photo (sequential part)",
+            1e3 * t.locate_seconds / n as f64
+        );
+        // Paired measurement: decoding alone and tracking alternate, so that
+        // both see the same machine load (the ratio is what matters).
+        let decode_all = || {
+            paths.par_iter().for_each(|p| {
+                let bytes = std::fs::read(p).unwrap();
+                std::hint::black_box(decode_mat(&bytes).unwrap());
+            })
+        };
+        let pairs = if quick { 7 } else { 15 };
+        let (mut td, mut tt, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..pairs {
+            let t0 = std::time::Instant::now();
+            decode_all();
+            let d = t0.elapsed().as_secs_f64();
+            let t0 = std::time::Instant::now();
+            std::hint::black_box(track::track(&setup, &Options::default(), &|| {}).unwrap());
+            let t = t0.elapsed().as_secs_f64();
+            td.push(n as f64 / d);
+            tt.push(n as f64 / t);
+            ratio.push(d / t);
+        }
+        let med = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        println!(
+            "| {w}x{h} | {n} | {:.1} | {:.1} | {:.2} |",
+            med(&mut td),
+            med(&mut tt),
+            med(&mut ratio)
         );
         let mut g = c.benchmark_group(format!("track_{w}x{h}"));
         g.throughput(Throughput::Elements(n as u64));

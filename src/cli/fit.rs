@@ -204,7 +204,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         modulus: args.modulus,
     };
     let loaded = data::load(&table, &opts)?;
-    let mod_std = table.optional_numbers("secant_modulus_pa_std")?;
+    // `bulge stress` writes the uncertainty of `secant_modulus_pa` as
+    // `secant_modulus_std_pa` (unit last); drawn as error bars.
+    let mod_std = match table.optional_numbers("secant_modulus_std_pa")? {
+        Some(v) => Some(v),
+        None => table.optional_numbers("secant_modulus_pa_std")?,
+    };
     let product = match args.model {
         ModelArg::Quartic => quartic_product(&args, &loaded, mod_std)?,
         ModelArg::All => all_product(&args, &loaded)?,
@@ -546,13 +551,21 @@ fn all_product(args: &Args, loaded: &Loaded) -> Result<Product, Failure> {
             skipped.join("; ")
         )));
     }
-    // Lowest AICc (AIC when undefined) among Drucker-stable fits, else overall.
-    let score = |f: &HyperFit| f.stats.aicc.unwrap_or(f.stats.aic);
+    // Lowest AICc among Drucker-stable fits, else overall. A model with
+    // n <= k + 1 has no AICc (it can interpolate the data): it ranks after
+    // every model that has one, by AIC among its kind.
+    let score = |f: &HyperFit| match f.stats.aicc {
+        Some(a) => (0, a),
+        None => (1, f.stats.aic),
+    };
     let pick = |stable_only: bool| {
         fits.iter()
             .enumerate()
             .filter(|(_, f)| !stable_only || f.drucker.stable)
-            .min_by(|a, b| score(a.1).total_cmp(&score(b.1)))
+            .min_by(|a, b| {
+                let (sa, sb) = (score(a.1), score(b.1));
+                sa.0.cmp(&sb.0).then(sa.1.total_cmp(&sb.1))
+            })
             .map(|(i, _)| i)
     };
     let best = pick(true)
@@ -646,8 +659,8 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
         for &l in &ls {
             c.row(&[
                 fmt_num(Some(l)),
-                fmt_num(Some(h.equibiaxial_nominal(l))),
-                fmt_num(Some(h.equibiaxial_cauchy(l))),
+                fmt_num(Some(h.equibiaxial_nominal(l) + 0.0)),
+                fmt_num(Some(h.equibiaxial_cauchy(l) + 0.0)),
             ]);
         }
         c
@@ -662,7 +675,7 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
             let mut row = vec![fmt_num(Some(l))];
             row.extend(
                 fits.iter()
-                    .map(|f| fmt_num(Some(data.predict(&f.model, l)))),
+                    .map(|f| fmt_num(Some(data.predict(&f.model, l) + 0.0))),
             );
             c.row(&row);
         }

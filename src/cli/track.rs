@@ -84,7 +84,6 @@ pub fn run(args: Args) -> Result<(), Failure> {
         search_margin_px: args.search_margin_px,
         edge_span_px: args.edge_span_px,
         edge_window_px: args.edge_window_px,
-        ..Options::default()
     };
     let pb = super::progress(setup.frames.len() as u64, "track");
     let tracked = track::track(&setup, &opts, &|| pb.inc(1)).map_err(classify)?;
@@ -145,12 +144,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let mut stds: Vec<f64> = tracked.rows.iter().map(|r| r.height_std_m).collect();
     stds.sort_by(f64::total_cmp);
     println!(
-        "tracked {n} of {} photos ({} skipped) of {}x{} px in {secs:.2} s ({:.1} photos/s): height {:.4e}..{:.4e} m, median height_std {:.2e} m, lowest score {smin:.3} -> {}",
+        "tracked {n} of {} photos ({} skipped) of {}x{} px in {secs:.2} s ({:.1} photos/s, matching {:.2} ms/photo): height {:.4e}..{:.4e} m, median height_std {:.2e} m, lowest score {smin:.3} -> {}",
         setup.frames.len(),
         tracked.skipped.len(),
         tracked.image_size[0],
         tracked.image_size[1],
         setup.frames.len() as f64 / secs.max(1e-9),
+        1e3 * tracked.locate_seconds / setup.frames.len() as f64,
         hmin,
         hmax,
         stds[stds.len() / 2],

@@ -77,7 +77,8 @@ pub fn solve(a: &DMatrix<f64>, y: &DVector<f64>) -> Result<LinearFit, LinearErro
     } else {
         f64::INFINITY
     };
-    if !(smin > RANK_TOL * smax) {
+    let full_rank = smin > RANK_TOL * smax; // false for NaN too
+    if !full_rank {
         return Err(LinearError::RankDeficient {
             condition: condition_scaled,
         });

@@ -35,6 +35,9 @@ pub struct LevenbergMarquardt {
     pub grad_tol: f64,
     /// Stop when the step is below `step_tol * (|x| + step_tol)`.
     pub step_tol: f64,
+    /// Stop when an accepted step lowers the cost by less than this
+    /// fraction of it (progress along a flat valley that no longer matters).
+    pub cost_tol: f64,
     /// Stop after this many rejected trial steps in a row.
     pub max_rejections: usize,
     mu: f64,
@@ -48,6 +51,7 @@ impl Default for LevenbergMarquardt {
         Self {
             grad_tol: 1e-12,
             step_tol: 1e-12,
+            cost_tol: 1e-10,
             max_rejections: 40,
             mu: 1e-3,
             nu: 2.0,
@@ -156,7 +160,7 @@ where
                     self.mu *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
                     self.nu = 2.0;
                     let jn = problem.jacobian(&xn)?;
-                    if (c0 - c1) <= 1e-15 * c0 {
+                    if (c0 - c1) <= self.cost_tol * c0 {
                         self.done = Some(TerminationReason::SolverConverged);
                     }
                     return Ok((state.param(xn).residuals(rn).jacobian(jn).cost(c1), None));

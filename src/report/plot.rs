@@ -255,6 +255,33 @@ pub fn tick(v: f64) -> String {
     }
 }
 
+/// Tick label on an axis spanning `[lo, hi]`: as many decimals as the tick
+/// spacing (about a tenth of the span) needs, scientific notation when the
+/// axis values are very large or small, and "0" for round-off residues of
+/// zero.
+pub fn tick_in(v: f64, lo: f64, hi: f64) -> String {
+    let span = (hi - lo).abs();
+    if span.is_nan() || span <= 0.0 || !v.is_finite() {
+        return tick(v);
+    }
+    if v.abs() < 1e-9 * span {
+        return "0".into();
+    }
+    let step = span / 10.0;
+    let mag = lo.abs().max(hi.abs());
+    if !(1e-3..1e5).contains(&mag) {
+        let p = ((mag / step).log10().ceil() as i64).clamp(1, 6) as usize;
+        return format!("{v:.p$e}");
+    }
+    let decimals = (1 - step.log10().floor() as i64).clamp(0, 10) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// Colour-blind-safe palette (Okabe & Ito 2008, black first; its yellow,
 /// unreadable on white, replaced by dark red).
 pub const PALETTE: [RGBColor; 8] = [
@@ -406,8 +433,8 @@ fn draw_panel<DB: DrawingBackend>(
         .y_desc(panel.y_label.as_str())
         .label_style((FONT, 13).into_font())
         .axis_desc_style((FONT, 15).into_font())
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| tick_in(*v, x0, x1))
+        .y_label_formatter(&|v| tick_in(*v, y0, y1))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(draw_err)?;
@@ -553,5 +580,11 @@ mod tests {
         assert_eq!(tick(0.25), "0.25");
         assert_eq!(tick(1234.0), "1234");
         assert_eq!(tick(2.0e6), "2.00e6");
+        assert_eq!(tick_in(0.25, 0.0, 1.0), "0.25");
+        assert_eq!(tick_in(2.5, 0.0, 5.0), "2.5");
+        assert_eq!(tick_in(-2.78e-17, -0.2, 0.3), "0");
+        // Residuals of an exact fit: round-off sized, still distinguishable.
+        assert_eq!(tick_in(1.0e-16, -2.0e-16, 2.0e-16), "1.0e-16");
+        assert_eq!(tick_in(1.5e6, 0.0, 2.0e6), "1.5e6");
     }
 }

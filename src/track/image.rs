@@ -117,13 +117,12 @@ pub fn decode_gray(
     crop_mat(path, &mat, roi)
 }
 
-/// Decodes a photo of a sequence: refuses it unless it has the reference
-/// photo's size `(path, width, height)`, then crops the region `roi`.
-pub fn decode_gray_checked(
+/// Decodes a photo of a sequence and crops the region `roi`; when the region
+/// does not fit (or is `None`), the crop is empty and only the size counts.
+pub fn decode_gray_lenient(
     path: &Path,
     bytes: &[u8],
-    roi: [usize; 4],
-    expect: &(std::path::PathBuf, usize, usize),
+    roi: Option<[usize; 4]>,
 ) -> Result<Decoded, TrackError> {
     check_complete(path, bytes)?;
     let mat = decode_mat(bytes).map_err(|e| TrackError::Unreadable {
@@ -139,17 +138,20 @@ pub fn decode_gray_checked(
         });
     }
     let (width, height) = (mat.cols() as usize, mat.rows() as usize);
-    if (width, height) != (expect.1, expect.2) {
-        return Err(TrackError::MixedSizes {
-            path: path.to_path_buf(),
+    match roi {
+        Some([x, y, w, h]) if x + w <= width && y + h <= height => {
+            crop_mat(path, &mat, [x, y, w, h])
+        }
+        _ => Ok(Decoded {
             width,
             height,
-            reference: expect.0.clone(),
-            ref_width: expect.1,
-            ref_height: expect.2,
-        });
+            crop: Gray {
+                width: 0,
+                height: 0,
+                data: Vec::new(),
+            },
+        }),
     }
-    crop_mat(path, &mat, roi)
 }
 
 fn crop_mat(path: &Path, mat: &Mat, roi: [usize; 4]) -> Result<Decoded, TrackError> {

@@ -74,8 +74,8 @@ pub fn reduce(img: &Gray, f: usize) -> Gray {
     for y in 0..h * f {
         let row = &img.data[y * img.width..y * img.width + w * f];
         let out = &mut acc[(y / f) * w..(y / f + 1) * w];
-        for (x, v) in row.iter().enumerate() {
-            out[x / f] += u32::from(*v);
+        for (o, block) in out.iter_mut().zip(row.chunks_exact(f)) {
+            *o += block.iter().map(|&v| u32::from(v)).sum::<u32>();
         }
     }
     let n = (f * f) as u32;
@@ -240,7 +240,12 @@ pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit
         }
         let xc = centre.round() as i64;
         let mut located = Vec::with_capacity((2 * span + 1) as usize);
-        for c in (xc - span..=xc + span).filter(|&c| c >= 0 && c < w) {
+        // At most about 129 columns: wider spans (large photos) are sampled.
+        let stride = (span as usize / 64).max(1);
+        for c in (xc - span..=xc + span)
+            .step_by(stride)
+            .filter(|&c| c >= 0 && c < w)
+        {
             let u = c as f64 - centre;
             let start = coef[0] + coef[1] * u + coef[2] * u * u;
             if let Some((e, step)) = column_edge(img, c as usize, start, hw) {
@@ -343,7 +348,12 @@ pub fn axis_fit(
     let k = 0.5 * apex.curvature.max(0.0);
     let span = half_span_px as i64;
     let mut located = Vec::new();
-    for c in (xc - span..=xc + span).filter(|&c| c >= 0 && c < w) {
+    // At most about 257 columns: wider spans (large photos) are sampled.
+    let stride = (span as usize / 128).max(1);
+    for c in (xc - span..=xc + span)
+        .step_by(stride)
+        .filter(|&c| c >= 0 && c < w)
+    {
         let u = c as f64 - apex.x_vertex;
         if let Some((e, step)) = column_edge(img, c as usize, apex.y + k * u * u, hw) {
             located.push((c as f64, e, step));
@@ -419,7 +429,7 @@ pub fn axis_fit(
     let curv = (rp + rm - 2.0 * r0) / (h * h);
     let n = pts.len() as f64;
     let sigma2 = r0 / (n - 4.0).max(1.0);
-    if !(curv > 0.0) {
+    if curv.is_nan() || curv <= 0.0 {
         return None;
     }
     Some((s, (2.0 * sigma2 / curv).sqrt()))

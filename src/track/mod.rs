@@ -254,7 +254,8 @@ pub enum Refine {
     Integer,
     /// A 2-D quadratic fit of the 3x3 scores around the peak.
     Quadratic,
-    /// Quadratic fit for the column, then a local edge fit at the apex for the row.
+    /// Template match, then the edge fit: the row from a parabola through the
+    /// top edge near the apex, the column from the edge's mirror symmetry.
     Edge,
 }
 
@@ -274,9 +275,6 @@ pub struct Options {
     pub edge_span_px: Option<usize>,
     /// Half-height of each column's edge window, px.
     pub edge_window_px: usize,
-    /// Photos decoded per parallel batch (default twice the threads); the
-    /// next batch is decoded while the current one is matched.
-    pub batch: usize,
 }
 
 impl Default for Options {
@@ -288,7 +286,6 @@ impl Default for Options {
             search_margin_px: 8,
             edge_span_px: None,
             edge_window_px: 4,
-            batch: 2 * rayon::current_num_threads().max(2),
         }
     }
 }
@@ -342,6 +339,8 @@ pub struct Tracked {
     pub skipped: Vec<Skipped>,
     /// Image size, px.
     pub image_size: [usize; 2],
+    /// Time spent matching and fitting (the sequential part), s.
+    pub locate_seconds: f64,
 }
 
 /// Compares names the way people count: `img2` < `img10`.
@@ -548,7 +547,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         (Some(s), None, None) => s,
         (None, Some([p, q]), Some(d)) => {
             let len = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
-            if !(len > 0.0) {
+            if len.is_nan() || len <= 0.0 {
                 return Err(cfg(format!(
                     "[calibration] points_px = {:?} are the same point: give two points a known distance apart",
                     [p, q]
@@ -664,7 +663,57 @@ pub fn track(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Tracked, TrackError> {
+    // The photos are decoded in parallel by rayon; OpenCV's own thread pool
+    // would only compete with it for the cores.
+    opencv::core::set_num_threads(1).map_err(|e| TrackError::OpenCv(e.to_string()))?;
+    let n = setup.frames.len();
+    let r = setup.roi;
+    let roi_req = (r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0)
+        .then(|| [r[0] as usize, r[1] as usize, r[2] as usize, r[3] as usize]);
+    // The pipeline: the rayon pool decodes the photos roughly in order
+    // (`par_bridge`) and sends their regions through a bounded channel; this
+    // thread meanwhile decodes the reference photo whole (for the template),
+    // then takes the regions back in frame order and tracks them one by one
+    // (each search starts from the previous frame's position). No barrier
+    // stops the decoders, and memory holds only a few regions at a time.
+    // A deep queue (up to 128 MB of regions) keeps the decoders running
+    // when the matching thread waits for a core on a busy machine.
+    let crop_bytes = roi_req.map_or(1 << 20, |r| (r[2] * r[3]).max(1));
+    let depth =
+        ((128usize << 20) / crop_bytes).clamp(2 * rayon::current_num_threads().max(1) + 2, 1024);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
+    let cancel = std::sync::atomic::AtomicBool::new(false);
     let reference = &setup.frames[setup.reference_frame];
+    std::thread::scope(|scope| {
+        let cancel = &cancel;
+        scope.spawn(move || {
+            let order = (0..n).filter(|&i| i != setup.reference_frame);
+            order.par_bridge().for_each(|i| {
+                if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                    return;
+                }
+                // A closed channel means the matching stopped on an error.
+                let _ = tx.send((i, decode_frame(&setup.frames[i].path, roi_req)));
+            });
+        });
+        let result = match_frames(setup, opts, tick, reference, rx);
+        if result.is_err() {
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        result
+    })
+}
+
+/// The sequential half of [`track`]: the reference photo, the template, then
+/// every frame's region in order from `rx`.
+fn match_frames(
+    setup: &Setup,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+    reference: &Frame,
+    rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
+) -> Result<Tracked, TrackError> {
+    let n = setup.frames.len();
     let full = image::read_gray(&reference.path, None)?;
     let (width, height) = (full.width, full.height);
     let roi = check_rect(&reference.path, setup.roi, width, height)?;
@@ -675,12 +724,7 @@ pub fn track(
             full.crop.crop(x, y, w, h)
         }
     };
-    // The reference photo is decoded once: keep its region for tracking.
-    let ref_decoded = Decoded {
-        width,
-        height,
-        crop: full.crop.crop(roi[0], roi[1], roi[2], roi[3]),
-    };
+    let ref_crop = full.crop.crop(roi[0], roi[1], roi[2], roi[3]);
     drop(full);
     if templ.width > roi[2] || templ.height > roi[3] {
         return Err(TrackError::TemplateLargerThanRegion {
@@ -711,25 +755,7 @@ pub fn track(
         half_span_px: opts.edge_span_px.unwrap_or(templ.width / 2).max(3),
         half_window_px: opts.edge_window_px,
     };
-    let expect = (reference.path.clone(), width, height);
-    let decode_batch = |lo: usize, hi: usize| -> Vec<Result<Decoded, TrackError>> {
-        (lo..hi)
-            .into_par_iter()
-            .map(|i| {
-                if i == setup.reference_frame {
-                    Ok(ref_decoded.clone())
-                } else {
-                    decode_frame(&setup.frames[i].path, roi, &expect)
-                }
-            })
-            .collect()
-    };
-
-    let n = setup.frames.len();
-    // Small batches keep both the decoding threads and the matching busy.
-    let batch = opts.batch.max(1);
     let mut state = Tracker {
-        roi,
         templ: &templ,
         opts,
         edge_settings,
@@ -742,63 +768,83 @@ pub fn track(
             }
             (f > 1).then(|| (f, matcher::reduce(&templ, f)))
         },
-        last: None,
+        // A template cut from the reference photo says where the search
+        // starts: no search of the whole region for the first frame.
+        last: match &setup.template {
+            TemplateSource::Rect(r) => {
+                Some([(r[0] - roi[0] as i64) as f64, (r[1] - roi[1] as i64) as f64])
+            }
+            TemplateSource::File(_) => None,
+        },
         prev: None,
     };
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
     let mut skipped = Vec::new();
-    let mut pending = decode_batch(0, batch.min(n));
-    let mut lo = 0;
-    while lo < n {
-        let hi = (lo + batch).min(n);
-        let next_hi = (hi + batch).min(n);
-        let current = std::mem::take(&mut pending);
-        let (next, done) = rayon::join(
-            || {
-                if hi < n {
-                    decode_batch(hi, next_hi)
-                } else {
-                    Vec::new()
-                }
-            },
-            || -> Result<Vec<Option<Located>>, TrackError> {
-                let mut out = Vec::with_capacity(current.len());
-                for (k, dec) in current.into_iter().enumerate() {
-                    let i = lo + k;
-                    let dec = dec?;
-                    let f = &setup.frames[i];
-                    let loc = state.locate(&dec.crop)?;
-                    if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
-                        if opts.skip_bad_frames {
-                            skipped.push(Skipped {
-                                frame: i,
-                                file: f.file.clone(),
-                                score: loc.m.score,
-                            });
-                            state.last = None;
-                            state.prev = None;
-                            out.push(None);
-                            tick();
-                            continue;
-                        }
-                        return Err(TrackError::LowScore {
-                            path: f.path.clone(),
-                            frame: i,
-                            score: loc.m.score,
-                            min: opts.min_score,
-                        });
+    let mut locate_time = 0.0;
+    let mut early = std::collections::BTreeMap::new();
+    while located.len() < n {
+        let i = located.len();
+        let f = &setup.frames[i];
+        let crop_owned;
+        let crop: &Gray = if i == setup.reference_frame {
+            &ref_crop
+        } else {
+            let dec = match early.remove(&i) {
+                Some(d) => d,
+                None => match rx.recv() {
+                    Ok((k, d)) if k == i => d,
+                    Ok((k, d)) => {
+                        early.insert(k, d);
+                        continue;
                     }
-                    state.prev = state.last;
-                    state.last = Some(loc.m.quadratic);
-                    out.push(Some(loc));
-                    tick();
-                }
-                Ok(out)
-            },
-        );
-        located.extend(done?);
-        pending = next;
-        lo = hi;
+                    Err(_) => {
+                        return Err(TrackError::OpenCv(format!(
+                            "the decoding of photo {} stopped early",
+                            f.path.display()
+                        )));
+                    }
+                },
+            };
+            let dec = dec?;
+            if (dec.width, dec.height) != (width, height) {
+                return Err(TrackError::MixedSizes {
+                    path: f.path.clone(),
+                    width: dec.width,
+                    height: dec.height,
+                    reference: reference.path.clone(),
+                    ref_width: width,
+                    ref_height: height,
+                });
+            }
+            crop_owned = dec.crop;
+            &crop_owned
+        };
+        let t0 = std::time::Instant::now();
+        let loc = state.locate(crop)?;
+        locate_time += t0.elapsed().as_secs_f64();
+        if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
+            if !opts.skip_bad_frames {
+                return Err(TrackError::LowScore {
+                    path: f.path.clone(),
+                    frame: i,
+                    score: loc.m.score,
+                    min: opts.min_score,
+                });
+            }
+            skipped.push(Skipped {
+                frame: i,
+                file: f.file.clone(),
+                score: loc.m.score,
+            });
+            state.last = None;
+            state.prev = None;
+            located.push(None);
+        } else {
+            state.prev = state.last;
+            state.last = Some(loc.m.quadratic);
+            located.push(Some(loc));
+        }
+        tick();
     }
 
     // Apex in image coordinates and its statistical uncertainty, px.
@@ -882,24 +928,21 @@ pub fn track(
         rows,
         skipped,
         image_size: [width, height],
+        locate_seconds: locate_time,
     })
 }
 
-/// Reads one photo, checks its size against the reference, crops the region.
-fn decode_frame(
-    path: &Path,
-    roi: [usize; 4],
-    expect: &(PathBuf, usize, usize),
-) -> Result<Decoded, TrackError> {
+/// Reads one photo and crops the region (an empty crop when the region does
+/// not fit: the size check against the reference photo then names the file).
+fn decode_frame(path: &Path, roi: Option<[usize; 4]>) -> Result<Decoded, TrackError> {
     let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
         path: path.to_path_buf(),
         reason: e.to_string(),
     })?;
-    image::decode_gray_checked(path, &bytes, roi, expect)
+    image::decode_gray_lenient(path, &bytes, roi)
 }
 
 struct Tracker<'a> {
-    roi: [usize; 4],
     templ: &'a Gray,
     opts: &'a Options,
     edge_settings: EdgeSettings,
@@ -972,15 +1015,26 @@ impl Tracker<'_> {
                     self.prev.map(down),
                     (margin / fl).max(2.0),
                 )?;
-                let (tw, th) = (self.templ.width, self.templ.height);
-                let r = f + 2;
-                let cx = (mc.quadratic[0] * fl).round() as i64;
-                let cy = (mc.quadratic[1] * fl).round() as i64;
-                let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
-                let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
-                let x1 = (x0 + tw + 2 * r).min(crop.width);
-                let y1 = (y0 + th + 2 * r).min(crop.height);
-                matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
+                if self.opts.refine == Refine::Edge {
+                    // The edge fit needs a seed within a few px, not the
+                    // full-resolution match: report the coarse one scaled up.
+                    let up = |p: [f64; 2]| [p[0] * fl, p[1] * fl];
+                    Match {
+                        integer: up(mc.integer),
+                        quadratic: up(mc.quadratic),
+                        score: mc.score,
+                    }
+                } else {
+                    let (tw, th) = (self.templ.width, self.templ.height);
+                    let r = f + 2;
+                    let cx = (mc.quadratic[0] * fl).round() as i64;
+                    let cy = (mc.quadratic[1] * fl).round() as i64;
+                    let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
+                    let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
+                    let x1 = (x0 + tw + 2 * r).min(crop.width);
+                    let y1 = (y0 + th + 2 * r).min(crop.height);
+                    matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
+                }
             }
         };
         // The edge fit runs in every mode: in the integer and quadratic modes
@@ -1021,6 +1075,108 @@ mod tests {
         assert!(glob_match("f[0-9]*", "f7x"));
         assert!(!glob_match("f[!0-9]*", "f7x"));
         assert!(glob_match("*", "anything"));
+    }
+
+    fn write_tiny_experiment(dir: &Path) {
+        let spec = spec(301, 0.0, 0.0, image::Encoding::Png);
+        let spec = synth::SequenceSpec {
+            width: 160,
+            height: 120,
+            ..spec
+        };
+        synth::write_sequence(dir, &spec, &synth::cap_frames(0.0375, 0.015, 3)).unwrap();
+    }
+
+    #[test]
+    fn truncated_files_are_caught_before_decoding() {
+        let g = image::Gray {
+            width: 16,
+            height: 8,
+            data: (0..128).map(|v| v as u8).collect(),
+        };
+        for enc in [image::Encoding::Png, image::Encoding::Jpeg(90)] {
+            let bytes = image::encode(&g, enc).unwrap();
+            assert!(image::check_complete(Path::new("a"), &bytes).is_ok());
+            let cut = &bytes[..bytes.len() - 5];
+            let e = image::check_complete(Path::new("a.img"), cut).unwrap_err();
+            assert!(matches!(e, TrackError::Truncated { .. }), "{e}");
+            let e = image::decode_gray(Path::new("b.img"), cut, None).unwrap_err();
+            assert!(
+                e.to_string().contains("b.img") && e.to_string().contains("truncated"),
+                "{e}"
+            );
+        }
+        let e = image::decode_gray(Path::new("c.png"), b"not an image", None).unwrap_err();
+        assert!(matches!(e, TrackError::Unreadable { .. }), "{e}");
+    }
+
+    #[test]
+    fn empty_folder_and_unmatched_glob_are_refused() {
+        let d = tempfile::tempdir().unwrap();
+        let e = list_photos(d.path(), "*.png").unwrap_err();
+        assert!(matches!(e, TrackError::EmptyFolder { .. }), "{e}");
+        std::fs::write(d.path().join("a1.jpg"), b"x").unwrap();
+        let e = list_photos(d.path(), "*.png").unwrap_err();
+        assert!(e.to_string().contains("`a1.jpg`"), "{e}");
+        assert_eq!(list_photos(d.path(), "a?.jpg").unwrap().len(), 1);
+    }
+
+    #[test]
+    fn pressure_log_must_cover_every_photo_once() {
+        let d = tempfile::tempdir().unwrap();
+        write_tiny_experiment(d.path());
+        let exp = d.path().join("experiment.toml");
+        std::fs::write(
+            d.path().join("pressure.csv"),
+            "file,pressure_pa\nframe_001.png,100\nframe_002.png,200\n",
+        )
+        .unwrap();
+        let e = setup_from_experiment(&Experiment::read(&exp).unwrap()).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("no pressure for photo `frame_003.png`"),
+            "{e}"
+        );
+        std::fs::write(
+            d.path().join("pressure.csv"),
+            "file,pressure_pa\nframe_001.png,100\nframe_001.png,200\n",
+        )
+        .unwrap();
+        let e = setup_from_experiment(&Experiment::read(&exp).unwrap()).unwrap_err();
+        assert!(
+            e.to_string().contains("line 3") && e.to_string().contains("already"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn region_and_template_are_checked_against_the_image() {
+        let d = tempfile::tempdir().unwrap();
+        write_tiny_experiment(d.path());
+        let exp = Experiment::read(&d.path().join("experiment.toml")).unwrap();
+        let mut setup = setup_from_experiment(&exp).unwrap();
+        setup.roi = [100, 50, 100, 20];
+        let e = track(&setup, &Options::default(), &|| {}).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TrackError::RegionOutside {
+                    width: 160,
+                    height: 120,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        setup.roi = [60, 40, 10, 40];
+        let e = track(&setup, &Options::default(), &|| {}).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                TrackError::TemplateLargerThanRegion { tw: 16, th: 8, .. }
+            ),
+            "{e}"
+        );
     }
 
     /// Writes a cap sequence, tracks it, returns the apex errors.

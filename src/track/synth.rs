@@ -161,7 +161,9 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     let a_px = scene.radius_m / scene.metres_per_pixel;
     let h_px = s.height_m() / scene.metres_per_pixel;
     // Separable tables for the plane waves: sin(kx x + ky y + p).
-    let tables: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> = scene
+    // (amp sin(kx x + p), amp cos(kx x + p), sin(ky y), cos(ky y)) per wave.
+    type WaveTables = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+    let tables: Vec<WaveTables> = scene
         .waves
         .iter()
         .map(|&(amp, kx, ky, p)| {

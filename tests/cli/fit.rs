@@ -342,3 +342,30 @@ fn help_documents_every_flag() {
         );
     }
 }
+
+/// A softening material (stress peaks inside the range): the law is
+/// accepted but every output says where it is unphysical.
+#[test]
+fn warns_where_the_law_is_unphysical() {
+    let dir = tempdir();
+    let mut csv = String::from("stretch,cauchy_stress_pa\n");
+    for i in 1..=10 {
+        let l = 1.0 + 0.1 * i as f64;
+        let s = 1.0e5 * (std::f64::consts::PI * (l - 1.0) / 1.2).sin();
+        csv.push_str(&format!("{l},{s}\n"));
+    }
+    fs::write(dir.path().join("soft.csv"), &csv).unwrap();
+    let run = bulge_in(
+        dir.path(),
+        &["fit", "soft.csv", "--model", "quartic", "--no-plot"],
+    )
+    .ok();
+    assert!(
+        run.stderr.contains("warning:") && run.stderr.contains("does not increase"),
+        "{}",
+        run.stderr
+    );
+    let m = read_material(&dir.path().join("material.toml"));
+    let w = m.fit.as_ref().unwrap()["warnings"].as_array().unwrap();
+    assert!(!w.is_empty());
+}

@@ -384,3 +384,51 @@ fn synth_refuses_a_pressure_above_the_limit_point() {
     .bad_input(&["9000 Pa", "limit point"]);
     assert!(!d.path().join("out/experiment.toml").exists());
 }
+
+#[test]
+fn help_documents_every_flag_with_its_default() {
+    let d = tempdir();
+    let run = bulge_in(d.path(), &["track", "--help"]).ok();
+    for f in [
+        "--output",
+        "--min-score",
+        "--skip-bad-frames",
+        "--refine",
+        "--search-margin-px",
+        "--edge-span-px",
+        "--edge-window-px",
+        "[default: 0.5]",
+        "[default: edge]",
+        "[default: 4]",
+    ] {
+        assert!(
+            run.stdout.contains(f),
+            "track --help lacks {f}:\n{}",
+            run.stdout
+        );
+    }
+    let run = bulge_in(d.path(), &["synth", "--help"]).ok();
+    for f in [
+        "--material",
+        "--frames",
+        "--pressure-max-pa",
+        "--pressure-min-pa",
+        "--radius-m",
+        "--thickness-m",
+        "--poisson",
+        "--width",
+        "--height",
+        "--seed",
+        "--blur-px",
+        "--noise",
+        "--drift",
+        "--jpeg-quality",
+        "neo-Hookean",
+    ] {
+        assert!(
+            run.stdout.contains(f),
+            "synth --help lacks {f}:\n{}",
+            run.stdout
+        );
+    }
+}
