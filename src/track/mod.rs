@@ -23,6 +23,7 @@
 //! Image coordinates: the centre of the top-left pixel is (0, 0), x to the
 //! right, y down (OpenCV's convention).
 
+pub mod annotate;
 pub mod image;
 pub mod matcher;
 pub mod synth;
