@@ -34,7 +34,7 @@
 //! use bulge::experiment::Specimen;
 //! use bulge::material::{Material, Model};
 //!
-//! let material = Material { model: Model::NeoHookean { c1_pa: 1.0e5 }, poisson: 0.5, fit: None };
+//! let material = Material { model: Model::NeoHookean { c1_pa: 1.0e5 }, poisson: 0.45, fit: None };
 //! let specimen = Specimen { radius_m: 0.0375, thickness_m: 3.5e-4, poisson: 0.45, prebulge_height_m: 0.0 };
 //! let sol = solve_pole_stretch(&material, &specimen, 1.2, &Options::default()).unwrap();
 //! // NOTES section 3: P = p a / (C1 t) = 1.99850, h/a = 0.53098.
