@@ -182,7 +182,7 @@ fn main() {
         tables();
         return;
     }
-    let mut c = Criterion::default().configure_from_args();
+    let mut c = Criterion::default().without_plots().configure_from_args();
     bench_forces(&mut c);
     bench_solve(&mut c);
     c.final_summary();
