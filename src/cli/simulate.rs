@@ -438,7 +438,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         let mut msg = format!("{} / {}: {e}", model.name(), solver.name());
                         // dyn: the disc's limit pressure from the axisymmetric solution
                         if let SceneKind::Disc { radius_m } = scene.kind
-                            && let Some(note) = crate::sim::hard::limit_note(&scene.material, radius_m, scene.thickness_m, p)
+                            && let Some(note) = crate::sim::hard::limit_note(
+                                &scene.material,
+                                radius_m,
+                                scene.thickness_m,
+                                p,
+                            )
                         {
                             msg.push_str(&format!(" ({note})"));
                         }
