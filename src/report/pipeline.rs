@@ -844,7 +844,7 @@ pub fn describe_stress(o: &mechanics::Options) -> String {
         },
         match o.modulus_stress {
             ModulusStress::Nominal => "lambda pR/2t (nominal)".to_string(),
-            ModulusStress::Engineering => "pR/2t (eq 18)".to_string(),
+            ModulusStress::Stress => "pR/2t (eq 18)".to_string(),
             ModulusStress::True => match o.true_stress {
                 TrueStress::Paper => "lambda pR/2t (eq 25)".to_string(),
                 TrueStress::Incompressible => "lambda^2 pR/2t (incompressible)".to_string(),
