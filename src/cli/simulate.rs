@@ -7,6 +7,8 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
+
+mod dynamic;
 use crate::experiment::Experiment;
 use crate::io::{CsvOut, fmt_num, read_toml, write_atomic};
 use crate::material::Material;
@@ -81,6 +83,9 @@ pub struct Args {
     /// Density in kg/m^3 for the lumped masses (default: the scene's, else 1100).
     #[arg(long)]
     pub density: Option<f64>,
+    /// Dynamic runs (--dynamic and its flags; see docs/dynamics.md).
+    #[command(flatten)]
+    pub dynamic: dynamic::DynArgs,
 }
 
 fn parse_list<T>(
@@ -270,6 +275,9 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
 
 /// Runs `bulge simulate`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    if args.dynamic.dynamic {
+        return dynamic::run(args);
+    }
     let scene = build_scene(&args).bad_input()?;
     let choices = parse_list(
         &args.model,
@@ -304,10 +312,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
     let mesh = scene
-        .build_mesh()
+        .build_mesh_for(&models)
         .context("building the mesh")
         .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
+    for &model in &models {
+        for w in crate::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+            eprintln!("warning ({}): {w}", model.name());
+        }
+    }
 
     let mut header: Vec<&str> = vec![
         "pressure_pa",
@@ -422,7 +435,14 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         )));
                     }
                     Err(e) => {
-                        failures.push(format!("{} / {}: {e}", model.name(), solver.name()));
+                        let mut msg = format!("{} / {}: {e}", model.name(), solver.name());
+                        // dyn: the disc's limit pressure from the axisymmetric solution
+                        if let SceneKind::Disc { radius_m } = scene.kind
+                            && let Some(note) = crate::sim::hard::limit_note(&scene.material, radius_m, scene.thickness_m, p)
+                        {
+                            msg.push_str(&format!(" ({note})"));
+                        }
+                        failures.push(msg);
                         pb.inc((scene.pressures_pa.len() - ip - 1) as u64);
                         break;
                     }

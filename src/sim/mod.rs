@@ -28,7 +28,11 @@
 //! assert!(x[0].z > 0.005 && x[0].z < 0.04 && stats.residual < 1e-8);
 //! ```
 
+pub mod dynamics;
+pub mod hard;
 pub mod mesh;
+pub mod paper003;
+pub mod par;
 pub mod scene;
 pub mod solve;
 pub mod springs;

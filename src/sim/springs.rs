@@ -578,6 +578,25 @@ impl Membrane {
         )
     }
 
+    /// Net force of triangle `t` (its springs' shares and its pressure) on
+    /// its three vertices at positions `x` (added for the parallel force
+    /// loop of `sim::par`).
+    #[inline]
+    pub fn triangle_forces(
+        &self,
+        t: usize,
+        x: &[Point3<f64>],
+    ) -> Result<[Vector3<f64>; 3], SimError> {
+        let tri = &self.tris[t];
+        let p = tri.v.map(|i| x[i as usize]);
+        self.local(tri, &p)
+            .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
+                strain,
+                young_pa,
+                triangle: t,
+            })
+    }
+
     /// The per-triangle force path even where the edge fast path exists (for
     /// tests comparing the two).
     pub fn forces_by_triangle(

@@ -3,6 +3,8 @@
 
 mod util;
 
+mod bench;
+mod dynamics;
 mod fit;
 mod run;
 mod simulate;

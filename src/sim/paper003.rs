@@ -1,0 +1,555 @@
+//! Paper 003's experiments, with every parameter it leaves out stated, and
+//! the sudden pressure step on the disc.
+//!
+//! 003 fixes a square mesh on its left edge and loads it "at the middle" or
+//! "at the corner" with forces in N/m, and reports the computation time
+//! against the number of points (200-4000), the time step of explicit Euler,
+//! implicit Euler and Verlet, and a "deformation error" against the force
+//! (0-10 N/m). It gives no size, modulus, thickness, density, damping, step,
+//! simulated time or tolerance. bulge's choices ([`SheetSetup::default`]):
+//!
+//! * a square of 0.1 m, thickness 1 mm, E = 50 kPa, nu = 0.45, density
+//!   1060 kg/m^3 (soft tissue), Van Gelder springs (003's springs are linear;
+//!   Van Gelder's eq 1 sets their stiffness from E and nu). 003's liver
+//!   modulus, 3.5 kPa, moves the loaded node 21-24 mm under 10 N/m at 200
+//!   points (more than three mesh spacings): the point load then inverts
+//!   triangles on fine meshes and the spring lattice has several equilibria
+//!   (Newton and dynamic relaxation found two 4 % apart at 1000 points).
+//!   50 kPa keeps the largest load's displacement near one spacing;
+//! * the load is in the plane of the sheet, along -y, on the node at the
+//!   middle (or the corner) of the free edge x = L. Its N/m is read as the 2D
+//!   convention of a plane model: force per unit thickness, so the nodal force
+//!   is `q t` and the displacement scales as `q / E` (10 N/m / 3.5 kPa =
+//!   2.9 mm at 3.5 kPa, the size of 003's "errors"). The nodes are held in the plane
+//!   z = 0 (a flat membrane has no stiffness out of its plane);
+//! * damping: 0.1 of each spring's critical value;
+//! * the static reference: Newton (sparse LU) to a residual of 1e-10 of the
+//!   load.
+
+use std::time::Instant;
+
+use nalgebra::{Point3, Vector3};
+
+use super::dynamics::{
+    DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy, measure_step_limit,
+};
+use super::mesh::{self, Constraint, DiscOptions, Mesh, SheetOptions};
+use super::solve::{self, Options};
+use super::springs::{Membrane, SpringModel};
+use crate::material::{Material, Model};
+
+/// The sheet of 003's experiments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SheetSetup {
+    /// Side of the square, m.
+    pub side_m: f64,
+    /// Thickness, m.
+    pub thickness_m: f64,
+    /// Young's modulus, Pa.
+    pub young_pa: f64,
+    /// Poisson ratio.
+    pub poisson: f64,
+    /// Density, kg/m^3.
+    pub density_kg_m3: f64,
+    /// Spring model.
+    pub model: SpringModel,
+    /// Damping.
+    pub damping: DampingLaw,
+}
+
+impl Default for SheetSetup {
+    fn default() -> Self {
+        SheetSetup {
+            side_m: 0.1,
+            thickness_m: 1e-3,
+            young_pa: 50_000.0,
+            poisson: 0.45,
+            density_kg_m3: 1060.0,
+            model: SpringModel::VanGelder,
+            damping: DampingLaw::Critical(0.1),
+        }
+    }
+}
+
+impl SheetSetup {
+    /// The material.
+    pub fn material(&self) -> Material {
+        Material {
+            model: Model::Linear {
+                young_pa: self.young_pa,
+            },
+            poisson: self.poisson,
+            fit: None,
+        }
+    }
+
+    /// The in-plane sheet mesh with about `points` nodes.
+    pub fn mesh(&self, points: usize) -> Mesh {
+        let s = self.side_m;
+        let h = (s * s * 2.0 / (3f64.sqrt() * points as f64)).sqrt();
+        let mut m = mesh::sheet(SheetOptions {
+            length_m: s,
+            width_m: s,
+            edge_length_m: h,
+        })
+        .expect("valid sheet");
+        in_plane(&mut m);
+        m
+    }
+
+    /// The membrane with the load `q` (N/m, per unit thickness) at probe `at`.
+    pub fn membrane(&self, mesh: &Mesh, at: &str, q_n_m: f64) -> Membrane {
+        let mut mem = Membrane::new(
+            mesh,
+            self.model,
+            &self.material(),
+            self.thickness_m,
+            self.density_kg_m3,
+        )
+        .expect("valid membrane");
+        let node = mesh.probe(at).expect("sheet probes");
+        mem.node_loads = vec![(node, Vector3::new(0.0, -q_n_m * self.thickness_m, 0.0))];
+        mem
+    }
+}
+
+/// Holds every free node of a flat mesh in its plane z = 0.
+pub fn in_plane(m: &mut Mesh) {
+    for c in m.constraints.iter_mut() {
+        if *c == Constraint::Free {
+            *c = Constraint::Plane(Vector3::z());
+        }
+    }
+}
+
+/// Displacement magnitude of node `node`.
+fn displacement(mesh: &Mesh, x: &[Point3<f64>], node: usize) -> f64 {
+    (x[node] - mesh.nodes[node]).norm()
+}
+
+/// Static equilibrium by Newton, load ramped in `ramp` equal steps.
+pub fn static_solution(
+    mem: &mut Membrane,
+    mesh: &Mesh,
+    ramp: usize,
+) -> Result<Vec<Point3<f64>>, DynError> {
+    let loads = mem.node_loads.clone();
+    let mut x = mesh.nodes.clone();
+    let opts = Options {
+        tolerance: 1e-10,
+        ..Options::default()
+    };
+    let mut ws = solve::NewtonWorkspace::new(mem);
+    for k in 1..=ramp {
+        let s = k as f64 / ramp as f64;
+        mem.node_loads = loads.iter().map(|(i, f)| (*i, f * s)).collect();
+        let p = mem.pressure_pa;
+        solve::newton_with(mem, &mut x, p, &opts, &mut ws)?;
+    }
+    mem.node_loads = loads;
+    Ok(x)
+}
+
+/// Largest mesh of the time table run with implicit Euler (its Newton steps
+/// at Verlet's step cost minutes above this).
+pub const IMPLICIT_TIME_TABLE_MAX: usize = 1000;
+
+/// One row of the time-against-points table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimeRow {
+    /// Nodes.
+    pub points: usize,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Step asked for, s (each integrator's 0.9 of the Verlet limit).
+    pub dt_s: f64,
+    /// Sub-steps per step.
+    pub substeps: usize,
+    /// Force evaluations.
+    pub evaluations: usize,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Loaded node's displacement at the end, m.
+    pub displacement_m: f64,
+    /// Static displacement, m.
+    pub static_m: f64,
+}
+
+/// 003 Table 2.2.1: time to simulate `t_end_s` of the sheet loaded at its
+/// middle with `q` N/m, for each number of points and integrator. The step is
+/// the same for all integrators, 0.9 of Verlet's estimated limit; explicit
+/// Euler sub-steps to its own limit; implicit Euler takes it as is.
+pub fn time_table(
+    setup: &SheetSetup,
+    points: &[usize],
+    integrators: &[Integrator],
+    q_n_m: f64,
+    t_end_s: f64,
+) -> Result<Vec<TimeRow>, DynError> {
+    let mut rows = Vec::new();
+    for &np in points {
+        let mesh = setup.mesh(np);
+        let node = mesh.probe("middle").expect("probe");
+        let mut mem = setup.membrane(&mesh, "middle", q_n_m);
+        let xs = static_solution(&mut mem, &mesh, 2)?;
+        let static_m = displacement(&mesh, &xs, node);
+        let dt = {
+            let d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
+            let est = d.estimate_step(&mesh.nodes)?;
+            0.9 * est.limit(Integrator::Verlet)
+        };
+        for &integ in integrators {
+            if integ == Integrator::ImplicitEuler && np > IMPLICIT_TIME_TABLE_MAX {
+                continue;
+            }
+            let mut d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
+            let mut x = mesh.nodes.clone();
+            let mut v = vec![Vector3::zeros(); x.len()];
+            let opts = DynOptions {
+                integrator: integ,
+                dt_s: dt,
+                t_end_s,
+                damping: setup.damping,
+                policy: StepPolicy::Substep,
+                max_samples: 100,
+                ..DynOptions::default()
+            };
+            let t0 = Instant::now();
+            let run = d.run(&mut x, &mut v, &opts, &|x| displacement(&mesh, x, node))?;
+            let wall = t0.elapsed().as_secs_f64();
+            rows.push(TimeRow {
+                points: mesh.nodes.len(),
+                integrator: integ,
+                dt_s: dt,
+                substeps: run.substeps,
+                evaluations: run.force_evaluations,
+                wall_s: wall,
+                displacement_m: run.last(),
+                static_m,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// One row of the step-limit table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepRow {
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Estimated limit, s (infinite: none).
+    pub estimate_s: f64,
+    /// Measured limit by bisection, s (`None`: stable at the largest step tried).
+    pub measured_s: Option<f64>,
+    /// Largest step tried, s.
+    pub tried_s: f64,
+    /// Stiffest angular frequency, rad/s; its damping ratio; Gershgorin bound.
+    pub omega: [f64; 3],
+}
+
+/// 003 Table 2.2.2: the largest stable step per integrator on the sheet of
+/// `points` nodes loaded at the middle with `q` N/m, at its static
+/// equilibrium: estimated (power iteration and the amplification
+/// polynomials) and measured (bisection to 1 %, `steps` steps from the
+/// equilibrium with a velocity along the stiffest mode; stable when the
+/// kinetic energy has not grown).
+pub fn step_table(
+    setup: &SheetSetup,
+    points: usize,
+    q_n_m: f64,
+    steps: usize,
+    integrators: &[Integrator],
+) -> Result<Vec<StepRow>, DynError> {
+    let mesh = setup.mesh(points);
+    let mut mem = setup.membrane(&mesh, "middle", q_n_m);
+    let xs = static_solution(&mut mem, &mesh, 2)?;
+    let mut d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
+    let est = d.estimate_step(&xs)?;
+    let mut rows = Vec::new();
+    for &integ in integrators {
+        let e = est.limit(integ);
+        let (lo, hi) = if e.is_finite() {
+            (0.2 * e, 3.0 * e)
+        } else {
+            // unconditionally stable ones: try up to 1000 Verlet limits
+            let v = est.limit(Integrator::Verlet);
+            (v, 1000.0 * v)
+        };
+        // the unconditionally stable ones: a check at 1000 Verlet limits over
+        // fewer steps (each is a Newton solve or a constraint sweep)
+        let n_steps = if e.is_finite() { steps } else { steps.min(200) };
+        let measured = measure_step_limit(&mut d, &xs, integ, lo, hi, n_steps, 0.01)?;
+        rows.push(StepRow {
+            integrator: integ,
+            estimate_s: e,
+            measured_s: measured,
+            tried_s: hi,
+            omega: [est.omega_max, est.zeta, est.omega_gershgorin],
+        });
+    }
+    Ok(rows)
+}
+
+/// One row of the deformation-against-load table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadRow {
+    /// Load, N/m.
+    pub q_n_m: f64,
+    /// Static displacement of the loaded node, m.
+    pub static_m: f64,
+    /// Per integrator: displacement at `t_end`, m.
+    pub dynamic_m: Vec<(Integrator, f64)>,
+}
+
+/// 003 Table 2.2.3: displacement of the loaded node against the load, static
+/// and after `t_end_s` of each integrator from rest (same step for all,
+/// 0.9 of Verlet's limit; explicit Euler sub-steps). The "deformation error"
+/// is the distance from the static answer.
+pub fn load_table(
+    setup: &SheetSetup,
+    points: usize,
+    at: &str,
+    loads: &[f64],
+    integrators: &[Integrator],
+    t_end_s: f64,
+) -> Result<Vec<LoadRow>, DynError> {
+    let mesh = setup.mesh(points);
+    let node = mesh.probe(at).expect("probe");
+    let mut rows = Vec::new();
+    for &q in loads {
+        let mut mem = setup.membrane(&mesh, at, q);
+        let xs = static_solution(&mut mem, &mesh, 4)?;
+        let static_m = if q == 0.0 {
+            0.0
+        } else {
+            displacement(&mesh, &xs, node)
+        };
+        let dt = {
+            let d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
+            0.9 * d.estimate_step(&mesh.nodes)?.limit(Integrator::Verlet)
+        };
+        let mut dynamic = Vec::new();
+        for &integ in integrators {
+            if integ == Integrator::ImplicitEuler && points > IMPLICIT_TIME_TABLE_MAX {
+                continue;
+            }
+            let mut d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
+            let mut x = mesh.nodes.clone();
+            let mut v = vec![Vector3::zeros(); x.len()];
+            let opts = DynOptions {
+                integrator: integ,
+                dt_s: dt,
+                t_end_s,
+                damping: setup.damping,
+                max_samples: 10,
+                ..DynOptions::default()
+            };
+            let run = d.run(&mut x, &mut v, &opts, &|x| displacement(&mesh, x, node))?;
+            dynamic.push((integ, run.last()));
+        }
+        rows.push(LoadRow {
+            q_n_m: q,
+            static_m,
+            dynamic_m: dynamic,
+        });
+    }
+    Ok(rows)
+}
+
+/// The disc of paper 000's bubble test (a = 37.5 mm, t = 0.35 mm, linear
+/// E = 1 MPa, nu = 0.45, rho = 1100 kg/m^3), 60 degree sector of `rings`.
+pub fn bubble_disc(rings: usize) -> (Mesh, Material) {
+    let m = mesh::disc(DiscOptions {
+        radius_m: 0.0375,
+        rings,
+        sector: true,
+    })
+    .expect("valid disc");
+    (
+        m,
+        Material {
+            model: Model::Linear { young_pa: 1.0e6 },
+            poisson: 0.45,
+            fit: None,
+        },
+    )
+}
+
+/// The sudden pressure step on the disc.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepResponse {
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Step, s.
+    pub dt_s: f64,
+    /// Peak apex height, m.
+    pub peak_m: f64,
+    /// Final apex height, m.
+    pub final_m: f64,
+    /// Overshoot `(peak - static) / static`.
+    pub overshoot: f64,
+    /// Time after which the height stays within 2 % of the static height, s.
+    pub settling_s: f64,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Steps.
+    pub steps: usize,
+}
+
+/// Runs the pressure step `p` on the bubble disc from rest for `t_end_s`.
+#[allow(clippy::too_many_arguments)]
+pub fn pressure_step(
+    rings: usize,
+    model: SpringModel,
+    p: f64,
+    integ: Integrator,
+    dt_s: f64,
+    t_end_s: f64,
+    damping: DampingLaw,
+    static_m: f64,
+) -> Result<StepResponse, DynError> {
+    let (mesh, mat) = bubble_disc(rings);
+    let mut mem = Membrane::new(&mesh, model, &mat, 0.35e-3, 1100.0)?;
+    mem.pressure_pa = p;
+    let mut d = Dynamics::new(&mut mem, &mesh, damping)?;
+    let mut x = mesh.nodes.clone();
+    let mut v = vec![Vector3::zeros(); x.len()];
+    let opts = DynOptions {
+        integrator: integ,
+        dt_s,
+        t_end_s,
+        damping,
+        max_samples: 4000,
+        ..DynOptions::default()
+    };
+    let t0 = Instant::now();
+    let run = d.run(&mut x, &mut v, &opts, &|x| x[0].z)?;
+    let wall = t0.elapsed().as_secs_f64();
+    let peak = run.peak();
+    Ok(StepResponse {
+        integrator: integ,
+        dt_s,
+        peak_m: peak,
+        final_m: run.last(),
+        overshoot: (peak - static_m) / static_m,
+        settling_s: run.settling_time(static_m, 0.02),
+        wall_s: wall,
+        steps: run.steps * run.substeps,
+    })
+}
+
+/// Static apex height of the bubble disc at `p` (Newton, from Hencky's guess).
+pub fn disc_static(rings: usize, model: SpringModel, p: f64) -> Result<f64, DynError> {
+    let (mesh, mat) = bubble_disc(rings);
+    let mut mem = Membrane::new(&mesh, model, &mat, 0.35e-3, 1100.0)?;
+    let mut x = mesh.nodes.clone();
+    let pred = super::scene::DiscPredictor {
+        radius_m: 0.0375,
+        young_pa: 1.0e6,
+        thickness_m: 0.35e-3,
+        poisson: 0.45,
+    };
+    let mut ws = None;
+    solve::continuation(
+        &mut mem,
+        &mesh.nodes,
+        &mut x,
+        0.0,
+        p,
+        solve::Solver::Newton,
+        &Options {
+            tolerance: 1e-10,
+            ..Options::default()
+        },
+        &pred,
+        &mut ws,
+    )?;
+    Ok(x[0].z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The measured step limits agree with the estimates within 20 % on a
+    /// small sheet (the docs table uses 1000 points).
+    #[test]
+    fn step_limits_agree_with_estimates() {
+        let setup = SheetSetup::default();
+        let rows = step_table(
+            &setup,
+            120,
+            10.0,
+            1500,
+            &[
+                Integrator::ExplicitEuler,
+                Integrator::SymplecticEuler,
+                Integrator::Verlet,
+            ],
+        )
+        .unwrap();
+        for r in &rows {
+            let m = r.measured_s.expect("explicit integrators have a limit");
+            let ratio = m / r.estimate_s;
+            assert!(
+                (0.8..1.2).contains(&ratio),
+                "{:?}: measured {m:e} vs estimate {:e}",
+                r.integrator,
+                r.estimate_s
+            );
+        }
+        // Verlet allows a much larger step than explicit Euler at 0.1 critical damping
+        assert!(rows[2].estimate_s > 3.0 * rows[0].estimate_s);
+    }
+
+    /// Implicit Euler is stable at 100 Verlet limits; the loaded sheet settles
+    /// to the static answer.
+    #[test]
+    fn implicit_euler_is_stable_at_large_steps_and_settles() {
+        let setup = SheetSetup::default();
+        let mesh = setup.mesh(80);
+        let node = mesh.probe("middle").unwrap();
+        let mut mem = setup.membrane(&mesh, "middle", 5.0);
+        let xs = static_solution(&mut mem, &mesh, 2).unwrap();
+        let want = displacement(&mesh, &xs, node);
+        let mut d = Dynamics::new(&mut mem, &mesh, DampingLaw::Critical(1.0)).unwrap();
+        let vl = d
+            .estimate_step(&mesh.nodes)
+            .unwrap()
+            .limit(Integrator::Verlet);
+        let mut x = mesh.nodes.clone();
+        let mut v = vec![Vector3::zeros(); x.len()];
+        let opts = DynOptions {
+            integrator: Integrator::ImplicitEuler,
+            dt_s: 100.0 * vl,
+            t_end_s: 20000.0 * vl,
+            damping: DampingLaw::Critical(1.0),
+            ..DynOptions::default()
+        };
+        let run = d
+            .run(&mut x, &mut v, &opts, &|x| displacement(&mesh, x, node))
+            .unwrap();
+        let got = run.last();
+        assert!((got - want).abs() < 1e-3 * want, "{got} vs static {want}");
+    }
+}
+
+#[cfg(test)]
+mod print {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn print_step_table() {
+        let setup = SheetSetup::default();
+        for n in [120, 1000] {
+            let rows = step_table(&setup, n, 10.0, 2000, &Integrator::ALL).unwrap();
+            for r in rows {
+                eprintln!(
+                    "{n} {:?} est {:e} meas {:?} tried {:e} omega {:?}",
+                    r.integrator, r.estimate_s, r.measured_s, r.tried_s, r.omega
+                );
+            }
+        }
+    }
+}
