@@ -82,7 +82,7 @@ fn conventions() -> Vec<Options> {
         for modulus in [Modulus::Biaxial, Modulus::Uniaxial] {
             for (modulus_stress, true_stress) in [
                 (ModulusStress::Nominal, TrueStress::Paper),
-                (ModulusStress::Engineering, TrueStress::Paper),
+                (ModulusStress::Stress, TrueStress::Paper),
                 (ModulusStress::True, TrueStress::Incompressible),
             ] {
                 v.push(Options {

@@ -442,7 +442,7 @@ pub fn fit_stage(
             .filter_map(|r| {
                 let l = r.value.stretch?;
                 let st = r.value.stress_pa?;
-                (l > 1.0).then(|| (l, l * l * st))
+                (l > 1.0).then_some((l, l * l * st))
             })
             .collect(),
     );
