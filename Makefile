@@ -4,9 +4,13 @@
 SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
-BULGE := $(or $(CARGO_TARGET_DIR),target)/release/bulge
+TARGET := $(or $(CARGO_TARGET_DIR),target)
+# The demo uses the test build (dependencies optimised, bulge at opt-level 1),
+# so `make demo` after `make test` builds nothing new; benchmarks use release.
+BULGE := $(TARGET)/debug/bulge
+BULGE_RELEASE := $(TARGET)/release/bulge
 
-.PHONY: all deps build demo test lint bench clean
+.PHONY: all deps build build-release demo test lint bench clean
 
 all: demo
 
@@ -14,21 +18,24 @@ deps:
 	@bash scripts/install-deps.sh
 
 build: deps
+	$(CARGO) build --locked
+
+build-release: deps
 	$(CARGO) build --release --locked
 
 demo: build
 	@bash scripts/demo.sh $(BULGE) $(OUT)
 
 test: deps
-	$(CARGO) test --locked --all-targets
+	$(CARGO) test --locked --lib --bins --tests
 	$(CARGO) test --locked --doc
 
 lint: deps
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --locked --all-targets -- -D warnings
 
-bench: build
-	$(BULGE) bench --out $(OUT)/bench
+bench: build-release
+	$(BULGE_RELEASE) bench --out $(OUT)/bench
 
 clean:
 	rm -rf $(OUT)

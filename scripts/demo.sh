@@ -3,7 +3,7 @@
 # as a new user would run it: photos -> heights -> stress/strain -> material ->
 # simulated heights (TP MSS, Van Gelder, exact axisymmetric reference) -> report.
 set -euo pipefail
-BULGE=${1:-target/release/bulge}
+BULGE=${1:-target/debug/bulge}
 OUT=${2:-out}
 echo "== bulge run data/demo/experiment.toml --out $OUT"
 "$BULGE" run data/demo/experiment.toml --out "$OUT"

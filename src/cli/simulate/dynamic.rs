@@ -110,7 +110,7 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
         .display()
         .to_string();
     // a sheet may be loaded by its nodal loads alone
-    let need_p = !(matches!(scene.kind, SceneKind::Sheet { .. }) && !scene.loads.is_empty());
+    let need_p = !matches!(scene.kind, SceneKind::Sheet { .. }) || scene.loads.is_empty();
     scene
         .validate(need_p)
         .map_err(|m| anyhow!("{origin}: {m}"))?;
