@@ -282,7 +282,7 @@ impl StepEstimate {
     /// ones; 0 for explicit Euler without damping).
     pub fn limit(&self, integrator: Integrator) -> f64 {
         let by_mode = |w: f64, z: f64| -> f64 {
-            if !(w > 0.0) {
+            if w.is_nan() || w <= 0.0 {
                 return f64::INFINITY;
             }
             match integrator {
@@ -565,7 +565,7 @@ impl<'a> Dynamics<'a> {
             let vmax = (0..n)
                 .map(|i| (u[i] / sqm[i].max(f64::MIN_POSITIVE)).norm())
                 .fold(0.0, f64::max);
-            if !(vmax > 0.0) {
+            if vmax.is_nan() || vmax <= 0.0 {
                 break;
             }
             let s = eps / vmax;
@@ -683,7 +683,7 @@ impl<'a> Dynamics<'a> {
             let est = self.estimate_step(x)?;
             dt_crit = est.limit(integ);
             estimate = Some(est);
-            if integ == Integrator::ExplicitEuler && !(dt_crit > 0.0) {
+            if integ == Integrator::ExplicitEuler && (dt_crit.is_nan() || dt_crit <= 0.0) {
                 return Err(DynError::NoStableStep);
             }
             if opts.dt_s > STEP_SAFETY * dt_crit {
@@ -925,7 +925,7 @@ impl<'a> Dynamics<'a> {
         for _ in 0..iterations.max(1) {
             for (ei, e) in self.mesh.edges.iter().enumerate() {
                 let k = self.edge_k[ei];
-                if !(k > 0.0) {
+                if k.is_nan() || k <= 0.0 {
                     continue;
                 }
                 let (i, j) = (e[0] as usize, e[1] as usize);
