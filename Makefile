@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
-BULGE := target/release/bulge
+BULGE := $(or $(CARGO_TARGET_DIR),target)/release/bulge
 
 .PHONY: all deps build demo test lint bench clean
 

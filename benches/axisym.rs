@@ -47,23 +47,31 @@ fn bench(c: &mut Criterion) {
     // P = p a / (C1 t) = 2: pole stretch 1.2, h/a = 0.53.
     let p_neo = 2.0 * 1.0e5 * 3.5e-4 / 0.0375;
     let mut g = c.benchmark_group("axisym");
-    g.bench_function("solve_pressure neo-hookean P=2, 1e-8, 201-point profile", |b| {
-        b.iter(|| solve_pressure(&neo, &s, black_box(p_neo), &opts).unwrap())
-    });
+    g.bench_function(
+        "solve_pressure neo-hookean P=2, 1e-8, 201-point profile",
+        |b| b.iter(|| solve_pressure(&neo, &s, black_box(p_neo), &opts).unwrap()),
+    );
     g.bench_function("solve_pressure neo-hookean P=2, 1e-8, height only", |b| {
         b.iter(|| solve_pressure(&neo, &s, black_box(p_neo), &height_only).unwrap())
     });
     g.bench_function("solve_pressure quartic 8940 Pa, 1e-8, height only", |b| {
         b.iter(|| solve_pressure(&quartic, &s, black_box(8940.0), &height_only).unwrap())
     });
-    g.bench_function("solve_pole_stretch neo-hookean l0=1.2, 1e-8, height only", |b| {
-        b.iter(|| solve_pole_stretch(&neo, &s, black_box(1.2), &height_only).unwrap())
-    });
+    g.bench_function(
+        "solve_pole_stretch neo-hookean l0=1.2, 1e-8, height only",
+        |b| b.iter(|| solve_pole_stretch(&neo, &s, black_box(1.2), &height_only).unwrap()),
+    );
     g.bench_function("solve_pressure neo-hookean P=2, 1e-10 (defaults)", |b| {
         b.iter(|| solve_pressure(&neo, &s, black_box(p_neo), &Options::default()).unwrap())
     });
     g.finish();
 }
 
-criterion_group!(benches, bench);
+// No plots: criterion's plotters backend needs system fonts the CI machine
+// does not have.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = bench
+}
 criterion_main!(benches);

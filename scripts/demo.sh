@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The demo: the pipeline, as far as it exists, on the bundled experiment.
+# The demo: the whole pipeline on the bundled synthetic experiment (data/demo),
+# as a new user would run it: photos -> heights -> stress/strain -> material ->
+# simulated heights (TP MSS, Van Gelder, exact axisymmetric reference) -> report.
 set -euo pipefail
 BULGE=${1:-target/release/bulge}
 OUT=${2:-out}
-mkdir -p "$OUT"
-echo "== bulge stress: data/demo/heights.csv -> $OUT/stress_strain.csv"
-"$BULGE" stress data/demo/heights.csv --experiment data/demo/experiment.toml -o "$OUT/stress_strain.csv"
-column -s, -t < "$OUT/stress_strain.csv" | head -20
+echo "== bulge run data/demo/experiment.toml --out $OUT"
+"$BULGE" run data/demo/experiment.toml --out "$OUT"
+echo "== open $OUT/report.html in a browser (self-contained, no network needed)"

@@ -118,8 +118,9 @@ pub enum ModulusStress {
     /// reference area; equal to eq 25's value.
     #[default]
     Nominal,
-    /// The pole stress `sigma = p R / (2t)` of eq 18 (current length, initial thickness).
-    Engineering,
+    /// The `stress_pa` column: `sigma = p R / (2t)` of eq 18 (tension per
+    /// current length over the initial thickness).
+    Stress,
     /// The true stress chosen by `--true-stress` (`paper` or `incompressible`).
     True,
 }
@@ -504,7 +505,7 @@ fn evaluate(spec: &Specimen, opts: &Options, p: f64, h: f64) -> (Derived, Derive
     };
     let (sm, d_sm) = match opts.modulus_stress {
         ModulusStress::Nominal => (lambda * sigma, d_lambda * sigma + lambda * d_sigma),
-        ModulusStress::Engineering => (sigma, d_sigma),
+        ModulusStress::Stress => (sigma, d_sigma),
         ModulusStress::True => (true_stress, d_true),
     };
     let k = match opts.modulus {
@@ -624,7 +625,7 @@ mod tests {
                 for modulus in [Modulus::Biaxial, Modulus::Uniaxial] {
                     for modulus_stress in [
                         ModulusStress::Nominal,
-                        ModulusStress::Engineering,
+                        ModulusStress::Stress,
                         ModulusStress::True,
                     ] {
                         v.push(Options {
@@ -656,7 +657,7 @@ mod tests {
             },
             modulus_stress: match f[9] {
                 "nominal" => ModulusStress::Nominal,
-                "engineering" => ModulusStress::Engineering,
+                "stress" => ModulusStress::Stress,
                 _ => ModulusStress::True,
             },
         }
@@ -838,7 +839,7 @@ mod tests {
             };
             let sm = match o.modulus_stress {
                 ModulusStress::Nominal => lambda * sigma,
-                ModulusStress::Engineering => sigma,
+                ModulusStress::Stress => sigma,
                 ModulusStress::True => t,
             };
             let k = match o.modulus {

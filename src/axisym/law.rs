@@ -17,14 +17,16 @@
 //!   extensions. It is hyperelastic with
 //!   `W = E/(2(1 - nu^2)) (e1^2 + e2^2 + 2 nu e1 e2)`; compressible: the
 //!   thickness is not tracked, it is inside the tensions.
-//! * `quartic`: the same with a secant modulus `E(eps)` of paper 000,
-//!   `P_i = E(eps_m)/(1 - nu^2) (e_i + nu e_j)`, `E` evaluated at the **mean
-//!   in-plane strain** `eps_m = (eps(l1) + eps(l2)) / 2` in the material's
-//!   strain measure (engineering `l - 1` or log `ln l`). Under equibiaxial
-//!   stretch `eps_m` is the strain of the fit (the bubble pole and the stress
-//!   stage's cap formulas are equibiaxial), so the fitted law is reproduced
-//!   there exactly; elsewhere it is one scalar per material point, as a
-//!   mass-spring triangle needs one `E` per triangle.
+//! * `quartic`: the same with the secant modulus `E(eps)` of paper 000,
+//!   `P_i = E(eps_m)/(1 - nu^2) (e_i + nu e_j)`. The modulus is taken exactly
+//!   as the mass-spring solver takes it per triangle (`crate::sim`), so that
+//!   the two compare like for like: at the **equibiaxial-equivalent stretch**
+//!   `lambda_m = sqrt(l1 l2)` (the square root of the area stretch), in the
+//!   material's strain measure (`eps_m = lambda_m - 1`, or `ln lambda_m`, the
+//!   mean log strain), **clamped to the fitted `strain_range`** (outside it
+//!   the law is held at its end value). Under equibiaxial stretch (the bubble
+//!   pole, where the stress stage's cap formulas and the fit live) `eps_m` is
+//!   the strain of the fit, so the fitted law is reproduced exactly there.
 
 use crate::material::{Hyperelastic, Material, Model, StrainMeasure};
 
@@ -49,7 +51,7 @@ pub enum Law<'a> {
         /// Poisson ratio.
         nu: f64,
     },
-    /// Secant modulus polynomial at the mean strain.
+    /// Secant modulus polynomial at the equibiaxial-equivalent strain.
     Quartic {
         /// `c_k / (1 - nu^2)`, Pa.
         c: Vec<f64>,
@@ -57,6 +59,8 @@ pub enum Law<'a> {
         nu: f64,
         /// Strain measure the polynomial takes.
         measure: StrainMeasure,
+        /// Strain range the argument is clamped to.
+        range: [f64; 2],
     },
 }
 
@@ -86,8 +90,14 @@ impl<'a> Law<'a> {
             Model::Quartic {
                 coefficients_pa,
                 strain_measure,
-                ..
+                strain_range,
             } => {
+                let [lo, hi] = *strain_range;
+                if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                    return Err(format!(
+                        "strain_range = [{lo}, {hi}] must be two finite strains, the smaller first"
+                    ));
+                }
                 if coefficients_pa.is_empty() || coefficients_pa.iter().any(|c| !c.is_finite()) {
                     return Err(format!(
                         "coefficients_pa = {coefficients_pa:?} must be a non-empty list of finite numbers (Pa)"
@@ -106,6 +116,7 @@ impl<'a> Law<'a> {
                         .collect(),
                     nu,
                     measure: *strain_measure,
+                    range: [lo, hi],
                 }
             }
             m => {
@@ -148,11 +159,13 @@ impl<'a> Law<'a> {
                     dp: [[*c, c * nu], [c * nu, *c]],
                 }
             }
-            Law::Quartic { c, nu, measure } => {
-                let (m, m1, m2) = match measure {
-                    StrainMeasure::Engineering => (0.5 * (l1 + l2) - 1.0, 0.5, 0.5),
-                    StrainMeasure::Log => (0.5 * (l1 * l2).ln(), 0.5 / l1, 0.5 / l2),
-                };
+            Law::Quartic {
+                c,
+                nu,
+                measure,
+                range,
+            } => {
+                let (m, m1, m2) = mean_strain(*measure, *range, l1, l2);
                 // Horner for E(m)/(1 - nu^2) and its slope.
                 let (mut e, mut de) = (0.0, 0.0);
                 for ck in c.iter().rev() {
@@ -184,11 +197,13 @@ impl<'a> Law<'a> {
     /// for the other laws. Used to name the strain in an error.
     pub fn quartic_modulus(&self, l1: f64, l2: f64) -> Option<(f64, f64)> {
         match self {
-            Law::Quartic { c, nu, measure } => {
-                let m = match measure {
-                    StrainMeasure::Engineering => 0.5 * (l1 + l2) - 1.0,
-                    StrainMeasure::Log => 0.5 * (l1 * l2).ln(),
-                };
+            Law::Quartic {
+                c,
+                nu,
+                measure,
+                range,
+            } => {
+                let (m, _, _) = mean_strain(*measure, *range, l1, l2);
                 let e = c.iter().rev().fold(0.0, |acc, ck| acc * m + ck) * (1.0 - nu * nu);
                 Some((m, e))
             }
@@ -202,6 +217,24 @@ impl<'a> Law<'a> {
         self.stress(1.0, 1.0)
             .map(|s| s.dp[0][0] + s.dp[0][1])
             .unwrap_or(f64::NAN)
+    }
+}
+
+/// The quartic's argument: the strain of `sqrt(l1 l2)`, clamped to the
+/// fitted range, with its derivatives in `l1`, `l2` (zero where clamped).
+#[inline]
+fn mean_strain(measure: StrainMeasure, range: [f64; 2], l1: f64, l2: f64) -> (f64, f64, f64) {
+    let lm = (l1 * l2).sqrt();
+    let (m, m1, m2) = match measure {
+        StrainMeasure::Engineering => (lm - 1.0, 0.5 * lm / l1, 0.5 * lm / l2),
+        StrainMeasure::Log => (0.5 * (l1 * l2).ln(), 0.5 / l1, 0.5 / l2),
+    };
+    if m < range[0] {
+        (range[0], 0.0, 0.0)
+    } else if m > range[1] {
+        (range[1], 0.0, 0.0)
+    } else {
+        (m, m1, m2)
     }
 }
 
@@ -224,7 +257,7 @@ mod tests {
             mat(
                 Model::Quartic {
                     coefficients_pa: vec![1.2e6, -2.0e6, 3.0e6, -1.0e6, 2.0e5],
-                    strain_range: [0.0, 1.0],
+                    strain_range: [-0.5, 1.0],
                     strain_measure: StrainMeasure::Engineering,
                 },
                 0.45,
@@ -232,7 +265,7 @@ mod tests {
             mat(
                 Model::Quartic {
                     coefficients_pa: vec![1.2e6, -2.0e6, 3.0e6, -1.0e6, 2.0e5],
-                    strain_range: [0.0, 1.0],
+                    strain_range: [-0.5, 1.0],
                     strain_measure: StrainMeasure::Log,
                 },
                 0.45,
@@ -305,7 +338,7 @@ mod tests {
         let q = mat(
             Model::Quartic {
                 coefficients_pa: vec![1.0e6, -4.0e6],
-                strain_range: [0.0, 0.2],
+                strain_range: [0.0, 0.5],
                 strain_measure: StrainMeasure::Engineering,
             },
             0.45,
@@ -314,5 +347,36 @@ mod tests {
         // E(eps) = 1e6 - 4e6 eps <= 0 from eps = 0.25 on.
         assert!(law.stress(1.2, 1.2).is_some());
         assert!(law.stress(1.3, 1.3).is_none());
+        // Held at the end of the fitted range beyond it: E(0.2) = 2e5 Pa.
+        let held = mat(
+            Model::Quartic {
+                coefficients_pa: vec![1.0e6, -4.0e6],
+                strain_range: [0.0, 0.2],
+                strain_measure: StrainMeasure::Engineering,
+            },
+            0.45,
+        );
+        let law = Law::new(&held).unwrap();
+        let s = law.stress(1.5, 1.5).unwrap();
+        assert!((s.p[0] - 2.0e5 * 0.5 / (1.0 - 0.45)).abs() < 1e-6);
+        assert!((s.dp[0][0] - 2.0e5 / (1.0 - 0.45 * 0.45)).abs() < 1e-6);
+    }
+
+    /// The quartic's modulus is evaluated at the strain of sqrt(l1 l2), as
+    /// the mass-spring triangles do.
+    #[test]
+    fn quartic_modulus_at_area_stretch() {
+        let q = mat(
+            Model::Quartic {
+                coefficients_pa: vec![1.0e6, 2.0e6],
+                strain_range: [0.0, 1.0],
+                strain_measure: StrainMeasure::Engineering,
+            },
+            0.3,
+        );
+        let law = Law::new(&q).unwrap();
+        let (eps, e) = law.quartic_modulus(1.44, 1.0).unwrap();
+        assert!((eps - 0.2).abs() < 1e-12);
+        assert!((e - 1.4e6).abs() < 1e-6);
     }
 }

@@ -34,8 +34,8 @@
 //! use bulge::experiment::Specimen;
 //! use bulge::material::{Material, Model};
 //!
-//! let material = Material { model: Model::NeoHookean { c1_pa: 1.0e5 }, poisson: 0.5, fit: None };
-//! let specimen = Specimen { radius_m: 0.0375, thickness_m: 3.5e-4, poisson: 0.5, prebulge_height_m: 0.0 };
+//! let material = Material { model: Model::NeoHookean { c1_pa: 1.0e5 }, poisson: 0.45, fit: None };
+//! let specimen = Specimen { radius_m: 0.0375, thickness_m: 3.5e-4, poisson: 0.45, prebulge_height_m: 0.0 };
 //! let sol = solve_pole_stretch(&material, &specimen, 1.2, &Options::default()).unwrap();
 //! // NOTES section 3: P = p a / (C1 t) = 1.99850, h/a = 0.53098.
 //! let p_dimless = sol.pressure_pa * 0.0375 / (1.0e5 * 3.5e-4);
@@ -381,8 +381,8 @@ impl<'a> Ctx<'a> {
         let root = roots::brent_zero(&mut g, lo.0, lo.1, hi.0, hi.1, tol * lo.0, tol, budget)?;
         if !root.converged {
             return Err(AxisymError::NoConvergence(format!(
-                "the pressure at pole stretch {l0} did not converge in {budget} shots (residual {:.3e})",
-                root.fx
+                "the pressure at pole stretch {l0} did not converge in {} shots (residual {:.3e})",
+                root.evals, root.fx
             )));
         }
         let shot = last
@@ -398,8 +398,8 @@ impl<'a> Ctx<'a> {
     /// tolerances, until it passes `target` (bracket), falls (limit point) or
     /// reaches `max_pole_stretch`.
     fn walk(&self, target: Option<f64>) -> Result<WalkEnd, AxisymError> {
-        let tol = self.opts.tol.max(1e-7);
-        let rtol = self.opts.rel_tol.max(1e-8);
+        let tol = self.opts.tol.max(1e-6);
+        let rtol = self.opts.rel_tol.max(1e-7);
         let top = self.opts.max_pole_stretch - 1.0;
         let sample = |d: f64, guess: Option<f64>| -> Result<Sample, AxisymError> {
             let l0 = 1.0 + d;

@@ -106,6 +106,7 @@ fn lin<const N: usize>(y: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) -> [f64
 /// ends the run early when it returns true. `outputs` (increasing, inside
 /// `(x0, x1]`) are hit exactly by shortening steps; `record(x, y)` is called
 /// at each of them.
+#[allow(clippy::too_many_arguments)]
 pub fn integrate<const N: usize>(
     mut f: impl FnMut(f64, &[f64; N]) -> Option<[f64; N]>,
     x0: f64,

@@ -75,6 +75,8 @@ pub struct Point {
     pub x: f64,
     pub l1: f64,
     pub l2: f64,
+    /// Meridian angle (read by the equilibrium test).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub psi: f64,
     pub d: f64,
 }
@@ -130,7 +132,7 @@ impl Membrane<'_> {
     fn series(&self, l0: f64, pi: f64) -> Option<Series> {
         let Stress { p, dp } = self.law.stress(l0, l0)?;
         let s = p[0];
-        if !(s > 0.0) {
+        if s.is_nan() || s <= 0.0 {
             return None;
         }
         let k = pi * l0 * l0 / (2.0 * s);
@@ -241,7 +243,7 @@ impl Membrane<'_> {
             let f = th.sin() / th - target;
             let df = (th * th.cos() - th.sin()) / (th * th);
             let step = f / df;
-            th = (th - step).clamp(1e-8, 3.14);
+            th = (th - step).clamp(1e-8, std::f64::consts::PI - 1e-3);
             if step.abs() < 1e-12 {
                 break;
             }

@@ -284,7 +284,7 @@ fn softening_quartic_has_a_limit_point() {
     let m = mat(
         Model::Quartic {
             coefficients_pa: vec![1.0e6, -3.0e6],
-            strain_range: [0.0, 0.2],
+            strain_range: [0.0, 0.5],
             strain_measure: StrainMeasure::Engineering,
         },
         0.45,
@@ -317,15 +317,74 @@ fn softening_quartic_has_a_limit_point() {
     }
 }
 
+/// Hard cases on the pressure axis: a deflection of h/a = 3e-3 (P = 1e-6)
+/// matches Hencky's K(1/2) to the (w0/a)^2 size of its neglected terms, and a
+/// pressure 1e-5 below the neo-Hookean maximum still lands on the rising
+/// branch.
+#[test]
+fn tiny_and_near_limit_pressures() {
+    let o = Options::default();
+    let s = solve_pressure(&neo(), &specimen(), 1e-6 * C1 * T / A, &o).unwrap();
+    let hencky = 0.59488 * (1e-6f64 / 6.0).cbrt();
+    assert!(
+        rel(s.height_m / A, hencky) < 1e-4,
+        "{} vs {hencky}",
+        s.height_m / A
+    );
+    let p_max = 3.758347 * C1 * T / A;
+    let s = solve_pressure(&neo(), &specimen(), (1.0 - 1e-5) * p_max, &o).unwrap();
+    assert!(
+        s.pole_stretch > 2.15 && s.pole_stretch < 2.196,
+        "{}",
+        s.pole_stretch
+    );
+}
+
+/// Gent with Jm = 20 stiffens without bound towards its locking stretch
+/// (equibiaxial I1 - 3 = Jm at l = 3.39): every pressure has a solution below
+/// it, and no pressure maximum exists before it.
+#[test]
+fn gent_locking_is_approached_not_crossed() {
+    let o = Options::default();
+    let gent = mat(
+        Model::Gent {
+            mu_pa: 2.0e5,
+            jm: 20.0,
+        },
+        0.45,
+    );
+    let s = solve_pressure(&gent, &specimen(), 1.0e5, &o).unwrap();
+    let i1 = 2.0 * s.pole_stretch.powi(2) + s.pole_stretch.powi(-4) - 3.0;
+    assert!(
+        i1 < 20.0 && s.pole_stretch > 3.0,
+        "l0 {} I1-3 {i1}",
+        s.pole_stretch
+    );
+    assert!(limit_point(&gent, &specimen(), &o).unwrap().is_none());
+}
+
 /// Vertical equilibrium of the cap cut at radius r, a first integral that
 /// the ODE does not use: `2 t P1 sin psi = p r l2^2`, and the geometry of the
 /// profile: rho = r l2, z(a) = 0, z(0) = h, l2(a) = 1, arc length of the
 /// polyline = integral of l1.
 #[test]
 fn profile_satisfies_global_equilibrium_and_geometry() {
-    let m = neo();
-    let ctx = Ctx::new(&m, &specimen(), &Options::default()).unwrap();
-    for l0 in [1.05, 1.6, 2.4] {
+    let quartic = mat(
+        Model::Quartic {
+            coefficients_pa: vec![1.6e6, -2.4e6, 2.0e6, -0.6e6, 0.0],
+            strain_range: [0.0, 1.0],
+            strain_measure: StrainMeasure::Engineering,
+        },
+        0.45,
+    );
+    for (m, l0) in [
+        (neo(), 1.05),
+        (neo(), 1.6),
+        (neo(), 2.4),
+        (quartic.clone(), 1.3),
+        (quartic, 2.0),
+    ] {
+        let ctx = Ctx::new(&m, &specimen(), &Options::default()).unwrap();
         let sol = solve_pole_stretch(&m, &specimen(), l0, &Options::default()).unwrap();
         let pi = sol.pressure_pa * A / T;
         let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
@@ -453,14 +512,26 @@ fn profile_csv_has_the_columns() {
 #[ignore]
 fn print_check_table() {
     let o = Options::default();
-    for l0 in [1.01, 1.2, 2.0] {
+    let table = [
+        (1.01, 0.05138, 0.12361, 0.05666, 0.12367),
+        (1.20, 1.99850, 0.53098, 2.30046, 0.53663),
+        (2.00, 3.73911, 1.08307, 4.94098, 1.16113),
+    ];
+    for (l0, p_nh, h_nh, p_mr, h_mr) in table {
         let a = solve_pole_stretch(&neo(), &specimen(), l0, &o).unwrap();
         let b = solve_pole_stretch(&mooney(), &specimen(), l0, &o).unwrap();
         let (pa, ha) = dimless(&a);
         let (pb, hb) = dimless(&b);
         println!(
-            "| {l0:.2} | {pa:.6} | {ha:.6} | {pb:.6} | {hb:.6} | shots {} {} res {:.1e} {:.1e}",
-            a.iterations, b.iterations, a.residual, b.residual
+            "| {l0:.2} | {pa:.7} ({:+.1e}) | {ha:.7} ({:+.1e}) | {pb:.7} ({:+.1e}) | {hb:.7} ({:+.1e}) | shots {} {} res {:.1e} {:.1e}",
+            pa / p_nh - 1.0,
+            ha / h_nh - 1.0,
+            pb / p_mr - 1.0,
+            hb / h_mr - 1.0,
+            a.iterations,
+            b.iterations,
+            a.residual,
+            b.residual
         );
     }
     let lp = limit_point(&neo(), &specimen(), &o).unwrap().unwrap();
@@ -469,6 +540,17 @@ fn print_check_table() {
         "limit: P {p:.6} l0 {:.6} h/a {h:.6} shots {}",
         lp.pole_stretch, lp.iterations
     );
+    let nh = neo();
+    let ctx = Ctx::new(&nh, &specimen(), &o).unwrap();
+    for l0 in [1.01, 1.2, 2.0, 4.0] {
+        let sol = solve_pole_stretch(&neo(), &specimen(), l0, &o).unwrap();
+        let pi = sol.pressure_pa * A / T;
+        let steps: Vec<usize> = [1e-6, 1e-8, 1e-10, 1e-12]
+            .iter()
+            .map(|&rt| ctx.mem.shoot(l0, pi, rt, &[], None).steps)
+            .collect();
+        println!("RK steps per shot at l0 {l0} (rel_tol 1e-6, 1e-8, 1e-10, 1e-12): {steps:?}");
+    }
     println!("Hencky, linear: relative error of w0 by w0/a");
     for (nu, k) in [
         (0.0, 0.71832),
@@ -565,7 +647,7 @@ fn print_hard_cases() {
     let bad = mat(
         Model::Quartic {
             coefficients_pa: vec![1.0e6, -3.0e6],
-            strain_range: [0.0, 0.2],
+            strain_range: [0.0, 0.5],
             strain_measure: StrainMeasure::Engineering,
         },
         0.45,

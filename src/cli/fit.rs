@@ -10,7 +10,7 @@
 //! refused.
 
 use super::{Classify, Failure};
-use crate::fit::data::{self, Loaded, LoadOptions, ModulusConvention, Source};
+use crate::fit::data::{self, LoadOptions, Loaded, ModulusConvention, Source};
 use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
 use crate::fit::quartic::{self, PolyFit};
 use crate::fit::{FitError, StressMeasure};
@@ -191,7 +191,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         )));
     }
     if args.samples < 2 {
-        return Err(Failure::BadInput(anyhow!("--samples {} must be at least 2", args.samples)));
+        return Err(Failure::BadInput(anyhow!(
+            "--samples {} must be at least 2",
+            args.samples
+        )));
     }
     let table = Table::read(&args.input)?;
     let opts = LoadOptions {
@@ -201,7 +204,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         modulus: args.modulus,
     };
     let loaded = data::load(&table, &opts)?;
-    let mod_std = table.optional_numbers("secant_modulus_pa_std")?;
+    // `bulge stress` writes the uncertainty of `secant_modulus_pa` as
+    // `secant_modulus_std_pa` (unit last); drawn as error bars.
+    let mod_std = match table.optional_numbers("secant_modulus_std_pa")? {
+        Some(v) => Some(v),
+        None => table.optional_numbers("secant_modulus_pa_std")?,
+    };
     let product = match args.model {
         ModelArg::Quartic => quartic_product(&args, &loaded, mod_std)?,
         ModelArg::All => all_product(&args, &loaded)?,
@@ -213,7 +221,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
                 ModelArg::Ogden => Kind::Ogden(args.ogden_terms),
                 _ => Kind::Gent,
             };
-            let fit = hyperelastic::fit(kind, &loaded.equibiaxial).map_err(|e| classify(&args.input, e))?;
+            let fit = hyperelastic::fit(kind, &loaded.equibiaxial)
+                .map_err(|e| classify(&args.input, e))?;
             hyper_product(&args, &loaded, vec![fit], 0)
         }
     };
@@ -225,7 +234,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
         (Some(product.figure.to_svg().failed()?), true)
     };
     let out = Outputs::new(&args.output);
-    let write = |p: &Path, b: &[u8]| write_atomic(p, b).map_err(|e| anyhow!("cannot write {}: {e}", p.display()));
+    let write = |p: &Path, b: &[u8]| {
+        write_atomic(p, b).map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
+    };
     write(&out.material, toml_text.as_bytes()).failed()?;
     write(&out.curve, &product.curve.into_bytes()).failed()?;
     write(&out.residuals, &product.residuals.into_bytes()).failed()?;
@@ -252,7 +263,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     }
     println!(
         "wrote {}",
-        written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        written
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     Ok(())
 }
@@ -268,7 +283,11 @@ fn classify(input: &Path, e: FitError) -> Failure {
 
 /// Stress display unit for data of magnitude `max`.
 fn stress_unit(max: f64) -> (f64, &'static str) {
-    if max >= 1e5 { (1e-6, "MPa") } else { (1e-3, "kPa") }
+    if max >= 1e5 {
+        (1e-6, "MPa")
+    } else {
+        (1e-3, "kPa")
+    }
 }
 
 fn strain_name(m: StrainMeasure) -> &'static str {
@@ -286,7 +305,9 @@ fn stretch_of_strain(m: StrainMeasure, e: f64) -> f64 {
 }
 
 fn grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    (0..n).map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64).collect()
+    (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect()
 }
 
 fn source_table(args: &Args, loaded: &Loaded) -> toml::Table {
@@ -303,7 +324,11 @@ fn source_table(args: &Args, loaded: &Loaded) -> toml::Table {
     t
 }
 
-fn quartic_product(args: &Args, loaded: &Loaded, mod_std: Option<Vec<Option<f64>>>) -> Result<Product, Failure> {
+fn quartic_product(
+    args: &Args,
+    loaded: &Loaded,
+    mod_std: Option<Vec<Option<f64>>>,
+) -> Result<Product, Failure> {
     let (strain, modulus) = loaded.modulus_points();
     let fit: PolyFit = quartic::fit(&strain, &modulus, args.degree).map_err(|e| match e {
         FitError::TooFewPoints { points, .. } => Failure::BadInput(anyhow!(
@@ -373,8 +398,16 @@ fn quartic_product(args: &Args, loaded: &Loaded, mod_std: Option<Vec<Option<f64>
         e_line.push((e, m));
         s_line.push((e, s));
     }
-    let mut residuals = CsvOut::new(&["line", "strain", "modulus_pa", "fit_modulus_pa", "residual_pa"]);
-    let used: Vec<usize> = (0..loaded.strain.len()).filter(|&i| loaded.modulus_pa[i].is_some()).collect();
+    let mut residuals = CsvOut::new(&[
+        "line",
+        "strain",
+        "modulus_pa",
+        "fit_modulus_pa",
+        "residual_pa",
+    ]);
+    let used: Vec<usize> = (0..loaded.strain.len())
+        .filter(|&i| loaded.modulus_pa[i].is_some())
+        .collect();
     for (j, &i) in used.iter().enumerate() {
         residuals.row(&[
             loaded.lines[i].to_string(),
@@ -388,33 +421,64 @@ fn quartic_product(args: &Args, loaded: &Loaded, mod_std: Option<Vec<Option<f64>
     // Plot: modulus, implied stress, residuals.
     let emax = modulus.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let (f, unit) = stress_unit(emax);
-    let smax = strain.iter().zip(&modulus).fold(0.0f64, |m, (e, v)| m.max((v * e / k).abs()));
+    let smax = strain
+        .iter()
+        .zip(&modulus)
+        .fold(0.0f64, |m, (e, v)| m.max((v * e / k).abs()));
     let (fs, sunit) = stress_unit(smax);
     let sc = |pts: &[(f64, f64)], f: f64| pts.iter().map(|&(x, y)| (x, y * f)).collect::<Vec<_>>();
     let data_pts: Vec<(f64, f64)> = strain.iter().zip(&modulus).map(|(&e, &m)| (e, m)).collect();
     let mut data_series = Series::scatter("secant modulus (data)", sc(&data_pts, f));
     if let Some(std) = mod_std {
-        let errs: Vec<f64> = used.iter().map(|&i| std[i].unwrap_or(f64::NAN) * f).collect();
+        let errs: Vec<f64> = used
+            .iter()
+            .map(|&i| std[i].unwrap_or(f64::NAN) * f)
+            .collect();
         data_series = data_series.with_errors(errs);
     }
     let strain_label = format!("{} strain (-)", strain_name(sm));
     let p1 = Panel::new(&strain_label, format!("secant modulus E ({unit})"))
         .with(data_series)
-        .with(Series::line(format!("E(eps), degree {}", args.degree), sc(&e_line, f)))
+        .with(Series::line(
+            format!("E(eps), degree {}", args.degree),
+            sc(&e_line, f),
+        ))
         .legend(LegendPosition::UpperRight)
         .weight(2.0);
-    let stress_pts: Vec<(f64, f64)> = strain.iter().zip(&modulus).map(|(&e, &m)| (e, m * e / k)).collect();
-    let p2 = Panel::new(&strain_label, format!("stress E eps / {} ({sunit})", if k == 1.0 { "1".to_string() } else { format!("(1 - {})", args.poisson) }))
-        .with(Series::scatter("data", sc(&stress_pts, fs)))
-        .with(Series::line("implied by the law", sc(&s_line, fs)))
-        .weight(2.0);
-    let res_pts: Vec<(f64, f64)> = strain.iter().zip(&fit.residuals_pa).map(|(&e, &r)| (e, r * f)).collect();
+    let stress_pts: Vec<(f64, f64)> = strain
+        .iter()
+        .zip(&modulus)
+        .map(|(&e, &m)| (e, m * e / k))
+        .collect();
+    let p2 = Panel::new(
+        &strain_label,
+        format!(
+            "stress E eps / {} ({sunit})",
+            if k == 1.0 {
+                "1".to_string()
+            } else {
+                format!("(1 - {})", args.poisson)
+            }
+        ),
+    )
+    .with(Series::scatter("data", sc(&stress_pts, fs)))
+    .with(Series::line("implied by the law", sc(&s_line, fs)))
+    .weight(2.0);
+    let res_pts: Vec<(f64, f64)> = strain
+        .iter()
+        .zip(&fit.residuals_pa)
+        .map(|(&e, &r)| (e, r * f))
+        .collect();
     let p3 = Panel::new(&strain_label, format!("residual ({unit})"))
         .with(Series::scatter("", res_pts).color(2))
         .zero_line()
         .weight(1.2);
     let figure = Figure::new(
-        format!("Secant modulus law, degree {} ({})", args.degree, file_name(&args.input)),
+        format!(
+            "Secant modulus law, degree {} ({})",
+            args.degree,
+            file_name(&args.input)
+        ),
         vec![p1, p2, p3],
     )
     .size(900, 1000);
@@ -428,9 +492,16 @@ fn quartic_product(args: &Args, loaded: &Loaded, mod_std: Option<Vec<Option<f64>
         strain_name(sm),
         args.modulus.name()
     ));
-    s.push_str(&format!("E(eps) = sum c_k eps^k, degree {}, strain range [{:.6}, {:.6}]\n", args.degree, lo, hi));
+    s.push_str(&format!(
+        "E(eps) = sum c_k eps^k, degree {}, strain range [{:.6}, {:.6}]\n",
+        args.degree, lo, hi
+    ));
     for (i, c) in fit.coefficients_pa.iter().enumerate() {
-        let se = fit.std_errors_pa.as_ref().map(|s| format!(" +- {:.4e}", s[i])).unwrap_or_default();
+        let se = fit
+            .std_errors_pa
+            .as_ref()
+            .map(|s| format!(" +- {:.4e}", s[i]))
+            .unwrap_or_default();
         s.push_str(&format!("  c{i} = {c:.6e} Pa{se}\n"));
     }
     s.push_str(&format!(
@@ -464,8 +535,12 @@ fn all_product(args: &Args, loaded: &Loaded) -> Result<Product, Failure> {
     for kind in Kind::all() {
         match hyperelastic::fit(kind, &loaded.equibiaxial) {
             Ok(f) => fits.push(f),
-            Err(e @ FitError::TooFewPoints { .. }) => skipped.push(format!("{}: {e}", kind.label())),
-            Err(FitError::Solver(e)) => skipped.push(format!("{}: solver failed: {e}", kind.label())),
+            Err(e @ FitError::TooFewPoints { .. }) => {
+                skipped.push(format!("{}: {e}", kind.label()))
+            }
+            Err(FitError::Solver(e)) => {
+                skipped.push(format!("{}: solver failed: {e}", kind.label()))
+            }
             Err(e) => return Err(classify(&args.input, e)),
         }
     }
@@ -476,16 +551,26 @@ fn all_product(args: &Args, loaded: &Loaded) -> Result<Product, Failure> {
             skipped.join("; ")
         )));
     }
-    // Lowest AICc (AIC when undefined) among Drucker-stable fits, else overall.
-    let score = |f: &HyperFit| f.stats.aicc.unwrap_or(f.stats.aic);
+    // Lowest AICc among Drucker-stable fits, else overall. A model with
+    // n <= k + 1 has no AICc (it can interpolate the data): it ranks after
+    // every model that has one, by AIC among its kind.
+    let score = |f: &HyperFit| match f.stats.aicc {
+        Some(a) => (0, a),
+        None => (1, f.stats.aic),
+    };
     let pick = |stable_only: bool| {
         fits.iter()
             .enumerate()
             .filter(|(_, f)| !stable_only || f.drucker.stable)
-            .min_by(|a, b| score(a.1).total_cmp(&score(b.1)))
+            .min_by(|a, b| {
+                let (sa, sb) = (score(a.1), score(b.1));
+                sa.0.cmp(&sb.0).then(sa.1.total_cmp(&sb.1))
+            })
             .map(|(i, _)| i)
     };
-    let best = pick(true).or_else(|| pick(false)).expect("at least one fit");
+    let best = pick(true)
+        .or_else(|| pick(false))
+        .expect("at least one fit");
     let mut p = hyper_product(args, loaded, fits, best);
     for s in skipped {
         p.warnings.push(format!("skipped {s}"));
@@ -522,7 +607,10 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
     }
 
     let mut ft = source_table(args, loaded);
-    ft.insert("data".into(), format!("stretch, {}", loaded.stress_column).into());
+    ft.insert(
+        "data".into(),
+        format!("stretch, {}", loaded.stress_column).into(),
+    );
     ft.insert("stress_measure".into(), measure.into());
     ft.insert("fitted".into(), chosen.kind.label().into());
     ft.insert("points".into(), (chosen.stats.n as i64).into());
@@ -546,7 +634,10 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
     );
     ft.insert("starts".into(), (chosen.starts as i64).into());
     if fits.len() > 1 {
-        ft.insert("selected_by".into(), "lowest AICc among the Drucker-stable fits".into());
+        ft.insert(
+            "selected_by".into(),
+            "lowest AICc among the Drucker-stable fits".into(),
+        );
     }
     ft.insert(
         "warnings".into(),
@@ -568,23 +659,33 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
         for &l in &ls {
             c.row(&[
                 fmt_num(Some(l)),
-                fmt_num(Some(h.equibiaxial_nominal(l))),
-                fmt_num(Some(h.equibiaxial_cauchy(l))),
+                fmt_num(Some(h.equibiaxial_nominal(l) + 0.0)),
+                fmt_num(Some(h.equibiaxial_cauchy(l) + 0.0)),
             ]);
         }
         c
     } else {
         let mut header = vec!["stretch".to_string()];
-        header.extend(fits.iter().map(|f| format!("{}_{measure}_stress_pa", label_column(&f.kind))));
+        header.extend(
+            fits.iter()
+                .map(|f| format!("{}_{measure}_stress_pa", label_column(&f.kind))),
+        );
         let mut c = CsvOut::new(&header);
         for &l in &ls {
             let mut row = vec![fmt_num(Some(l))];
-            row.extend(fits.iter().map(|f| fmt_num(Some(data.predict(&f.model, l)))));
+            row.extend(
+                fits.iter()
+                    .map(|f| fmt_num(Some(data.predict(&f.model, l) + 0.0))),
+            );
             c.row(&row);
         }
         c
     };
-    let mut header = vec!["line".to_string(), "stretch".into(), format!("{measure}_stress_pa")];
+    let mut header = vec![
+        "line".to_string(),
+        "stretch".into(),
+        format!("{measure}_stress_pa"),
+    ];
     for f in &fits {
         header.push(format!("{}_residual_pa", label_column(&f.kind)));
     }
@@ -602,7 +703,16 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
     // Comparison table.
     let models = (fits.len() > 1).then(|| {
         let mut c = CsvOut::new(&[
-            "model", "parameters", "points", "rmse_pa", "r2", "aic", "aicc", "drucker_stable", "selected", "values",
+            "model",
+            "parameters",
+            "points",
+            "rmse_pa",
+            "r2",
+            "aic",
+            "aicc",
+            "drucker_stable",
+            "selected",
+            "values",
         ]);
         for (i, f) in fits.iter().enumerate() {
             c.row(&[
@@ -615,7 +725,11 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
                 fmt_num(f.stats.aicc),
                 f.drucker.stable.to_string(),
                 (i == best).to_string(),
-                f.params.iter().map(|p| format!("{}={}", p.name, p.value)).collect::<Vec<_>>().join(" "),
+                f.params
+                    .iter()
+                    .map(|p| format!("{}={}", p.name, p.value))
+                    .collect::<Vec<_>>()
+                    .join(" "),
             ]);
         }
         c
@@ -629,22 +743,63 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
         .flat_map(|f| f.residuals_pa.iter())
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let (fr, runit) = stress_unit(rmax * 10.0);
-    let pts: Vec<(f64, f64)> = data.stretch.iter().zip(&data.stress_pa).map(|(&l, &s)| (l, s * f)).collect();
-    let mut p1 = Panel::new("equibiaxial stretch (-)", format!("{measure} stress ({unit})"))
-        .with(Series::scatter("data", pts).color(0))
-        .weight(2.0);
-    let mut p2 = Panel::new("equibiaxial stretch (-)", format!("residual, data - model ({runit})")).zero_line();
+    let pts: Vec<(f64, f64)> = data
+        .stretch
+        .iter()
+        .zip(&data.stress_pa)
+        .map(|(&l, &s)| (l, s * f))
+        .collect();
+    let mut p1 = Panel::new(
+        "equibiaxial stretch (-)",
+        format!("{measure} stress ({unit})"),
+    )
+    .with(Series::scatter("data", pts).color(0))
+    .weight(2.0);
+    let mut p2 = Panel::new(
+        "equibiaxial stretch (-)",
+        format!("residual, data - model ({runit})"),
+    )
+    .zero_line();
     for (k, fit) in fits.iter().enumerate() {
-        let line: Vec<(f64, f64)> = ls.iter().map(|&l| (l, data.predict(&fit.model, l) * f)).collect();
-        let name = format!("{} (RMSE {:.3} {unit})", fit.kind.label(), fit.stats.rmse * f);
+        let line: Vec<(f64, f64)> = ls
+            .iter()
+            .map(|&l| (l, data.predict(&fit.model, l) * f))
+            .collect();
+        let name = format!(
+            "{} (RMSE {:.3} {unit})",
+            fit.kind.label(),
+            fit.stats.rmse * f
+        );
         p1 = p1.with(Series::line(name, line).color(k + 1));
-        let res: Vec<(f64, f64)> = data.stretch.iter().zip(&fit.residuals_pa).map(|(&l, &r)| (l, r * fr)).collect();
-        p2 = p2.with(Series::scatter(if fits.len() > 1 { String::new() } else { fit.kind.label() }, res).color(k + 1));
+        let res: Vec<(f64, f64)> = data
+            .stretch
+            .iter()
+            .zip(&fit.residuals_pa)
+            .map(|(&l, &r)| (l, r * fr))
+            .collect();
+        p2 = p2.with(
+            Series::scatter(
+                if fits.len() > 1 {
+                    String::new()
+                } else {
+                    fit.kind.label()
+                },
+                res,
+            )
+            .color(k + 1),
+        );
     }
     let title = if fits.len() == 1 {
-        format!("{} fit, equibiaxial ({})", chosen.kind.label(), file_name(&args.input))
+        format!(
+            "{} fit, equibiaxial ({})",
+            chosen.kind.label(),
+            file_name(&args.input)
+        )
     } else {
-        format!("Hyperelastic models, equibiaxial ({})", file_name(&args.input))
+        format!(
+            "Hyperelastic models, equibiaxial ({})",
+            file_name(&args.input)
+        )
     };
     let figure = Figure::new(title, vec![p1, p2]).size(900, 800);
 
@@ -668,15 +823,29 @@ fn hyper_product(args: &Args, loaded: &Loaded, fits: Vec<HyperFit>, best: usize)
                 f.stats.rmse,
                 f.stats.r2,
                 f.stats.aic,
-                f.stats.aicc.map(|a| format!("{a:.2}")).unwrap_or_else(|| "-".into()),
-                if f.drucker.stable { "stable" } else { "UNSTABLE" },
-                if i == best { "  <- selected (lowest AICc, stable)" } else { "" }
+                f.stats
+                    .aicc
+                    .map(|a| format!("{a:.2}"))
+                    .unwrap_or_else(|| "-".into()),
+                if f.drucker.stable {
+                    "stable"
+                } else {
+                    "UNSTABLE"
+                },
+                if i == best {
+                    "  <- selected (lowest AICc, stable)"
+                } else {
+                    ""
+                }
             ));
         }
     }
     s.push_str(&format!("{}:\n", chosen.kind.label()));
     for p in &chosen.params {
-        let se = p.std_error.map(|e| format!(" +- {e:.4e}")).unwrap_or_default();
+        let se = p
+            .std_error
+            .map(|e| format!(" +- {e:.4e}"))
+            .unwrap_or_default();
         s.push_str(&format!("  {} = {:.6e}{se}\n", p.name, p.value));
     }
     s.push_str(&format!(

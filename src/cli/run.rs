@@ -1,14 +1,749 @@
-//! `bulge run`.
+//! `bulge run`: the whole pipeline on an experiment file, with the comparison
+//! report. Chains the library stages of [`crate::report::pipeline`] (track,
+//! stress, fit, simulate) and writes each stage's outputs whole as soon as
+//! the stage is done, so that a failed stage leaves the earlier outputs and
+//! a message naming the stage.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::anyhow;
+use serde::Deserialize;
 
 use super::Failure;
+use crate::experiment::Experiment;
+use crate::io::write_atomic;
+use crate::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
+use crate::report::figures;
+use crate::report::html::{Picture, Report};
+use crate::report::pipeline::{
+    self, FitChoice, FitDetail, PipelineError, Settings, Stage, describe_stress, name,
+};
+use crate::report::plot::Figure;
+use crate::report::table::{self, Timing};
+use crate::sim::scene::{MeshSize, parse_pressures};
+use crate::sim::solve::Solver;
+use crate::sim::springs::SpringModel;
+use crate::track::annotate;
 
 /// Flags of `bulge run`.
+///
+/// Example: `bulge run data/demo/experiment.toml --out out/`
+///
+/// Every setting can also be given in the experiment file, in a `[run]` (or
+/// `[simulate]`) table with the flag's name in snake case, e.g.
+/// `models = ["tp", "van-gelder"]`, `pressures_pa = [5000, 7300]`,
+/// `accuracy = 0.005`, `fit = "quartic"`, `strain = "engineering"`; a flag
+/// overrides the file.
 #[derive(Debug, clap::Args)]
-pub struct Args {}
+#[command(
+    after_help = "Writes into --out: heights.csv, stress_strain.csv, material.toml, simulated.csv, \
+fit.svg/png, heights.svg/png, report.html, summary.md. Exit status 2 when an input is refused, 1 when a stage \
+fails; the outputs of the stages before it are kept and the message names the stage."
+)]
+pub struct Args {
+    /// The experiment file (TOML with [specimen], [photos], [calibration],
+    /// [pressure], and optionally [run] / [simulate] settings). Never
+    /// written to.
+    pub experiment: PathBuf,
+
+    /// Output folder (created if missing; files of the same names are
+    /// replaced). Required: bulge does not guess where to write.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Spring models to simulate, comma-separated: tp, tp-paper,
+    /// van-gelder, lloyd. Default tp,van-gelder (paper 000's comparison).
+    #[arg(long)]
+    pub models: Option<String>,
+
+    /// Leave out the exact axisymmetric reference of the fitted material
+    /// (solved by default beside the spring models: it tells the mesh and
+    /// spring-model error apart from the material-model error).
+    #[arg(long)]
+    pub no_axisym: bool,
+
+    /// Pressures to simulate, Pa, comma-separated, increasing. Default: the
+    /// measured pressures (so that every measured height gets a simulated one).
+    #[arg(long)]
+    pub pressures: Option<String>,
+
+    /// Mesh: wanted relative height error of the disc against the
+    /// mesh-converged spring model, e.g. 0.005. Default: the simulate stage's
+    /// default mesh (16 rings of the 60 degree sector, 153 nodes; about
+    /// 0.2 % by the simulate stage's convergence constant).
+    #[arg(long, conflicts_with = "nodes")]
+    pub accuracy: Option<f64>,
+
+    /// Mesh: about this many solved nodes (instead of --accuracy).
+    #[arg(long)]
+    pub nodes: Option<usize>,
+
+    /// Material model to fit: quartic (paper 000's secant modulus E(eps),
+    /// default: what the mass-spring models were designed for),
+    /// neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent.
+    #[arg(long)]
+    pub fit: Option<String>,
+
+    /// Degree of the polynomial E(eps) law (quartic only). Default 4; lowered
+    /// automatically to (points - 1) when there are fewer points.
+    #[arg(long)]
+    pub degree: Option<usize>,
+
+    /// Strain measure of the stress stage (`bulge stress --strain`):
+    /// engineering or log. Default engineering (closed-loop study in
+    /// docs/run.md).
+    #[arg(long, value_enum)]
+    pub strain: Option<StrainMeasure>,
+
+    /// True-stress convention (`bulge stress --true-stress`): paper or
+    /// incompressible. Default paper. Only matters with --modulus-stress true.
+    #[arg(long = "true-stress", value_enum)]
+    pub true_stress: Option<TrueStress>,
+
+    /// Secant modulus convention (`bulge stress --modulus`): biaxial
+    /// (1 - nu) S / eps or uniaxial S / eps. Default biaxial.
+    #[arg(long, value_enum)]
+    pub modulus: Option<Modulus>,
+
+    /// Stress S in the secant modulus (`bulge stress --modulus-stress`):
+    /// nominal, engineering or true. Default nominal.
+    #[arg(long = "modulus-stress", value_enum)]
+    pub modulus_stress: Option<ModulusStress>,
+
+    /// Quasi-static solver of the spring models: newton (default) or dr.
+    #[arg(long)]
+    pub solver: Option<String>,
+
+    /// Minimum template-match score of a frame (`bulge track --min-score`),
+    /// in [-1, 1]. Default 0.5.
+    #[arg(long)]
+    pub min_score: Option<f64>,
+
+    /// Leave frames below --min-score out instead of failing the track stage.
+    #[arg(long)]
+    pub skip_bad_frames: bool,
+}
+
+/// `[run]` / `[simulate]` table of the experiment file.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileSettings {
+    models: Option<Vec<String>>,
+    axisym: Option<bool>,
+    pressures_pa: Option<Vec<f64>>,
+    accuracy: Option<f64>,
+    nodes: Option<usize>,
+    fit: Option<String>,
+    degree: Option<usize>,
+    strain: Option<String>,
+    true_stress: Option<String>,
+    modulus: Option<String>,
+    modulus_stress: Option<String>,
+    solver: Option<String>,
+    min_score: Option<f64>,
+    skip_bad_frames: Option<bool>,
+}
+
+impl FileSettings {
+    fn merge(self, over: FileSettings) -> FileSettings {
+        FileSettings {
+            models: over.models.or(self.models),
+            axisym: over.axisym.or(self.axisym),
+            pressures_pa: over.pressures_pa.or(self.pressures_pa),
+            accuracy: over.accuracy.or(self.accuracy),
+            nodes: over.nodes.or(self.nodes),
+            fit: over.fit.or(self.fit),
+            degree: over.degree.or(self.degree),
+            strain: over.strain.or(self.strain),
+            true_stress: over.true_stress.or(self.true_stress),
+            modulus: over.modulus.or(self.modulus),
+            modulus_stress: over.modulus_stress.or(self.modulus_stress),
+            solver: over.solver.or(self.solver),
+            min_score: over.min_score.or(self.min_score),
+            skip_bad_frames: over.skip_bad_frames.or(self.skip_bad_frames),
+        }
+    }
+}
+
+fn file_settings(exp: &Experiment) -> anyhow::Result<FileSettings> {
+    let mut out = FileSettings::default();
+    for table in ["simulate", "run"] {
+        if let Some(v) = exp.other.get(table) {
+            let f: FileSettings = v.clone().try_into().map_err(|e: toml::de::Error| {
+                anyhow!("{}: [{table}]: {}", exp.path.display(), e.message())
+            })?;
+            out = out.merge(f);
+        }
+    }
+    Ok(out)
+}
+
+fn enum_value<T: clap::ValueEnum>(s: &str, key: &str, origin: &str) -> anyhow::Result<T> {
+    T::from_str(s, true).map_err(|_| {
+        let names: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value().map(|p| p.get_name().to_string()))
+            .collect();
+        anyhow!(
+            "{origin}: {key} = \"{s}\" is not one of {}",
+            names.join(", ")
+        )
+    })
+}
+
+/// Flags over the experiment file's `[run]`/`[simulate]` tables over the defaults.
+fn settings(args: &Args, exp: &Experiment) -> anyhow::Result<Settings> {
+    let f = file_settings(exp)?;
+    let origin = format!("{} [run]", exp.path.display());
+    let mut s = Settings::default();
+    let models: Option<Vec<String>> = match &args.models {
+        Some(m) => Some(m.split(',').map(|x| x.trim().to_string()).collect()),
+        None => f.models.clone(),
+    };
+    if let Some(m) = models {
+        s.models = m
+            .iter()
+            .map(|x| {
+                SpringModel::parse(x).ok_or_else(|| {
+                    anyhow!("models: `{x}` is not one of tp, tp-paper, van-gelder, lloyd")
+                })
+            })
+            .collect::<anyhow::Result<_>>()?;
+    }
+    s.axisym = !args.no_axisym && f.axisym.unwrap_or(true);
+    if s.models.is_empty() && !s.axisym {
+        return Err(anyhow!(
+            "nothing to simulate: give at least one model or keep the axisymmetric reference"
+        ));
+    }
+    s.pressures_pa = match &args.pressures {
+        Some(p) => Some(parse_pressures(p).map_err(|m| anyhow!("--pressures: {m}"))?),
+        None => f.pressures_pa.clone(),
+    };
+    if let Some(p) = &s.pressures_pa
+        && let Err(m) = crate::sim::scene::validate_pressures(p)
+    {
+        return Err(anyhow!("{origin}: pressures_pa: {m}"));
+    }
+    if let Some(a) = args.accuracy.or(f.accuracy) {
+        if !(a.is_finite() && a > 0.0 && a < 0.5) {
+            return Err(anyhow!(
+                "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
+            ));
+        }
+        s.mesh = Some(MeshSize::Accuracy(a));
+    } else if let Some(n) = args.nodes.or(f.nodes) {
+        if n < 3 {
+            return Err(anyhow!("nodes = {n}: ask for at least 3 nodes"));
+        }
+        s.mesh = Some(MeshSize::Nodes(n));
+    }
+    let degree = args.degree.or(f.degree).unwrap_or(4);
+    if !(1..=8).contains(&degree) {
+        return Err(anyhow!(
+            "degree = {degree}: use 1 to 8 (4 is the paper's quartic)"
+        ));
+    }
+    let fit = args
+        .fit
+        .clone()
+        .or(f.fit.clone())
+        .unwrap_or_else(|| "quartic".into());
+    s.fit = FitChoice::parse(&fit, degree).ok_or_else(|| {
+        anyhow!("fit = \"{fit}\" is not one of quartic, neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent")
+    })?;
+    s.stress.strain = match (args.strain, &f.strain) {
+        (Some(v), _) => v,
+        (None, Some(v)) => enum_value(v, "strain", &origin)?,
+        _ => s.stress.strain,
+    };
+    s.stress.true_stress = match (args.true_stress, &f.true_stress) {
+        (Some(v), _) => v,
+        (None, Some(v)) => enum_value(v, "true_stress", &origin)?,
+        _ => s.stress.true_stress,
+    };
+    s.stress.modulus = match (args.modulus, &f.modulus) {
+        (Some(v), _) => v,
+        (None, Some(v)) => enum_value(v, "modulus", &origin)?,
+        _ => s.stress.modulus,
+    };
+    s.stress.modulus_stress = match (args.modulus_stress, &f.modulus_stress) {
+        (Some(v), _) => v,
+        (None, Some(v)) => enum_value(v, "modulus_stress", &origin)?,
+        _ => s.stress.modulus_stress,
+    };
+    if let Some(v) = args.solver.clone().or(f.solver.clone()) {
+        s.solver = Solver::parse(&v)
+            .ok_or_else(|| anyhow!("solver = \"{v}\" is not one of newton, dr"))?;
+    }
+    if let Some(m) = args.min_score.or(f.min_score) {
+        if !(-1.0..=1.0).contains(&m) {
+            return Err(anyhow!(
+                "min_score = {m} is outside [-1, 1], the range of TM_CCOEFF_NORMED scores"
+            ));
+        }
+        s.track.min_score = m;
+    }
+    s.track.skip_bad_frames = args.skip_bad_frames || f.skip_bad_frames.unwrap_or(false);
+    Ok(s)
+}
+
+/// The settings as key/value pairs for the report.
+fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<(String, String)> {
+    let mesh = match s.mesh {
+        None => "default: 16 rings of the 60 degree sector".to_string(),
+        Some(MeshSize::Accuracy(a)) => format!("accuracy {a} (relative height error)"),
+        Some(MeshSize::Nodes(n)) => format!("about {n} nodes"),
+        Some(MeshSize::EdgeLength(h)) => format!("edge length {h} m"),
+    };
+    vec![
+        ("experiment".into(), exp.path.display().to_string()),
+        (
+            "track".into(),
+            format!(
+                "refine {}, min score {}, skip bad frames {}",
+                name(&s.track.refine),
+                s.track.min_score,
+                s.track.skip_bad_frames
+            ),
+        ),
+        ("stress".into(), describe_stress(&s.stress)),
+        ("fit".into(), s.fit.label()),
+        (
+            "simulate".into(),
+            format!(
+                "models {}{}, solver {}, tolerance {:e}",
+                s.models
+                    .iter()
+                    .map(|m| m.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if s.axisym {
+                    " + axisym (exact reference)"
+                } else {
+                    ""
+                },
+                s.solver.name(),
+                s.tolerance
+            ),
+        ),
+        ("mesh".into(), mesh),
+        (
+            "pressures simulated (Pa)".into(),
+            format!(
+                "{} {}",
+                if s.pressures_pa.is_some() {
+                    "given:"
+                } else {
+                    "the measured ones:"
+                },
+                pressures
+                    .iter()
+                    .map(|p| format!("{p:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+    ]
+}
+
+/// A failed stage: the message names it and says where the earlier outputs are.
+fn stage_failure(stage: Stage, out: &Path, e: PipelineError) -> Failure {
+    let bad = e.is_bad_input();
+    let msg = anyhow!(
+        "stage `{}` {}: {e} (the outputs of the earlier stages are kept in {})",
+        stage.name(),
+        if bad { "refused its input" } else { "failed" },
+        out.display()
+    );
+    if bad {
+        Failure::BadInput(msg)
+    } else {
+        Failure::Failed(msg)
+    }
+}
+
+fn write(stage: Stage, out: &Path, file: &str, bytes: &[u8]) -> Result<PathBuf, Failure> {
+    let p = out.join(file);
+    write_atomic(&p, bytes).map_err(|e| {
+        stage_failure(
+            stage,
+            out,
+            PipelineError::Output(format!("cannot write {}: {e}", p.display())),
+        )
+    })?;
+    Ok(p)
+}
+
+/// Writes a figure as SVG and PNG; returns the PNG bytes.
+fn write_figure(stage: Stage, out: &Path, stem: &str, fig: &Figure) -> Result<Vec<u8>, Failure> {
+    let err = |e: String| stage_failure(stage, out, PipelineError::Output(e));
+    let svg = fig.to_svg().map_err(|e| err(format!("{stem}.svg: {e}")))?;
+    write(stage, out, &format!("{stem}.svg"), svg.as_bytes())?;
+    let png = out.join(format!("{stem}.png"));
+    fig.write_png(&png).map_err(|e| err(e.to_string()))?;
+    std::fs::read(&png).map_err(|e| err(format!("cannot read back {}: {e}", png.display())))
+}
+
+/// Inputs are never written to: refuse an output folder that holds the
+/// experiment file or the photos.
+fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
+    let Ok(o) = out.canonicalize() else {
+        return Ok(());
+    };
+    let mut inputs = vec![exp.base_dir.clone()];
+    if let Some(p) = &exp.photos {
+        inputs.push(exp.resolve(&p.dir));
+    }
+    for i in inputs {
+        if i.canonicalize().is_ok_and(|i| i == o) {
+            return Err(Failure::BadInput(anyhow!(
+                "--out {} is the folder of the experiment's inputs: choose another folder (inputs are never overwritten)",
+                out.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn say(step: usize, stage: Stage, msg: &str) {
+    eprintln!("[{step}/5] {:<8} {msg}", stage.name());
+}
 
 /// Runs `bulge run`.
-pub fn run(_args: Args) -> Result<(), Failure> {
-    Err(Failure::Failed(anyhow::anyhow!(
-        "`bulge run` is not built yet"
-    )))
+pub fn run(args: Args) -> Result<(), Failure> {
+    let exp = Experiment::read(&args.experiment)?;
+    let s = settings(&args, &exp).map_err(Failure::BadInput)?;
+    refuse_input_folder(&exp, &args.out)?;
+    let out = args.out.as_path();
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::Failed(anyhow!("cannot create {}: {e}", out.display())))?;
+    let spec = exp.specimen;
+    let mut timings: Vec<Timing> = Vec::new();
+
+    // 1. track
+    let t = Instant::now();
+    let n_photos = exp
+        .photos
+        .as_ref()
+        .and_then(|p| crate::track::list_photos(&exp.resolve(&p.dir), &p.glob).ok())
+        .map_or(0, |v| v.len());
+    let pb = super::progress(n_photos as u64, "track");
+    let tracking = pipeline::track_stage(&exp, &s, &|| pb.inc(1)).map_err(|e| {
+        pb.finish_and_clear();
+        stage_failure(Stage::Track, out, e)
+    })?;
+    pb.finish_and_clear();
+    write(
+        Stage::Track,
+        out,
+        "heights.csv",
+        &tracking.csv().into_bytes(),
+    )?;
+    let secs = t.elapsed().as_secs_f64();
+    let n = tracking.tracked.rows.len();
+    let what = format!(
+        "{n} of {} photos ({}x{} px), {:.1} photos/s",
+        tracking.setup.frames.len(),
+        tracking.tracked.image_size[0],
+        tracking.tracked.image_size[1],
+        n as f64 / secs.max(1e-9)
+    );
+    say(1, Stage::Track, &format!("{what} -> heights.csv"));
+    for sk in &tracking.tracked.skipped {
+        eprintln!(
+            "         skipped frame {} ({}): score {:.3}",
+            sk.frame, sk.file, sk.score
+        );
+    }
+    timings.push(Timing {
+        stage: Stage::Track,
+        seconds: secs,
+        what,
+    });
+
+    // 2. stress
+    let t = Instant::now();
+    let stress = pipeline::stress_stage(&spec, &s, tracking.points())
+        .map_err(|e| stage_failure(Stage::Stress, out, e))?;
+    let labels: Vec<(usize, String)> = tracking
+        .tracked
+        .rows
+        .iter()
+        .map(|r| (r.frame, r.file.clone()))
+        .collect();
+    write(
+        Stage::Stress,
+        out,
+        "stress_strain.csv",
+        &stress.csv(Some(&labels)).into_bytes(),
+    )?;
+    let secs = t.elapsed().as_secs_f64();
+    let what = format!(
+        "{} points, {}",
+        stress.rows.len(),
+        describe_stress(&s.stress)
+    );
+    say(2, Stage::Stress, &format!("{what} -> stress_strain.csv"));
+    timings.push(Timing {
+        stage: Stage::Stress,
+        seconds: secs,
+        what,
+    });
+
+    // 3. fit
+    let t = Instant::now();
+    let mut fit_settings = s.clone();
+    if let FitChoice::Quartic(d) = s.fit {
+        let n_points = stress
+            .rows
+            .iter()
+            .filter(|r| r.value.secant_modulus_pa.is_some())
+            .count();
+        if n_points >= 2 && n_points <= d {
+            fit_settings.fit = FitChoice::Quartic(n_points - 1);
+            eprintln!(
+                "         only {n_points} points with a secant modulus: degree lowered from {d} to {}",
+                n_points - 1
+            );
+        }
+    }
+    let fit = pipeline::fit_stage(&spec, &fit_settings, &stress)
+        .map_err(|e| stage_failure(Stage::Fit, out, e))?;
+    let material_toml = toml::to_string(&fit.material).map_err(|e| {
+        stage_failure(
+            Stage::Fit,
+            out,
+            PipelineError::Output(format!("material.toml: {e}")),
+        )
+    })?;
+    let fit_fig = figures::fit(&fit);
+    // Draw before writing anything of this stage.
+    let fit_svg = fit_fig.to_svg().map_err(|e| {
+        stage_failure(
+            Stage::Fit,
+            out,
+            PipelineError::Output(format!("fit.svg: {e}")),
+        )
+    })?;
+    write(Stage::Fit, out, "material.toml", material_toml.as_bytes())?;
+    write(Stage::Fit, out, "fit.svg", fit_svg.as_bytes())?;
+    let fit_png = {
+        let p = out.join("fit.png");
+        fit_fig
+            .write_png(&p)
+            .map_err(|e| stage_failure(Stage::Fit, out, PipelineError::Output(e.to_string())))?;
+        std::fs::read(&p).unwrap_or_default()
+    };
+    let secs = t.elapsed().as_secs_f64();
+    let what = match &fit.detail {
+        FitDetail::Quartic(q) => format!(
+            "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
+            fit_settings.fit.label(),
+            q.stats.n,
+            q.stats.r2,
+            q.stats.rmse
+        ),
+        FitDetail::Hyper(h) => format!(
+            "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
+            h.kind.label(),
+            h.stats.n,
+            h.stats.r2,
+            h.stats.rmse
+        ),
+    };
+    say(
+        3,
+        Stage::Fit,
+        &format!("{what} -> material.toml, fit.svg, fit.png"),
+    );
+    for w in &fit.warnings {
+        eprintln!("         warning: {w}");
+    }
+    timings.push(Timing {
+        stage: Stage::Fit,
+        seconds: secs,
+        what,
+    });
+
+    // 4. simulate
+    let t = Instant::now();
+    let pressures = pipeline::pressures(&s, &stress.points);
+    let n_runs = s.models.len() + usize::from(s.axisym);
+    let pb = super::progress((n_runs * pressures.len()) as u64, "simulate");
+    let runs = pipeline::simulate_stage(&spec, &s, &fit.material, &pressures, &|| pb.inc(1))
+        .map_err(|e| {
+            pb.finish_and_clear();
+            stage_failure(Stage::Simulate, out, e)
+        })?;
+    pb.finish_and_clear();
+    write(
+        Stage::Simulate,
+        out,
+        "simulated.csv",
+        &pipeline::simulated_csv(&runs).into_bytes(),
+    )?;
+    let secs = t.elapsed().as_secs_f64();
+    let what = runs
+        .iter()
+        .map(|r| {
+            let solved = r.points.iter().filter(|p| p.height_m.is_some()).count();
+            let nodes = if r.nodes > 0 {
+                format!(", {} nodes", r.nodes)
+            } else {
+                String::new()
+            };
+            format!(
+                "{} {}/{} in {:.3} s{nodes}",
+                r.model,
+                solved,
+                r.points.len(),
+                r.wall_s
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    say(
+        4,
+        Stage::Simulate,
+        &format!("{} pressures: {what} -> simulated.csv", pressures.len()),
+    );
+    let notes: Vec<String> = runs
+        .iter()
+        .flat_map(|r| r.points.iter().filter_map(|p| p.note.clone()))
+        .collect();
+    for n in notes.iter().filter(|n| !n.starts_with("not solved")) {
+        eprintln!("         note: {n}");
+    }
+    timings.push(Timing {
+        stage: Stage::Simulate,
+        seconds: secs,
+        what,
+    });
+
+    // 5. report
+    let t = Instant::now();
+    let rows = pipeline::compare(&stress.points, &runs, &pressures);
+    let hfig = figures::heights(&stress.points, &runs, &rows);
+    let heights_png = write_figure(Stage::Report, out, "heights", &hfig)?;
+    let nrows = tracking.tracked.rows.len();
+    let mut picks = vec![0, nrows / 2, nrows - 1];
+    picks.dedup();
+    let mut photos = Vec::new();
+    for i in picks {
+        let r = &tracking.tracked.rows[i];
+        let png = annotate::annotated_png(&tracking.photo(i), &tracking.marks(i), 640)
+            .map_err(|e| stage_failure(Stage::Report, out, e.into()))?;
+        photos.push(Picture {
+            caption: format!(
+                "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",
+                r.frame,
+                r.file,
+                r.pressure_pa,
+                r.height_m * 1e3,
+                r.score
+            ),
+            png,
+        });
+    }
+    let secs = t.elapsed().as_secs_f64();
+    timings.push(Timing {
+        stage: Stage::Report,
+        seconds: secs,
+        what: format!(
+            "2 figures, {} annotated photos, report.html, summary.md",
+            photos.len()
+        ),
+    });
+    let mut experiment = vec![
+        ("file".to_string(), exp.path.display().to_string()),
+        ("free radius a".into(), format!("{} m", spec.radius_m)),
+        ("thickness t".into(), format!("{} m", spec.thickness_m)),
+        ("Poisson ratio".into(), format!("{}", spec.poisson)),
+        (
+            "pre-bulge height h0".into(),
+            format!("{} m", spec.prebulge_height_m),
+        ),
+        (
+            "photos".into(),
+            format!(
+                "{} tracked of {} ({}x{} px)",
+                nrows,
+                tracking.setup.frames.len(),
+                tracking.tracked.image_size[0],
+                tracking.tracked.image_size[1]
+            ),
+        ),
+        (
+            "metres per pixel".into(),
+            format!("{:.6e}", tracking.setup.calibration.metres_per_pixel),
+        ),
+    ];
+    if let (Some(lo), Some(hi)) = (
+        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::min),
+        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::max),
+    ) {
+        experiment.push(("pressure range".into(), format!("{lo:.1} to {hi:.1} Pa")));
+    }
+    let mut all_notes: Vec<String> = fit.warnings.iter().map(|w| format!("fit: {w}")).collect();
+    all_notes.extend(
+        notes
+            .iter()
+            .filter(|n| !n.starts_with("not solved"))
+            .cloned(),
+    );
+    let report = Report {
+        title: exp.path.display().to_string(),
+        experiment,
+        photos,
+        heights: Some(Picture {
+            caption: "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed); below, the relative error.".into(),
+            png: heights_png,
+        }),
+        fit: Some(Picture {
+            caption: "The fitted material: stress against strain, the secant modulus E(eps), and the residuals.".into(),
+            png: fit_png,
+        }),
+        material_toml: material_toml.clone(),
+        rows: rows.clone(),
+        runs: runs.clone(),
+        settings: settings_table(&s, &exp, &pressures),
+        timings: timings.clone(),
+        notes: all_notes.clone(),
+    };
+    let html = report.to_html();
+    let mut md = format!(
+        "# bulge run: {}\n\n## Measured against simulated apex heights\n\n",
+        exp.path.display()
+    );
+    md.push_str(&table::markdown(&rows, &runs));
+    md.push_str("\nRelative error = simulated / measured - 1.\n\n## Material\n\n```toml\n");
+    md.push_str(&material_toml);
+    md.push_str("```\n\n## Settings\n\n");
+    for (k, v) in settings_table(&s, &exp, &pressures) {
+        md.push_str(&format!("- {k}: {v}\n"));
+    }
+    md.push_str("\n## Time per stage\n\n");
+    md.push_str(&table::timings_markdown(&timings));
+    if !all_notes.is_empty() {
+        md.push_str("\n## Notes\n\n");
+        for n in &all_notes {
+            md.push_str(&format!("- {n}\n"));
+        }
+    }
+    write(Stage::Report, out, "report.html", html.as_bytes())?;
+    write(Stage::Report, out, "summary.md", md.as_bytes())?;
+    say(
+        5,
+        Stage::Report,
+        "heights.svg, heights.png, report.html, summary.md",
+    );
+
+    println!("\nMeasured against simulated apex heights (error = simulated / measured - 1):\n");
+    print!("{}", table::terminal(&rows, &runs));
+    println!("\nTime per stage:");
+    print!("{}", table::timings_terminal(&timings));
+    println!("\nwrote {}", out.join("report.html").display());
+    Ok(())
 }

@@ -37,9 +37,10 @@ pub struct Args {
     /// from the previous (e.g. 5000,7300,8940). Replaces the scene's list.
     #[arg(long)]
     pub pressures: Option<String>,
-    /// Spring models, comma-separated, one output row each per pressure:
+    /// Models, comma-separated, one output row each per pressure:
     /// tp (TP MSS force form, default), tp-paper (eq 11 with the eq 16
-    /// switch), van-gelder (eq 1), lloyd (eq 4).
+    /// switch), van-gelder (eq 1), lloyd (eq 4), axisym (the exact
+    /// axisymmetric membrane solution, disc only; solver `shooting`).
     #[arg(long, default_value = "tp")]
     pub model: String,
     /// Quasi-static solvers, comma-separated: newton (sparse LU, default) or
@@ -75,6 +76,10 @@ pub struct Args {
     /// Mesh the full disc instead of the 60 degree sector with mirror planes.
     #[arg(long)]
     pub full: bool,
+    /// With --model axisym: write the meridian profile at the last pressure
+    /// solved (r_m,rho_m,z_m,stretch_meridional,stretch_hoop) to this CSV.
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
     /// Density in kg/m^3 for the lumped masses (default: the scene's, else 1100).
     #[arg(long)]
     pub density: Option<f64>,
@@ -166,6 +171,89 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
     Ok(scene)
 }
 
+/// A model of the `--model` list.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Choice {
+    Spring(SpringModel),
+    Axisym,
+}
+
+fn parse_choice(s: &str) -> Option<Choice> {
+    if s.trim() == "axisym" {
+        Some(Choice::Axisym)
+    } else {
+        SpringModel::parse(s).map(Choice::Spring)
+    }
+}
+
+/// Rows of the exact axisymmetric solution at the scene's pressures.
+fn run_axisym(
+    scene: &Scene,
+    header_len: usize,
+    csv: &mut CsvOut,
+    table: &mut Vec<String>,
+    failures: &mut Vec<String>,
+    profile: Option<&Path>,
+    pb: &indicatif::ProgressBar,
+) -> Result<Option<CsvOut>, Failure> {
+    use crate::axisym::{self, AxisymError};
+    let SceneKind::Disc { radius_m } = scene.kind else {
+        return Err(Failure::BadInput(anyhow!(
+            "--model axisym solves the clamped disc only; this scene is a {}",
+            scene.kind.name()
+        )));
+    };
+    let specimen = crate::experiment::Specimen {
+        radius_m,
+        thickness_m: scene.thickness_m,
+        poisson: scene.material.poisson,
+        prebulge_height_m: 0.0,
+    };
+    let opts = axisym::Options::default();
+    let mut last = None;
+    for &p in &scene.pressures_pa {
+        let t0 = Instant::now();
+        let out = axisym::solve_pressure(&scene.material, &specimen, p, &opts);
+        let wall = t0.elapsed().as_secs_f64();
+        pb.inc(1);
+        match out {
+            Ok(sol) => {
+                let mut row = vec![
+                    fmt_num(Some(p)),
+                    fmt_num(Some(sol.height_m)),
+                    "axisym".to_string(),
+                    "shooting".to_string(),
+                    opts.n_profile.to_string(),
+                    sol.iterations.to_string(),
+                    format!("{:.3e}", sol.residual),
+                    format!("{wall:.4}"),
+                ];
+                row.resize(header_len, String::new());
+                csv.row(&row);
+                table.push(format!(
+                    "{:>10} {:>12.6e} {:>10} {:>7} {:>6} {:>9.2e} {:>8.3}",
+                    p, sol.height_m, "axisym", "shoot", sol.iterations, sol.residual, wall
+                ));
+                last = Some(sol);
+            }
+            Err(
+                e @ (AxisymError::Specimen(_)
+                | AxisymError::Material(_)
+                | AxisymError::Options(_)
+                | AxisymError::Pressure(_)),
+            ) => return Err(Failure::BadInput(anyhow!("axisym at {p} Pa: {e}"))),
+            Err(e) => {
+                failures.push(format!("axisym: {e}"));
+                break;
+            }
+        }
+    }
+    Ok(match (profile, last) {
+        (Some(_), Some(sol)) => Some(axisym::profile_csv(&sol)),
+        _ => None,
+    })
+}
+
 fn describe(mesh: &Mesh, scene: &Scene) -> String {
     let q = mesh.quality();
     let part = match (scene.kind, mesh.symmetry_copies) {
@@ -191,13 +279,26 @@ pub fn run(args: Args) -> Result<(), Failure> {
         return dynamic::run(args);
     }
     let scene = build_scene(&args).bad_input()?;
-    let models = parse_list(
+    let choices = parse_list(
         &args.model,
         "model",
-        "tp, tp-paper, van-gelder, lloyd",
-        SpringModel::parse,
+        "tp, tp-paper, van-gelder, lloyd, axisym",
+        parse_choice,
     )
     .bad_input()?;
+    let models: Vec<SpringModel> = choices
+        .iter()
+        .filter_map(|c| match c {
+            Choice::Spring(m) => Some(*m),
+            Choice::Axisym => None,
+        })
+        .collect();
+    let axisym = choices.contains(&Choice::Axisym);
+    if args.profile.is_some() && !axisym {
+        return Err(Failure::BadInput(anyhow!(
+            "--profile writes the axisym meridian: add axisym to --model"
+        )));
+    }
     let solvers = parse_list(&args.solver, "solver", "newton, dr", Solver::parse).bad_input()?;
     let mut opts = Options {
         tolerance: args.tolerance,
@@ -211,7 +312,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
     let mesh = scene
-        .build_mesh()
+        .build_mesh_for(&models)
         .context("building the mesh")
         .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
@@ -236,10 +337,20 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut table = Vec::new();
-    let pb = super::progress(
-        (models.len() * solvers.len() * scene.pressures_pa.len()) as u64,
-        "simulate",
-    );
+    let runs = models.len() * solvers.len() + usize::from(axisym);
+    let pb = super::progress((runs * scene.pressures_pa.len()) as u64, "simulate");
+    let mut profile_out = None;
+    if axisym {
+        profile_out = run_axisym(
+            &scene,
+            header.len(),
+            &mut csv,
+            &mut table,
+            &mut failures,
+            args.profile.as_deref(),
+            &pb,
+        )?;
+    }
     for &model in &models {
         for &solver in &solvers {
             let mut membrane = Membrane::new(
@@ -343,6 +454,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     csv.write(&args.output)
         .with_context(|| format!("writing {}", args.output.display()))
         .failed()?;
+    if let (Some(path), Some(prof)) = (&args.profile, profile_out) {
+        prof.write(path)
+            .with_context(|| format!("writing {}", path.display()))
+            .failed()?;
+    }
     for (path, text) in &vtks {
         write_atomic(path, text.as_bytes())
             .with_context(|| format!("writing {}", path.display()))

@@ -106,7 +106,7 @@ pub struct Args {
 
     /// Stress S in the secant modulus: `nominal` = lambda * pR/(2t), the
     /// force per unit reference area (first Piola-Kirchhoff; the same number
-    /// as eq 25), `engineering` = pR/(2t) (eq 18), or `true` = the
+    /// as eq 25), `stress` = pR/(2t) (eq 18, the `stress_pa` column), or `true` = the
     /// `--true-stress` value. Default nominal: the mass-spring models of
     /// `bulge simulate` carry forces on the reference mesh with stiffness
     /// proportional to E t (eqs 1, 10-17), so they reproduce the measured

@@ -142,7 +142,11 @@ pub fn load(t: &Table, opts: &LoadOptions) -> Result<Loaded, InputError> {
 fn increasing(t: &Table, v: &[f64], col: &str) -> Result<(), InputError> {
     for r in 1..v.len() {
         if v[r] <= v[r - 1] {
-            let what = if v[r] == v[r - 1] { "repeats" } else { "is smaller than" };
+            let what = if v[r] == v[r - 1] {
+                "repeats"
+            } else {
+                "is smaller than"
+            };
             return Err(t.error_at(
                 r,
                 col,
@@ -159,7 +163,11 @@ fn increasing(t: &Table, v: &[f64], col: &str) -> Result<(), InputError> {
     Ok(())
 }
 
-fn load_stress_stage(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, InputError> {
+fn load_stress_stage(
+    t: &Table,
+    stretch: Vec<f64>,
+    opts: &LoadOptions,
+) -> Result<Loaded, InputError> {
     let strain = t.numbers("strain")?;
     let stress = t.numbers("stress_pa")?;
     let modulus_pa = t
@@ -191,7 +199,10 @@ fn load_stress_stage(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result
             }
             m
         }
-        None => match (matches(StrainMeasure::Engineering), matches(StrainMeasure::Log)) {
+        None => match (
+            matches(StrainMeasure::Engineering),
+            matches(StrainMeasure::Log),
+        ) {
             (None, _) => StrainMeasure::Engineering,
             (Some(_), None) => StrainMeasure::Log,
             (Some(r), Some(_)) => {
@@ -286,7 +297,10 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
     };
     let stress_pa = t.numbers(&column)?;
     let strain_measure = opts.strain_measure.unwrap_or_default();
-    let strain: Vec<f64> = stretch.iter().map(|&l| strain_measure.of_stretch(l)).collect();
+    let strain: Vec<f64> = stretch
+        .iter()
+        .map(|&l| strain_measure.of_stretch(l))
+        .collect();
     let k = opts.modulus.factor(opts.poisson);
     let modulus_pa = stretch
         .iter()
@@ -307,7 +321,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
             stress_pa,
             measure,
         },
-        stress_column: format!("{column} ({})", measure.name()),
+        stress_column: column,
         strain,
         modulus_pa,
         strain_measure,
@@ -348,19 +362,35 @@ mod tests {
 
     #[test]
     fn raw_measure_from_column_name_and_errors_located() {
-        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n1.5,2\n2,3\n").unwrap();
+        let t = Table::parse(
+            Path::new("r.csv"),
+            b"stretch,nominal_stress_pa\n1,0\n1.5,2\n2,3\n",
+        )
+        .unwrap();
         let d = load(&t, &opts()).unwrap();
         assert_eq!(d.equibiaxial.measure, StressMeasure::Nominal);
         // Secant modulus from Cauchy stress: 0.55 * 1.5 * 2 / 0.5.
         assert!((d.modulus_pa[1].unwrap() - 3.3).abs() < 1e-12);
         assert!(d.modulus_pa[0].is_none());
-        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n1.5,2\n1.5,3\n").unwrap();
+        let t = Table::parse(
+            Path::new("r.csv"),
+            b"stretch,nominal_stress_pa\n1,0\n1.5,2\n1.5,3\n",
+        )
+        .unwrap();
         let e = load(&t, &opts()).unwrap_err().to_string();
         assert!(e.contains("r.csv, line 4") && e.contains("repeats"), "{e}");
-        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n1,0\n0.9,2\n").unwrap();
+        let t = Table::parse(
+            Path::new("r.csv"),
+            b"stretch,nominal_stress_pa\n1,0\n0.9,2\n",
+        )
+        .unwrap();
         let e = load(&t, &opts()).unwrap_err().to_string();
         assert!(e.contains("line 3") && e.contains("smaller"), "{e}");
-        let t = Table::parse(Path::new("r.csv"), b"stretch,nominal_stress_pa\n-1,0\n0.9,2\n").unwrap();
+        let t = Table::parse(
+            Path::new("r.csv"),
+            b"stretch,nominal_stress_pa\n-1,0\n0.9,2\n",
+        )
+        .unwrap();
         let e = load(&t, &opts()).unwrap_err().to_string();
         assert!(e.contains("line 2") && e.contains("not positive"), "{e}");
         let t = Table::parse(Path::new("r.csv"), b"stretch,stress_pa\n1,0\n1.2,2\n").unwrap();

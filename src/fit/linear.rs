@@ -72,8 +72,13 @@ pub fn solve(a: &DMatrix<f64>, y: &DVector<f64>) -> Result<LinearFit, LinearErro
     let sv = &svd.singular_values;
     let smax = sv.max();
     let smin = sv.min();
-    let condition_scaled = if smin > 0.0 { smax / smin } else { f64::INFINITY };
-    if !(smin > RANK_TOL * smax) {
+    let condition_scaled = if smin > 0.0 {
+        smax / smin
+    } else {
+        f64::INFINITY
+    };
+    let full_rank = smin > RANK_TOL * smax; // false for NaN too
+    if !full_rank {
         return Err(LinearError::RankDeficient {
             condition: condition_scaled,
         });
@@ -136,9 +141,15 @@ mod tests {
     fn dependent_columns_and_too_few_rows_are_refused() {
         let a = DMatrix::from_row_slice(3, 2, &[1.0, 2.0, 2.0, 4.0, 3.0, 6.0]);
         let y = DVector::from_vec(vec![1.0, 2.0, 3.0]);
-        assert!(matches!(solve(&a, &y), Err(LinearError::RankDeficient { .. })));
+        assert!(matches!(
+            solve(&a, &y),
+            Err(LinearError::RankDeficient { .. })
+        ));
         let a = DMatrix::from_row_slice(1, 2, &[1.0, 2.0]);
         let y = DVector::from_vec(vec![1.0]);
-        assert!(matches!(solve(&a, &y), Err(LinearError::Underdetermined { .. })));
+        assert!(matches!(
+            solve(&a, &y),
+            Err(LinearError::Underdetermined { .. })
+        ));
     }
 }

@@ -35,6 +35,9 @@ pub struct LevenbergMarquardt {
     pub grad_tol: f64,
     /// Stop when the step is below `step_tol * (|x| + step_tol)`.
     pub step_tol: f64,
+    /// Stop when an accepted step lowers the cost by less than this
+    /// fraction of it (progress along a flat valley that no longer matters).
+    pub cost_tol: f64,
     /// Stop after this many rejected trial steps in a row.
     pub max_rejections: usize,
     mu: f64,
@@ -48,6 +51,7 @@ impl Default for LevenbergMarquardt {
         Self {
             grad_tol: 1e-12,
             step_tol: 1e-12,
+            cost_tol: 1e-10,
             max_rejections: 40,
             mu: 1e-3,
             nu: 2.0,
@@ -110,9 +114,15 @@ where
         problem: &mut Problem<O>,
         mut state: LmState,
     ) -> Result<(LmState, Option<KV>), Error> {
-        let x = state.take_param().ok_or_else(|| Error::msg("LM: no parameters"))?;
-        let r = state.take_residuals().ok_or_else(|| Error::msg("LM: no residuals"))?;
-        let j = state.take_jacobian().ok_or_else(|| Error::msg("LM: no Jacobian"))?;
+        let x = state
+            .take_param()
+            .ok_or_else(|| Error::msg("LM: no parameters"))?;
+        let r = state
+            .take_residuals()
+            .ok_or_else(|| Error::msg("LM: no residuals"))?;
+        let j = state
+            .take_jacobian()
+            .ok_or_else(|| Error::msg("LM: no Jacobian"))?;
         let (n, p) = j.shape();
         let c0 = cost(&r);
         for (k, col) in j.column_iter().enumerate() {
@@ -150,7 +160,7 @@ where
                     self.mu *= (1.0f64 / 3.0).max(1.0 - (2.0 * rho - 1.0).powi(3));
                     self.nu = 2.0;
                     let jn = problem.jacobian(&xn)?;
-                    if (c0 - c1) <= 1e-15 * c0 {
+                    if (c0 - c1) <= self.cost_tol * c0 {
                         self.done = Some(TerminationReason::SolverConverged);
                     }
                     return Ok((state.param(xn).residuals(rn).jacobian(jn).cost(c1), None));
@@ -199,7 +209,9 @@ where
         .run()?;
     let mut state = res.state().clone();
     let iterations = state.get_iter();
-    let x = state.take_param().ok_or_else(|| Error::msg("LM: no result"))?;
+    let x = state
+        .take_param()
+        .ok_or_else(|| Error::msg("LM: no result"))?;
     let residuals = state
         .take_residuals()
         .ok_or_else(|| Error::msg("LM: no residuals"))?;
@@ -224,14 +236,21 @@ mod tests {
         type Param = DVector<f64>;
         type Output = DVector<f64>;
         fn apply(&self, p: &DVector<f64>) -> Result<DVector<f64>, Error> {
-            Ok(DVector::from_vec(vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]))
+            Ok(DVector::from_vec(vec![
+                10.0 * (p[1] - p[0] * p[0]),
+                1.0 - p[0],
+            ]))
         }
     }
     impl Jacobian for Rosen {
         type Param = DVector<f64>;
         type Jacobian = DMatrix<f64>;
         fn jacobian(&self, p: &DVector<f64>) -> Result<DMatrix<f64>, Error> {
-            Ok(DMatrix::from_row_slice(2, 2, &[-20.0 * p[0], 10.0, -1.0, 0.0]))
+            Ok(DMatrix::from_row_slice(
+                2,
+                2,
+                &[-20.0 * p[0], 10.0, -1.0, 0.0],
+            ))
         }
     }
 

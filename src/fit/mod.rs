@@ -49,7 +49,9 @@ impl StressMeasure {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FitError {
     /// Fewer points than parameters.
-    #[error("{points} data points cannot determine the {parameters} parameters of {model}: supply at least {parameters} points or choose a model with fewer parameters")]
+    #[error(
+        "{points} data points cannot determine the {parameters} parameters of {model}: supply at least {parameters} points or choose a model with fewer parameters"
+    )]
     TooFewPoints {
         /// The model.
         model: String,
@@ -75,7 +77,9 @@ pub enum FitError {
         value: f64,
     },
     /// The abscissa does not increase strictly.
-    #[error("point {index} ({value}) does not exceed the previous one ({previous}): abscissae must be strictly increasing without duplicates")]
+    #[error(
+        "point {index} ({value}) does not exceed the previous one ({previous}): abscissae must be strictly increasing without duplicates"
+    )]
     NotIncreasing {
         /// 0-based index of the offending point.
         index: usize,

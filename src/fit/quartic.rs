@@ -172,7 +172,8 @@ pub fn check_law(coefficients: &[f64], range: [f64; 2]) -> Vec<LawWarning> {
     for (from, to) in runs(&|x| eval(coefficients, x) <= 0.0) {
         out.push(LawWarning::NonPositiveModulus { from, to });
     }
-    for (from, to) in runs(&|x| eval(coefficients, x) + x * eval_derivative(coefficients, x) <= 0.0) {
+    for (from, to) in runs(&|x| eval(coefficients, x) + x * eval_derivative(coefficients, x) <= 0.0)
+    {
         out.push(LawWarning::StressNotIncreasing { from, to });
     }
     out
@@ -207,7 +208,11 @@ mod tests {
     #[test]
     fn other_degrees_recovered() {
         let strain: Vec<f64> = (0..12).map(|i| 0.05 * (i + 1) as f64).collect();
-        for c in [vec![2.0e6], vec![2.0e6, -3.0e5], vec![1.0e6, 2.0e5, 3.0e5, -1.0e5, 2.0e4, 5.0e3]] {
+        for c in [
+            vec![2.0e6],
+            vec![2.0e6, -3.0e5],
+            vec![1.0e6, 2.0e5, 3.0e5, -1.0e5, 2.0e4, 5.0e3],
+        ] {
             let e: Vec<f64> = strain.iter().map(|&x| eval(&c, x)).collect();
             let f = fit(&strain, &e, c.len() - 1).unwrap();
             for (got, want) in f.coefficients_pa.iter().zip(&c) {
@@ -239,7 +244,11 @@ mod tests {
     fn bad_inputs_refused() {
         assert!(matches!(
             fit(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0], 4),
-            Err(FitError::TooFewPoints { points: 3, parameters: 5, .. })
+            Err(FitError::TooFewPoints {
+                points: 3,
+                parameters: 5,
+                ..
+            })
         ));
         assert!(matches!(
             fit(&[0.1, 0.2, 0.2, 0.3, 0.4], &[1.0; 5], 1),
@@ -281,7 +290,10 @@ mod tests {
             for (got, want) in f.coefficients_pa.iter().zip(&expected) {
                 // Conditioning of the scaled Vandermonde matrix is ~1e3:
                 // agreement to 1e-9 of the largest coefficient is ~1e4 ulp.
-                assert!((got - want).abs() <= 1e-9 * scale, "degree {degree}: {got} vs {want}");
+                assert!(
+                    (got - want).abs() <= 1e-9 * scale,
+                    "degree {degree}: {got} vs {want}"
+                );
             }
         }
     }

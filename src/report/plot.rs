@@ -255,6 +255,33 @@ pub fn tick(v: f64) -> String {
     }
 }
 
+/// Tick label on an axis spanning `[lo, hi]`: as many decimals as the tick
+/// spacing (about a tenth of the span) needs, scientific notation when the
+/// axis values are very large or small, and "0" for round-off residues of
+/// zero.
+pub fn tick_in(v: f64, lo: f64, hi: f64) -> String {
+    let span = (hi - lo).abs();
+    if span.is_nan() || span <= 0.0 || !v.is_finite() {
+        return tick(v);
+    }
+    if v.abs() < 1e-9 * span {
+        return "0".into();
+    }
+    let step = span / 10.0;
+    let mag = lo.abs().max(hi.abs());
+    if !(1e-3..1e5).contains(&mag) {
+        let p = ((mag / step).log10().ceil() as i64).clamp(1, 6) as usize;
+        return format!("{v:.p$e}");
+    }
+    let decimals = (1 - step.log10().floor() as i64).clamp(0, 10) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 /// Colour-blind-safe palette (Okabe & Ito 2008, black first; its yellow,
 /// unreadable on white, replaced by dark red).
 pub const PALETTE: [RGBColor; 8] = [
@@ -305,7 +332,12 @@ impl Figure {
         let root = root
             .titled(&self.title, (FONT, 22).into_font())
             .map_err(draw_err)?;
-        let total: f64 = self.panels.iter().map(|p| p.weight.max(0.0)).sum::<f64>().max(1e-9);
+        let total: f64 = self
+            .panels
+            .iter()
+            .map(|p| p.weight.max(0.0))
+            .sum::<f64>()
+            .max(1e-9);
         let mut rest = root;
         for (k, panel) in self.panels.iter().enumerate() {
             let area = if k + 1 == self.panels.len() {
@@ -377,7 +409,10 @@ impl Figure {
     }
 }
 
-fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), PlotError> {
+fn draw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    panel: &Panel,
+) -> Result<(), PlotError> {
     let Some(((x0, x1), (y0, y1))) = panel.ranges() else {
         return Ok(());
     };
@@ -389,21 +424,26 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
     if let Some(t) = &panel.title {
         builder.caption(t, (FONT, 17).into_font());
     }
-    let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
+    let mut chart = builder
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(draw_err)?;
     chart
         .configure_mesh()
         .x_desc(panel.x_label.as_str())
         .y_desc(panel.y_label.as_str())
         .label_style((FONT, 13).into_font())
         .axis_desc_style((FONT, 15).into_font())
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| tick_in(*v, x0, x1))
+        .y_label_formatter(&|v| tick_in(*v, y0, y1))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(draw_err)?;
     if panel.zero_line {
         chart
-            .draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], RGBColor(150, 150, 150)))
+            .draw_series(LineSeries::new(
+                [(x0, 0.0), (x1, 0.0)],
+                RGBColor(150, 150, 150),
+            ))
             .map_err(draw_err)?;
     }
     let mut legend = false;
@@ -423,7 +463,14 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
                         .finite()
                         .filter_map(|(i, (x, y))| {
                             let e = err.get(i).copied().filter(|e| e.is_finite())?.abs();
-                            Some(ErrorBar::new_vertical(x, y - e, y, y + e, color.stroke_width(1), 6))
+                            Some(ErrorBar::new_vertical(
+                                x,
+                                y - e,
+                                y,
+                                y + e,
+                                color.stroke_width(1),
+                                6,
+                            ))
                         })
                         .collect();
                     chart.draw_series(bars).map_err(draw_err)?;
@@ -439,9 +486,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
                 Style::Scatter => anno
                     .label(s.name.as_str())
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled())),
-                _ => anno
-                    .label(s.name.as_str())
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))),
+                _ => anno.label(s.name.as_str()).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))
+                }),
             };
         }
     }
@@ -464,26 +511,45 @@ mod tests {
 
     fn figure() -> Figure {
         let fit = Panel::new("stretch (-)", "stress (MPa)")
-            .with(Series::scatter("data", vec![(1.0, 0.0), (1.5, 0.4), (2.0, 0.6)]).with_errors(vec![0.02, 0.03, f64::NAN]))
-            .with(Series::line("fit", vec![(1.0, 0.0), (1.5, 0.41), (2.0, 0.59)]))
+            .with(
+                Series::scatter("data", vec![(1.0, 0.0), (1.5, 0.4), (2.0, 0.6)])
+                    .with_errors(vec![0.02, 0.03, f64::NAN]),
+            )
+            .with(Series::line(
+                "fit",
+                vec![(1.0, 0.0), (1.5, 0.41), (2.0, 0.59)],
+            ))
             .with(Series::line("other", vec![(1.0, 0.0), (2.0, 0.7)]).dashed())
             .weight(2.0);
         let res = Panel::new("stretch (-)", "residual (kPa)")
-            .with(Series::scatter("", vec![(1.0, 0.0), (1.5, -10.0), (2.0, 10.0), (2.5, f64::NAN)]))
+            .with(Series::scatter(
+                "",
+                vec![(1.0, 0.0), (1.5, -10.0), (2.0, 10.0), (2.5, f64::NAN)],
+            ))
             .zero_line();
         Figure::new("Test figure", vec![fit, res])
     }
 
     #[test]
     fn font_registers() {
-        assert!(plotters::style::register_font("bulge-test", FontStyle::Normal, DEJAVU_SANS).is_ok());
+        assert!(
+            plotters::style::register_font("bulge-test", FontStyle::Normal, DEJAVU_SANS).is_ok()
+        );
     }
 
     #[test]
     fn svg_has_labels_and_series() {
         let svg = figure().to_svg().unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..100]);
-        for needle in ["Test figure", "stress (MPa)", "residual (kPa)", "data", "fit", "<circle", "<polyline"] {
+        for needle in [
+            "Test figure",
+            "stress (MPa)",
+            "residual (kPa)",
+            "data",
+            "fit",
+            "<circle",
+            "<polyline",
+        ] {
             assert!(svg.contains(needle), "missing {needle}");
         }
     }
@@ -500,7 +566,10 @@ mod tests {
 
     #[test]
     fn empty_figure_refused() {
-        let f = Figure::new("x", vec![Panel::new("a", "b").with(Series::line("n", vec![(f64::NAN, 1.0)]))]);
+        let f = Figure::new(
+            "x",
+            vec![Panel::new("a", "b").with(Series::line("n", vec![(f64::NAN, 1.0)]))],
+        );
         assert!(matches!(f.to_svg(), Err(PlotError::Empty)));
     }
 
@@ -511,5 +580,11 @@ mod tests {
         assert_eq!(tick(0.25), "0.25");
         assert_eq!(tick(1234.0), "1234");
         assert_eq!(tick(2.0e6), "2.00e6");
+        assert_eq!(tick_in(0.25, 0.0, 1.0), "0.25");
+        assert_eq!(tick_in(2.5, 0.0, 5.0), "2.5");
+        assert_eq!(tick_in(-2.78e-17, -0.2, 0.3), "0");
+        // Residuals of an exact fit: round-off sized, still distinguishable.
+        assert_eq!(tick_in(1.0e-16, -2.0e-16, 2.0e-16), "1.0e-16");
+        assert_eq!(tick_in(1.5e6, 0.0, 2.0e6), "1.5e6");
     }
 }

@@ -189,7 +189,7 @@ impl Mesh {
             let longest = (0..3)
                 .map(|k| (p[(k + 1) % 3] - p[k]).norm())
                 .fold(0.0_f64, f64::max);
-            if !(area > 1e-10 * longest * longest) {
+            if area.is_nan() || area <= 1e-10 * longest * longest {
                 return Err(SimError::DegenerateTriangle {
                     triangle: t,
                     nodes: *tri,
@@ -420,6 +420,7 @@ pub struct SphereOptions {
 }
 
 /// The sphere octant `x, y, z >= 0` with its three symmetry planes.
+#[allow(clippy::needless_range_loop)] // (i, j) are the grid coordinates
 pub fn sphere_segment(o: SphereOptions) -> Result<Mesh, SimError> {
     let n = o.divisions;
     if n < 2 {

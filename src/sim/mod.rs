@@ -17,15 +17,20 @@
 //!
 //! ```
 //! use bulge::material::{Material, Model};
-//! use bulge::sim::{mesh, solve, springs::{Membrane, SpringModel}};
+//! use bulge::sim::{mesh, scene::DiscPredictor, solve, springs::{Membrane, SpringModel}};
 //!
 //! let m = mesh::disc(mesh::DiscOptions { radius_m: 0.0375, rings: 6, sector: true }).unwrap();
 //! let mat = Material { model: Model::Linear { young_pa: 1.0e6 }, poisson: 0.45, fit: None };
 //! let mut membrane = Membrane::new(&m, SpringModel::Tp, &mat, 0.35e-3, 1100.0).unwrap();
+//! // a flat membrane has no stiffness out of its plane: start from Hencky's profile
+//! let guess = DiscPredictor { radius_m: 0.0375, young_pa: 1.0e6, thickness_m: 0.35e-3, poisson: 0.45 };
 //! let mut x = m.nodes.clone();
-//! let opts = solve::Options::default();
-//! let stats = solve::newton(&mut membrane, &mut x, 5000.0, &opts).unwrap();
-//! assert!(x[0].z > 0.005 && x[0].z < 0.04 && stats.residual < 1e-8);
+//! let mut workspace = None;
+//! let stats = solve::continuation(
+//!     &mut membrane, &m.nodes, &mut x, 0.0, 5000.0,
+//!     solve::Solver::Newton, &solve::Options::default(), &guess, &mut workspace,
+//! ).unwrap();
+//! assert!(x[0].z > 0.015 && x[0].z < 0.03 && stats.residual < 1e-8);
 //! ```
 
 pub mod dynamics;

@@ -34,6 +34,7 @@ use serde::Deserialize;
 use super::SimError;
 use super::mesh::{self, Corner, Mesh};
 use super::solve::Predictor;
+use super::springs::SpringModel;
 use crate::io::InputError;
 use crate::material::Material;
 
@@ -439,15 +440,20 @@ impl Scene {
         }
     }
 
-    /// Builds the mesh.
+    /// Builds the mesh (a requested accuracy is met for every spring model).
     pub fn build_mesh(&self) -> Result<Mesh, SimError> {
+        self.build_mesh_for(&[])
+    }
+
+    /// Builds the mesh; a requested accuracy is met for the given models.
+    pub fn build_mesh_for(&self, models: &[SpringModel]) -> Result<Mesh, SimError> {
         match self.kind {
             SceneKind::Disc { radius_m } => {
                 let sector = self.mesh.symmetry;
                 let rings = match self.mesh.size {
                     Some(MeshSize::EdgeLength(h)) => (radius_m / h).ceil() as usize,
                     Some(MeshSize::Nodes(n)) => mesh::disc_rings_for_nodes(n, sector),
-                    Some(MeshSize::Accuracy(a)) => disc_rings_for_accuracy(a),
+                    Some(MeshSize::Accuracy(a)) => disc_rings_for_accuracy(a, models),
                     None => DEFAULT_DISC_RINGS,
                 }
                 .clamp(1, 5000);
@@ -563,16 +569,33 @@ pub const DEFAULT_DISC_RINGS: usize = 16;
 /// Default divisions of the sphere octant's edges.
 pub const DEFAULT_SPHERE_DIVISIONS: usize = 16;
 
-/// Rings of the disc mesh for a relative height error `acc` against the
-/// mesh-converged height of the same spring model. The error of the ring mesh
-/// falls as `C / n^2`; `C` is the largest of the four models' constants
-/// measured in docs/simulate.md (mesh-convergence table).
-pub fn disc_rings_for_accuracy(acc: f64) -> usize {
-    (DISC_ERROR_CONSTANT / acc).sqrt().ceil() as usize
+/// Relative height error of the disc against the mesh-converged height of the
+/// same model, `C n^-1.7` for `n` rings. Measured (benches/sim.rs tables,
+/// docs/simulate.md) on the latex disc at 5000-8940 Pa (h/a = 0.6-0.8), as the
+/// largest error over the three pressures: TP MSS (and tp-paper)
+/// `C = 0.045`, Van Gelder `0.27`, Lloyd `0.5`.
+pub fn disc_error_constant(model: SpringModel) -> f64 {
+    match model {
+        SpringModel::Tp | SpringModel::TpPaper => 0.045,
+        SpringModel::VanGelder => 0.27,
+        SpringModel::Lloyd => 0.5,
+    }
 }
 
-/// `C` of the disc's height error `C / n^2` (see [`disc_rings_for_accuracy`]).
-pub const DISC_ERROR_CONSTANT: f64 = 0.5;
+/// Rings of the disc mesh for a relative height error `acc` (against the
+/// mesh-converged height of the same model) for every model in `models`
+/// (all four when empty): `n = (C / acc)^(1/1.7)`, at least 4.
+pub fn disc_rings_for_accuracy(acc: f64, models: &[SpringModel]) -> usize {
+    let c = if models.is_empty() {
+        &SpringModel::ALL[..]
+    } else {
+        models
+    }
+    .iter()
+    .map(|m| disc_error_constant(*m))
+    .fold(0.0, f64::max);
+    ((c / acc).powf(1.0 / 1.7).ceil() as usize).max(4)
+}
 
 /// First guesses for the disc: Hencky's profile at the first pressure, then
 /// the last displacement scaled by `(p1 / p0)^(1/3)` (membrane scaling).

@@ -8,7 +8,10 @@ use std::fs;
 use std::path::Path;
 
 fn treloar() -> String {
-    repo().join("data/treloar_equibiaxial.csv").display().to_string()
+    repo()
+        .join("data/treloar_equibiaxial.csv")
+        .display()
+        .to_string()
 }
 
 fn read_material(p: &Path) -> Material {
@@ -34,7 +37,18 @@ fn fit_rmse(m: &Material) -> f64 {
 #[test]
 fn treloar_all_models_writes_every_output() {
     let dir = tempdir();
-    let run = bulge_in(dir.path(), &["fit", &treloar(), "--model", "all", "-o", "out/treloar.toml"]).ok();
+    let run = bulge_in(
+        dir.path(),
+        &[
+            "fit",
+            &treloar(),
+            "--model",
+            "all",
+            "-o",
+            "out/treloar.toml",
+        ],
+    )
+    .ok();
     for name in [
         "treloar.toml",
         "treloar_curve.csv",
@@ -53,11 +67,26 @@ fn treloar_all_models_writes_every_output() {
     let table = fs::read_to_string(dir.path().join("out/treloar_models.csv")).unwrap();
     // Header plus the seven models, exactly one selected.
     assert_eq!(table.lines().count(), 8, "{table}");
-    assert_eq!(table.lines().filter(|l| l.contains(",true,true,")).count(), 1, "{table}");
+    assert_eq!(
+        table.lines().filter(|l| l.contains(",true,true,")).count(),
+        1,
+        "{table}"
+    );
     let png = fs::read(dir.path().join("out/treloar_fit.png")).unwrap();
     assert_eq!(&png[..4], b"\x89PNG");
-    for model in ["neo-hookean", "mooney-rivlin", "yeoh", "ogden-1", "ogden-2", "ogden-3", "gent"] {
-        assert!(run.stdout.contains(model), "{model} not in the comparison table");
+    for model in [
+        "neo-hookean",
+        "mooney-rivlin",
+        "yeoh",
+        "ogden-1",
+        "ogden-2",
+        "ogden-3",
+        "gent",
+    ] {
+        assert!(
+            run.stdout.contains(model),
+            "{model} not in the comparison table"
+        );
     }
 }
 
@@ -66,7 +95,19 @@ fn treloar_all_models_writes_every_output() {
 #[test]
 fn treloar_ogden3_beats_published_parameters() {
     let dir = tempdir();
-    bulge_in(dir.path(), &["fit", &treloar(), "--model", "ogden", "--ogden-terms", "3", "--no-plot"]).ok();
+    bulge_in(
+        dir.path(),
+        &[
+            "fit",
+            &treloar(),
+            "--model",
+            "ogden",
+            "--ogden-terms",
+            "3",
+            "--no-plot",
+        ],
+    )
+    .ok();
     let m = read_material(&dir.path().join("material.toml"));
     let Model::Ogden { mu_pa, alpha } = &m.model else {
         panic!("not ogden: {:?}", m.model)
@@ -83,14 +124,30 @@ fn treloar_ogden3_beats_published_parameters() {
 fn treloar_linear_models_match_independent_fit() {
     let r = reference();
     let dir = tempdir();
-    bulge_in(dir.path(), &["fit", &treloar(), "--model", "neo-hookean", "-o", "nh.toml"]).ok();
+    bulge_in(
+        dir.path(),
+        &["fit", &treloar(), "--model", "neo-hookean", "-o", "nh.toml"],
+    )
+    .ok();
     let Model::NeoHookean { c1_pa } = read_material(&dir.path().join("nh.toml")).model else {
         panic!("not neo-hookean")
     };
     let sig3 = |a: f64, b: f64| ((a - b) / b).abs() < 5e-4;
     assert!(sig3(c1_pa, r["neo_hookean_c1_pa"]), "{c1_pa}");
-    bulge_in(dir.path(), &["fit", &treloar(), "--model", "mooney-rivlin", "-o", "mr.toml"]).ok();
-    let Model::MooneyRivlin { c1_pa, c2_pa } = read_material(&dir.path().join("mr.toml")).model else {
+    bulge_in(
+        dir.path(),
+        &[
+            "fit",
+            &treloar(),
+            "--model",
+            "mooney-rivlin",
+            "-o",
+            "mr.toml",
+        ],
+    )
+    .ok();
+    let Model::MooneyRivlin { c1_pa, c2_pa } = read_material(&dir.path().join("mr.toml")).model
+    else {
         panic!("not mooney-rivlin")
     };
     assert!(sig3(c1_pa, r["mooney_rivlin_c1_pa"]), "{c1_pa}");
@@ -103,7 +160,11 @@ fn treloar_linear_models_match_independent_fit() {
 fn quartic_from_stress_strain_file_matches_fixture() {
     let dir = tempdir();
     let input = fixture("fit/noisy_quartic.csv").display().to_string();
-    let run = bulge_in(dir.path(), &["fit", &input, "--model", "quartic", "--poisson", "0.45"]).ok();
+    let run = bulge_in(
+        dir.path(),
+        &["fit", &input, "--model", "quartic", "--poisson", "0.45"],
+    )
+    .ok();
     assert!(run.stdout.contains("condition number"), "{}", run.stdout);
     let m = read_material(&dir.path().join("material.toml"));
     let Model::Quartic {
@@ -142,9 +203,16 @@ fn refused(content: &str, extra: &[&str], needles: &[&str]) {
     let mut args = vec!["fit", "in.csv"];
     args.extend_from_slice(extra);
     bulge_in(dir.path(), &args).bad_input(needles);
-    let left: Vec<_> = fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let left: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(left.len(), 1, "outputs written on refused input: {left:?}");
-    assert_eq!(fs::read_to_string(&input).unwrap(), content, "input modified");
+    assert_eq!(
+        fs::read_to_string(&input).unwrap(),
+        content,
+        "input modified"
+    );
 }
 
 #[test]
@@ -208,23 +276,44 @@ fn refuses_nan() {
     refused(
         "stretch,nominal_stress_pa\n1.0,0\n1.2,NaN\n1.3,3000\n",
         &["--model", "neo-hookean"],
-        &["in.csv", "line 3", "nominal_stress_pa", "`NaN` is not a finite number"],
+        &[
+            "in.csv",
+            "line 3",
+            "nominal_stress_pa",
+            "`NaN` is not a finite number",
+        ],
     );
 }
 
 #[test]
 fn refuses_empty_and_header_only_files() {
     refused("", &[], &["in.csv", "empty"]);
-    refused("stretch,nominal_stress_pa\n", &[], &["in.csv", "no data lines"]);
+    refused(
+        "stretch,nominal_stress_pa\n",
+        &[],
+        &["in.csv", "no data lines"],
+    );
 }
 
 #[test]
 fn refuses_bad_flags_and_missing_columns() {
     let ok = "stretch,nominal_stress_pa\n1,0\n1.1,1\n1.2,2\n1.3,3\n1.4,4\n1.5,5\n";
     refused(ok, &["--poisson", "0.5"], &["--poisson 0.5", "[0, 0.5)"]);
-    refused(ok, &["--model", "ogden", "--ogden-terms", "4"], &["--ogden-terms 4"]);
-    refused("stretch,force_n\n1,0\n1.1,1\n", &[], &["in.csv", "no stress column", "force_n"]);
-    refused("stretch,stress_pa\n1,0\n1.1,1\n", &[], &["in.csv", "--stress-measure"]);
+    refused(
+        ok,
+        &["--model", "ogden", "--ogden-terms", "4"],
+        &["--ogden-terms 4"],
+    );
+    refused(
+        "stretch,force_n\n1,0\n1.1,1\n",
+        &[],
+        &["in.csv", "no stress column", "force_n"],
+    );
+    refused(
+        "stretch,stress_pa\n1,0\n1.1,1\n",
+        &[],
+        &["in.csv", "--stress-measure"],
+    );
 }
 
 #[test]
@@ -246,6 +335,37 @@ fn help_documents_every_flag() {
         "mooney-rivlin",
         "Default 4",
     ] {
-        assert!(run.stdout.contains(flag), "--help lacks {flag}:\n{}", run.stdout);
+        assert!(
+            run.stdout.contains(flag),
+            "--help lacks {flag}:\n{}",
+            run.stdout
+        );
     }
+}
+
+/// A softening material (stress peaks inside the range): the law is
+/// accepted but every output says where it is unphysical.
+#[test]
+fn warns_where_the_law_is_unphysical() {
+    let dir = tempdir();
+    let mut csv = String::from("stretch,cauchy_stress_pa\n");
+    for i in 1..=10 {
+        let l = 1.0 + 0.1 * i as f64;
+        let s = 1.0e5 * (std::f64::consts::PI * (l - 1.0) / 1.2).sin();
+        csv.push_str(&format!("{l},{s}\n"));
+    }
+    fs::write(dir.path().join("soft.csv"), &csv).unwrap();
+    let run = bulge_in(
+        dir.path(),
+        &["fit", "soft.csv", "--model", "quartic", "--no-plot"],
+    )
+    .ok();
+    assert!(
+        run.stderr.contains("warning:") && run.stderr.contains("does not increase"),
+        "{}",
+        run.stderr
+    );
+    let m = read_material(&dir.path().join("material.toml"));
+    let w = m.fit.as_ref().unwrap()["warnings"].as_array().unwrap();
+    assert!(!w.is_empty());
 }

@@ -1,3 +1,371 @@
-//! Integration tests of `bulge run`.
-#![allow(unused_imports)]
-use crate::util;
+//! Integration tests of `bulge run`: the real binary on a small synthetic
+//! experiment written by `bulge synth` (6 noisy 320x240 photos of a
+//! Mooney-Rivlin bubble, a material the demo does not use) in a temporary
+//! folder: every output file, the error table, and what a failed stage
+//! leaves behind.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::path::Path;
+
+use bulge::material::{Material, Model};
+
+use crate::util::{bulge_in, tempdir};
+
+/// Writes the synthetic experiment into `dir/exp` and returns nothing; the
+/// truth is in `dir/exp/truth.csv`.
+fn synth(dir: &Path, frames: usize) {
+    fs::write(
+        dir.join("mr.toml"),
+        "model = \"mooney-rivlin\"\npoisson = 0.45\nc1_pa = 120000.0\nc2_pa = 30000.0\n",
+    )
+    .unwrap();
+    let frames = frames.to_string();
+    bulge_in(
+        dir,
+        &[
+            "synth",
+            "exp",
+            "--material",
+            "mr.toml",
+            "--frames",
+            &frames,
+            "--width",
+            "320",
+            "--height",
+            "240",
+            "--noise",
+            "2",
+            "--blur-px",
+            "1",
+            "--pressure-max-pa",
+            "5000",
+            "--seed",
+            "401",
+        ],
+    )
+    .ok();
+}
+
+/// Every file of a folder with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut m = BTreeMap::new();
+    for e in walk(dir) {
+        m.insert(
+            e.strip_prefix(dir).unwrap().display().to_string(),
+            fs::read(&e).unwrap(),
+        );
+    }
+    m
+}
+
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut v = Vec::new();
+    for e in fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            v.extend(walk(&p));
+        } else {
+            v.push(p);
+        }
+    }
+    v
+}
+
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let s = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = s.lines();
+    let head = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    (
+        head,
+        lines
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect(),
+    )
+}
+
+fn col(head: &[String], name: &str) -> usize {
+    head.iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {head:?}"))
+}
+
+#[test]
+fn run_writes_every_output_and_the_table() {
+    let dir = tempdir();
+    synth(dir.path(), 6);
+    let before = snapshot(&dir.path().join("exp"));
+    let r = bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
+    let out = dir.path().join("out");
+    // Inputs untouched.
+    assert_eq!(snapshot(&dir.path().join("exp")), before);
+    for f in [
+        "heights.csv",
+        "stress_strain.csv",
+        "material.toml",
+        "simulated.csv",
+        "report.html",
+        "summary.md",
+        "fit.svg",
+        "fit.png",
+        "heights.svg",
+        "heights.png",
+    ] {
+        let len = fs::metadata(out.join(f)).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 100, "{f}: {len} bytes");
+    }
+    for f in ["fit.png", "heights.png"] {
+        assert_eq!(
+            &fs::read(out.join(f)).unwrap()[..8],
+            b"\x89PNG\r\n\x1a\n",
+            "{f}"
+        );
+    }
+    // heights.csv: one row per photo, close to the truth.
+    let (hh, hr) = csv(&out.join("heights.csv"));
+    assert_eq!(hr.len(), 6);
+    let (th, tr) = csv(&dir.path().join("exp/truth.csv"));
+    for (h, t) in hr.iter().zip(&tr) {
+        assert_eq!(h[col(&hh, "file")], t[col(&th, "file")]);
+        let hm: f64 = h[col(&hh, "height_m")].parse().unwrap();
+        let tm: f64 = t[col(&th, "height_m")].parse().unwrap();
+        assert!((hm / tm - 1.0).abs() < 0.005, "tracked {hm} vs true {tm}");
+    }
+    // stress_strain.csv: the stress stage's columns.
+    let (sh, sr) = csv(&out.join("stress_strain.csv"));
+    for c in [
+        "pressure_pa",
+        "height_m",
+        "stretch",
+        "strain",
+        "stress_pa",
+        "secant_modulus_pa",
+        "secant_modulus_std_pa",
+    ] {
+        col(&sh, c);
+    }
+    assert_eq!(sr.len(), 6);
+    // material.toml: a quartic law the simulators read, with the specimen's nu.
+    let m: Material =
+        toml::from_str(&fs::read_to_string(out.join("material.toml")).unwrap()).unwrap();
+    assert!(
+        matches!(m.model, Model::Quartic { ref coefficients_pa, .. } if coefficients_pa.len() == 5)
+    );
+    assert_eq!(m.poisson, 0.45);
+    // simulated.csv: every model at every measured pressure.
+    let (simh, simr) = csv(&out.join("simulated.csv"));
+    let model_c = col(&simh, "model");
+    for model in ["tp", "van-gelder", "axisym"] {
+        assert_eq!(
+            simr.iter().filter(|r| r[model_c] == model).count(),
+            6,
+            "{model}"
+        );
+    }
+    // The table on stdout: measured heights from heights.csv and errors
+    // = simulated / measured - 1 from simulated.csv, to the printed digits.
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    let head = lines
+        .iter()
+        .position(|l| l.contains("pressure_pa") && l.contains("tp_mm"))
+        .expect("table header");
+    assert!(lines[head].contains("van-gelder_mm") && lines[head].contains("axisym_mm"));
+    for (k, h) in hr.iter().enumerate() {
+        let row: Vec<&str> = lines[head + 2 + k].split_whitespace().collect();
+        let p: f64 = h[col(&hh, "pressure_pa")].parse().unwrap();
+        let meas: f64 = h[col(&hh, "height_m")].parse().unwrap();
+        assert!((row[0].parse::<f64>().unwrap() - p).abs() < 0.06, "{row:?}");
+        assert_eq!(row[1], format!("{:.3}", meas * 1e3));
+        for (j, model) in ["tp", "van-gelder", "axisym"].iter().enumerate() {
+            let sim: f64 = simr
+                .iter()
+                .find(|r| {
+                    r[model_c] == *model && (r[0].parse::<f64>().unwrap() - p).abs() < 1e-9 * p
+                })
+                .map(|r| r[1].parse().unwrap())
+                .unwrap();
+            assert_eq!(
+                row[2 + 2 * j],
+                format!("{:.3}", sim * 1e3),
+                "{model} {row:?}"
+            );
+            assert_eq!(
+                row[3 + 2 * j],
+                format!("{:+.2}", (sim / meas - 1.0) * 100.0),
+                "{model} {row:?}"
+            );
+        }
+    }
+    assert!(r.stdout.contains("mean |err| %") && r.stdout.contains("Time per stage"));
+    for stage in ["track", "stress", "fit", "simulate", "report", "total"] {
+        assert!(
+            r.stdout
+                .lines()
+                .any(|l| l.trim_start().starts_with(stage) && l.contains(" s")),
+            "{stage}"
+        );
+    }
+    for k in 1..=5 {
+        assert!(r.stderr.contains(&format!("[{k}/5]")), "{}", r.stderr);
+    }
+    // report.html: self-contained, with the photos, plots and the table.
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.matches("data:image/png;base64,").count() >= 5,
+        "3 photos + 2 figures"
+    );
+    assert!(!html.contains("http://") && !html.contains("https://") && !html.contains("<script"));
+    assert!(
+        html.contains("tp (mm)")
+            && html.contains("van-gelder (mm)")
+            && html.contains("Settings used")
+    );
+    let md = fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("| pressure (Pa) | measured (mm) | tp (mm) | error (%) |"));
+}
+
+#[test]
+fn settings_from_the_experiment_file_and_flags() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    let exp = dir.path().join("exp/experiment.toml");
+    let mut text = fs::read_to_string(&exp).unwrap();
+    text.push_str("\n[run]\nmodels = [\"tp\"]\naxisym = false\nfit = \"mooney-rivlin\"\n");
+    fs::write(&exp, &text).unwrap();
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
+    let (h, rows) = csv(&dir.path().join("out/simulated.csv"));
+    assert!(rows.iter().all(|r| r[col(&h, "model")] == "tp"));
+    assert_eq!(rows.len(), 4);
+    let m = fs::read_to_string(dir.path().join("out/material.toml")).unwrap();
+    assert!(m.contains("model = \"mooney-rivlin\""), "{m}");
+    // A flag overrides the file.
+    bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out2",
+            "--models",
+            "lloyd",
+        ],
+    )
+    .ok();
+    let (h, rows) = csv(&dir.path().join("out2/simulated.csv"));
+    assert!(rows.iter().all(|r| r[col(&h, "model")] == "lloyd"));
+    // A misspelt key is refused, naming the table.
+    fs::write(&exp, text.replace("axisym = false", "axisim = false")).unwrap();
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out3"])
+        .bad_input(&["[run]", "axisim"]);
+    assert!(!dir.path().join("out3/heights.csv").exists());
+}
+
+#[test]
+fn corrupt_photo_fails_the_track_stage_and_writes_nothing() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    let photo = dir.path().join("exp/photos/frame_003.png");
+    let bytes = fs::read(&photo).unwrap();
+    fs::write(&photo, &bytes[..bytes.len() / 2]).unwrap();
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"])
+        .bad_input(&["stage `track`", "frame_003.png"]);
+    assert!(!dir.path().join("out/heights.csv").exists());
+}
+
+#[test]
+fn photo_without_pressure_fails_the_track_stage() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    let p = dir.path().join("exp/pressure.csv");
+    let kept: Vec<String> = fs::read_to_string(&p)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("frame_002"))
+        .map(String::from)
+        .collect();
+    fs::write(&p, kept.join("\n") + "\n").unwrap();
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).bad_input(&[
+        "stage `track`",
+        "no pressure",
+        "frame_002",
+    ]);
+    assert!(!dir.path().join("out/heights.csv").exists());
+}
+
+#[test]
+fn a_failed_later_stage_keeps_the_earlier_outputs() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    // Fit: 4 points cannot determine a 3-term Ogden model (6 parameters).
+    bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--fit",
+            "ogden-3",
+        ],
+    )
+    .bad_input(&["stage `fit`", "4 data points", "earlier stages are kept"]);
+    let out = dir.path().join("out");
+    assert!(out.join("heights.csv").exists() && out.join("stress_strain.csv").exists());
+    assert!(!out.join("material.toml").exists() && !out.join("report.html").exists());
+    // Simulate: pressures out of order.
+    bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out2",
+            "--pressures",
+            "3000,1000",
+        ],
+    )
+    .bad_input(&["stage `simulate`", "increasing order"]);
+    let out = dir.path().join("out2");
+    assert!(out.join("material.toml").exists() && out.join("fit.png").exists());
+    assert!(!out.join("simulated.csv").exists() && !out.join("report.html").exists());
+}
+
+#[test]
+fn out_folder_of_the_inputs_is_refused() {
+    let dir = tempdir();
+    synth(dir.path(), 2);
+    let before = snapshot(&dir.path().join("exp"));
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "exp"])
+        .bad_input(&["inputs are never overwritten"]);
+    assert_eq!(snapshot(&dir.path().join("exp")), before);
+}
+
+#[test]
+fn help_documents_every_flag() {
+    let r = bulge_in(Path::new("."), &["run", "--help"]).ok();
+    for f in [
+        "--out",
+        "--models",
+        "--no-axisym",
+        "--pressures",
+        "--accuracy",
+        "--nodes",
+        "--fit",
+        "--degree",
+        "--strain",
+        "--true-stress",
+        "--modulus",
+        "--modulus-stress",
+        "--solver",
+        "--min-score",
+        "--skip-bad-frames",
+        "[run]",
+    ] {
+        assert!(r.stdout.contains(f), "--help lacks {f}");
+    }
+}

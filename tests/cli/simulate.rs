@@ -163,3 +163,44 @@ fn modulus_that_turns_negative_is_named_with_its_strain() {
     bulge_in(dir.path(), &["simulate", "neg.toml", "-o", "out.csv"]).bad_input(&["<= 0 at strain"]);
     assert!(!dir.path().join("out.csv").exists());
 }
+
+#[test]
+fn axisym_route_agrees_with_tp_at_small_deflection() {
+    let dir = tempdir();
+    // w0/a about 0.05 (Hencky regime): both models tend to K(0.45) a (p a/E t)^(1/3)
+    let text = DISC
+        .replace("pressure_pa = [1000, 2000, 3000]", "pressure_pa = [12]")
+        .replace("nodes = 60", "nodes = 300");
+    fs::write(dir.path().join("s.toml"), text).unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            "s.toml",
+            "--model",
+            "tp,axisym",
+            "--profile",
+            "prof.csv",
+            "-o",
+            "out.csv",
+        ],
+    )
+    .ok();
+    let r = rows(&dir.path().join("out.csv"));
+    assert_eq!(r.len(), 3);
+    let ax = r.iter().find(|row| row[2] == "axisym").unwrap();
+    let tp = r.iter().find(|row| row[2] == "tp").unwrap();
+    assert_eq!(ax[3], "shooting");
+    let (ha, ht): (f64, f64) = (ax[1].parse().unwrap(), tp[1].parse().unwrap());
+    let hencky = 0.61117 * 0.0375 * (12.0 * 0.0375 / (1.0e6 * 0.00035f64)).cbrt();
+    assert!(
+        (ha / hencky - 1.0).abs() < 0.01,
+        "axisym {ha} vs Hencky {hencky}"
+    );
+    assert!((ht / ha - 1.0).abs() < 0.01, "tp {ht} vs axisym {ha}");
+    assert!(
+        rows(&dir.path().join("prof.csv"))[0]
+            .join(",")
+            .starts_with("r_m,rho_m,z_m")
+    );
+}

@@ -1,0 +1,560 @@
+//! Locating the apex in one region: OpenCV's normalised cross-correlation
+//! (TM_CCOEFF_NORMED), a 2-D quadratic fit of the score peak, and a local
+//! edge fit at the apex.
+
+use opencv::core::{Mat, MatTraitConst, MatTraitConstManual};
+use opencv::imgproc;
+
+use super::TrackError;
+use super::image::Gray;
+
+/// The best match of the template in a search window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Match {
+    /// Integer position of the template's top-left corner (what `minMaxLoc` gives), px.
+    pub integer: [f64; 2],
+    /// Sub-pixel position from a 2-D quadratic fit of the 3x3 scores around the peak, px.
+    pub quadratic: [f64; 2],
+    /// TM_CCOEFF_NORMED at the peak, in [-1, 1].
+    pub score: f64,
+}
+
+/// Matches `templ` inside `img` restricted to the window `[x0, y0, w, h]`
+/// (in `img` coordinates; the window is the set of pixels the template may
+/// cover). Positions returned are of the template's top-left corner in `img`.
+pub fn match_in_window(img: &Gray, templ: &Gray, win: [usize; 4]) -> Result<Match, TrackError> {
+    let [x0, y0, w, h] = win;
+    debug_assert!(w >= templ.width && h >= templ.height);
+    let sub = img.crop(x0, y0, w, h);
+    let a = sub.as_mat().map_err(cv)?;
+    let t = templ.as_mat().map_err(cv)?;
+    let mut res = Mat::default();
+    imgproc::match_template_def(&a, &t, &mut res, imgproc::TM_CCOEFF_NORMED).map_err(cv)?;
+    let (rw, rh) = (res.cols() as usize, res.rows() as usize);
+    let s: &[f32] = res.data_typed::<f32>().map_err(cv)?;
+    // A flat window gives NaN scores (zero variance): treat them as -1.
+    let val = |x: usize, y: usize| {
+        let v = s[y * rw + x];
+        if v.is_finite() { f64::from(v) } else { -1.0 }
+    };
+    let (mut bx, mut by, mut best) = (0, 0, f64::NEG_INFINITY);
+    for y in 0..rh {
+        for x in 0..rw {
+            let v = val(x, y);
+            if v > best {
+                best = v;
+                bx = x;
+                by = y;
+            }
+        }
+    }
+    let (dx, dy) = if bx > 0 && by > 0 && bx + 1 < rw && by + 1 < rh {
+        let mut f = [[0.0; 3]; 3];
+        for (j, row) in f.iter_mut().enumerate() {
+            for (i, v) in row.iter_mut().enumerate() {
+                *v = val(bx + i - 1, by + j - 1);
+            }
+        }
+        quadratic_peak(&f)
+    } else {
+        (0.0, 0.0)
+    };
+    Ok(Match {
+        integer: [(x0 + bx) as f64, (y0 + by) as f64],
+        quadratic: [(x0 + bx) as f64 + dx, (y0 + by) as f64 + dy],
+        score: best,
+    })
+}
+
+/// Block average by an integer factor `f` (the image's last partial blocks
+/// are dropped).
+pub fn reduce(img: &Gray, f: usize) -> Gray {
+    let (w, h) = (img.width / f, img.height / f);
+    let mut acc = vec![0u32; w * h];
+    for y in 0..h * f {
+        let row = &img.data[y * img.width..y * img.width + w * f];
+        let out = &mut acc[(y / f) * w..(y / f + 1) * w];
+        for (o, block) in out.iter_mut().zip(row.chunks_exact(f)) {
+            *o += block.iter().map(|&v| u32::from(v)).sum::<u32>();
+        }
+    }
+    let n = (f * f) as u32;
+    Gray {
+        width: w,
+        height: h,
+        data: acc.iter().map(|&s| ((s + n / 2) / n) as u8).collect(),
+    }
+}
+
+fn cv(e: opencv::Error) -> TrackError {
+    TrackError::OpenCv(e.to_string())
+}
+
+/// Offset of the maximum of the least-squares quadratic through a 3x3 patch
+/// `f[row][col]` centred on the integer peak. Falls back to separate 1-D
+/// parabolas when the 2-D fit is not a proper maximum; clamped to +-0.5 px
+/// (beyond that the integer peak was not the nearest one).
+pub fn quadratic_peak(f: &[[f64; 3]; 3]) -> (f64, f64) {
+    let col = |i: usize| f[0][i] + f[1][i] + f[2][i];
+    let row = |j: usize| f[j][0] + f[j][1] + f[j][2];
+    let gx = (col(2) - col(0)) / 6.0;
+    let gy = (row(2) - row(0)) / 6.0;
+    let hxx = (col(2) + col(0) - 2.0 * col(1)) / 3.0;
+    let hyy = (row(2) + row(0) - 2.0 * row(1)) / 3.0;
+    let hxy = (f[2][2] - f[2][0] - f[0][2] + f[0][0]) / 4.0;
+    let det = hxx * hyy - hxy * hxy;
+    let (mut ox, mut oy) = if hxx < 0.0 && det > 0.0 {
+        ((-gx * hyy + gy * hxy) / det, (-gy * hxx + gx * hxy) / det)
+    } else {
+        (f64::NAN, f64::NAN)
+    };
+    if !(ox.is_finite() && oy.is_finite() && ox.abs() <= 1.0 && oy.abs() <= 1.0) {
+        let para = |m: f64, c: f64, p: f64| {
+            let d = m + p - 2.0 * c;
+            if d < 0.0 { 0.5 * (m - p) / d } else { 0.0 }
+        };
+        ox = para(f[1][0], f[1][1], f[1][2]);
+        oy = para(f[0][1], f[1][1], f[2][1]);
+    }
+    (ox.clamp(-0.5, 0.5), oy.clamp(-0.5, 0.5))
+}
+
+/// Result of the edge fit at the apex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeFit {
+    /// Apex row (top of the fitted parabola), px, image coordinates of `img`.
+    pub y: f64,
+    /// Standard error of `y`, px: from the column residuals, inflated for
+    /// their correlation along the edge (lag-1 autocorrelation).
+    pub y_std: f64,
+    /// Vertex column of the parabola, px.
+    pub x_vertex: f64,
+    /// Standard error of `x_vertex`, px (large on flat tops).
+    pub x_std: f64,
+    /// Edge curvature `d2y/dx2`, 1/px (positive for a dome seen from the side).
+    pub curvature: f64,
+    /// Columns used.
+    pub columns: usize,
+    /// RMS of the column residuals, px.
+    pub rms: f64,
+}
+
+/// Settings of the edge fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeSettings {
+    /// Half-width of the fitted span of columns around the apex, px.
+    pub half_span_px: usize,
+    /// Half-height of the window in each column in which the edge is located, px.
+    pub half_window_px: usize,
+}
+
+/// Edge row in one column: the centroid of the vertical intensity
+/// differences `d_j = I(j+1) - I(j)` (at `j + 1/2`) inside a window of
+/// half-height `hw` centred on the current estimate, with 1-px linear tapers
+/// at its ends, iterated to a fixed point. For an area-sampled step the two
+/// non-zero differences give the exact edge; under symmetric blur the
+/// centred window keeps it unbiased. Returns the row and the step (sum of the
+/// weighted differences, grey levels).
+fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> {
+    // Rows beyond the window on each side over which the background slope is
+    // measured.
+    const SLOPE_ROWS: i64 = 6;
+    let h = img.height as i64;
+    let px = |j: i64| f64::from(img.at(c, j as usize));
+    let mut e = start;
+    let mut step = 0.0;
+    for _ in 0..8 {
+        let lo = (e - hw - 1.0).floor() as i64;
+        let hi = (e + hw + 1.0).ceil() as i64;
+        if lo - SLOPE_ROWS < 0 || hi + 1 + SLOPE_ROWS >= h {
+            return None;
+        }
+        // Smooth shading and background texture add a slope to the
+        // differences on each side of the edge; their lever arm about the
+        // centre would bias the centroid, so they are subtracted. Each slope
+        // is the minmod of two 3-row estimates, so that another edge nearby
+        // (the clamp fixture under a flat bubble) is not taken for a slope.
+        let half = SLOPE_ROWS / 2;
+        let slope = |a: i64, b: i64, c: i64| {
+            minmod((px(b) - px(a)) / half as f64, (px(c) - px(b)) / half as f64)
+        };
+        let g_above = slope(lo - SLOPE_ROWS, lo - half, lo);
+        let g_below = slope(hi + 1, hi + 1 + half, hi + 1 + SLOPE_ROWS);
+        let (mut sw, mut swy) = (0.0, 0.0);
+        for j in lo..=hi {
+            let y = j as f64 + 0.5;
+            let w = (hw + 0.5 - (y - e).abs()).clamp(0.0, 1.0);
+            if w == 0.0 {
+                continue;
+            }
+            let base = if y < e { g_above } else { g_below };
+            let d = px(j + 1) - px(j) - base;
+            sw += w * d;
+            swy += w * d * y;
+        }
+        if sw == 0.0 {
+            return None;
+        }
+        let next = swy / sw;
+        if !next.is_finite() || (next - start).abs() > 2.0 * hw + 2.0 {
+            return None;
+        }
+        let moved = (next - e).abs();
+        e = next;
+        step = sw;
+        if moved < 1e-4 {
+            break;
+        }
+    }
+    Some((e, step))
+}
+
+/// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
+/// the edge row of each column of `x0 +- half_span` ([`column_edge`]), then
+/// a least-squares parabola `y = A + B u + C u^2` (u = x - x0) through them;
+/// the apex is its vertex. Passes: the second centres each column's window
+/// on the first parabola, the third re-centres the span on the vertex when
+/// the vertex is well determined. `None` when too few columns show an edge.
+pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
+    let w = img.width as i64;
+    let hw = s.half_window_px.max(2) as f64;
+    let span = s.half_span_px as i64;
+    let mut centre = x0;
+    let mut coef = [y0, 0.0, 0.0];
+    let mut result: Option<EdgeFit> = None;
+    for pass in 0..3 {
+        if pass == 2 {
+            match result {
+                Some(r) if r.x_std < 0.25 * span as f64 && (r.x_vertex - centre).abs() > 0.5 => {
+                    let shift = r.x_vertex.round() - centre.round();
+                    let u = shift;
+                    coef = [
+                        coef[0] + coef[1] * u + coef[2] * u * u,
+                        coef[1] + 2.0 * coef[2] * u,
+                        coef[2],
+                    ];
+                    centre += shift;
+                }
+                _ => break,
+            }
+        }
+        let xc = centre.round() as i64;
+        let mut located = Vec::with_capacity((2 * span + 1) as usize);
+        // At most about 129 columns: wider spans (large photos) are sampled.
+        let stride = (span as usize / 64).max(1);
+        for c in (xc - span..=xc + span)
+            .step_by(stride)
+            .filter(|&c| c >= 0 && c < w)
+        {
+            let u = c as f64 - centre;
+            let start = coef[0] + coef[1] * u + coef[2] * u * u;
+            if let Some((e, step)) = column_edge(img, c as usize, start, hw) {
+                located.push((u, e, step));
+            }
+        }
+        // Keep columns whose step has the dome's polarity and at least a
+        // quarter of the median contrast.
+        let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
+        let mut mags: Vec<f64> = located
+            .iter()
+            .map(|l| l.2 * sign)
+            .filter(|m| *m > 0.0)
+            .collect();
+        if mags.len() < 5 {
+            return result;
+        }
+        mags.sort_by(f64::total_cmp);
+        let med = mags[mags.len() / 2];
+        let pts: Vec<(f64, f64)> = located
+            .iter()
+            .filter(|l| l.2 * sign > 0.25 * med)
+            .map(|l| (l.0, l.1))
+            .collect();
+        if pts.len() < 5 {
+            return result;
+        }
+        let fit = parabola(&pts)?;
+        coef = fit.coef;
+        let (a, b, c) = (coef[0], coef[1], coef[2]);
+        let lim = span as f64;
+        let u_v = if c > 1e-9 {
+            (-b / (2.0 * c)).clamp(-lim, lim)
+        } else {
+            0.0
+        };
+        // Delta method for the vertex column u_v = -B / (2C).
+        let x_std = if c > 1e-9 {
+            let g = [0.0, -1.0 / (2.0 * c), b / (2.0 * c * c)];
+            quad_form(&fit.cov, &g).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        // Residual correlation along the edge: inflate by sqrt((1 + r) / (1 - r)).
+        let res: Vec<f64> = pts
+            .iter()
+            .map(|&(u, y)| y - (a + b * u + c * u * u))
+            .collect();
+        let num: f64 = res.windows(2).map(|p| p[0] * p[1]).sum();
+        let den: f64 = res.iter().map(|r| r * r).sum();
+        let rho = if den > 0.0 {
+            (num / den).clamp(0.0, 0.9)
+        } else {
+            0.0
+        };
+        let inflate = ((1.0 + rho) / (1.0 - rho)).sqrt();
+        let n = pts.len() as f64;
+        result = Some(EdgeFit {
+            y: a + b * u_v + c * u_v * u_v,
+            y_std: fit.var_at(u_v).sqrt() * inflate,
+            x_vertex: centre + u_v,
+            x_std: x_std * inflate,
+            curvature: 2.0 * c,
+            columns: pts.len(),
+            rms: (fit.rss / n).sqrt(),
+        });
+    }
+    result
+}
+
+/// The smaller of two slopes of the same sign, else 0.
+fn minmod(a: f64, b: f64) -> f64 {
+    if a * b <= 0.0 {
+        0.0
+    } else if a.abs() < b.abs() {
+        a
+    } else {
+        b
+    }
+}
+
+/// The bubble's axis column from the mirror symmetry of its top edge over a
+/// wide span (`half_span_px` each side of the apex, clipped to the image):
+/// the edge rows of the columns are fitted by the even model
+/// `y = A + C (x - s)^2 + E (x - s)^4`, linear in `A, C, E`, and the axis `s`
+/// minimises the residual sum of squares (golden-section search within
+/// +-8 px of the vertex). Flat tops pin the axis down only through their far
+/// flanks, hence the wide span; the row is not taken from this fit (the
+/// even model is biased at the apex by the higher terms over a wide span).
+/// Returns the axis and its standard error, px.
+pub fn axis_fit(
+    img: &Gray,
+    apex: &EdgeFit,
+    half_span_px: usize,
+    half_window_px: usize,
+) -> Option<(f64, f64)> {
+    let w = img.width as i64;
+    let hw = half_window_px.max(2) as f64;
+    let xc = apex.x_vertex.round() as i64;
+    let k = 0.5 * apex.curvature.max(0.0);
+    let span = half_span_px as i64;
+    let mut located = Vec::new();
+    // At most about 257 columns: wider spans (large photos) are sampled.
+    let stride = (span as usize / 128).max(1);
+    for c in (xc - span..=xc + span)
+        .step_by(stride)
+        .filter(|&c| c >= 0 && c < w)
+    {
+        let u = c as f64 - apex.x_vertex;
+        if let Some((e, step)) = column_edge(img, c as usize, apex.y + k * u * u, hw) {
+            located.push((c as f64, e, step));
+        }
+    }
+    let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
+    let mut mags: Vec<f64> = located
+        .iter()
+        .map(|l| l.2 * sign)
+        .filter(|m| *m > 0.0)
+        .collect();
+    if mags.len() < 9 {
+        return None;
+    }
+    mags.sort_by(f64::total_cmp);
+    let med = mags[mags.len() / 2];
+    let pts: Vec<(f64, f64)> = located
+        .iter()
+        .filter(|l| l.2 * sign > 0.25 * med)
+        .map(|l| (l.0, l.1))
+        .collect();
+    if pts.len() < 9 {
+        return None;
+    }
+    let rss = |s: f64| -> f64 {
+        let mut ata = nalgebra::Matrix3::<f64>::zeros();
+        let mut aty = nalgebra::Vector3::<f64>::zeros();
+        // Scaled abscissa keeps the normal equations well conditioned.
+        let sc = half_span_px.max(1) as f64;
+        for &(x, y) in &pts {
+            let v = ((x - s) / sc).powi(2);
+            let g = nalgebra::Vector3::new(1.0, v, v * v);
+            ata += g * g.transpose();
+            aty += g * y;
+        }
+        let Some(inv) = ata.try_inverse() else {
+            return f64::INFINITY;
+        };
+        let c = inv * aty;
+        pts.iter()
+            .map(|&(x, y)| {
+                let v = ((x - s) / sc).powi(2);
+                (y - c[0] - c[1] * v - c[2] * v * v).powi(2)
+            })
+            .sum()
+    };
+    let (mut a, mut b) = (apex.x_vertex - 8.0, apex.x_vertex + 8.0);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (rss(c), rss(d));
+    while b - a > 1e-4 {
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = rss(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = rss(d);
+        }
+    }
+    let s = 0.5 * (a + b);
+    if (s - apex.x_vertex).abs() > 7.9 {
+        return None;
+    }
+    // Standard error from the curvature of RSS(s): var = 2 sigma^2 / RSS''.
+    let h = 0.05;
+    let (r0, rp, rm) = (rss(s), rss(s + h), rss(s - h));
+    let curv = (rp + rm - 2.0 * r0) / (h * h);
+    let n = pts.len() as f64;
+    let sigma2 = r0 / (n - 4.0).max(1.0);
+    if curv.is_nan() || curv <= 0.0 {
+        return None;
+    }
+    Some((s, (2.0 * sigma2 / curv).sqrt()))
+}
+
+fn quad_form(m: &[[f64; 3]; 3], g: &[f64; 3]) -> f64 {
+    let mut v = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            v += g[i] * m[i][j] * g[j];
+        }
+    }
+    v.max(0.0)
+}
+
+struct Parabola {
+    coef: [f64; 3],
+    /// (X^T X)^-1 scaled by the residual variance.
+    cov: [[f64; 3]; 3],
+    rss: f64,
+}
+
+impl Parabola {
+    fn var_at(&self, u: f64) -> f64 {
+        quad_form(&self.cov, &[1.0, u, u * u])
+    }
+}
+
+fn parabola(pts: &[(f64, f64)]) -> Option<Parabola> {
+    let mut ata = nalgebra::Matrix3::<f64>::zeros();
+    let mut aty = nalgebra::Vector3::<f64>::zeros();
+    for &(u, y) in pts {
+        let g = nalgebra::Vector3::new(1.0, u, u * u);
+        ata += g * g.transpose();
+        aty += g * y;
+    }
+    let inv = ata.try_inverse()?;
+    let c = inv * aty;
+    let rss: f64 = pts
+        .iter()
+        .map(|&(u, y)| {
+            let r = y - (c[0] + c[1] * u + c[2] * u * u);
+            r * r
+        })
+        .sum();
+    let dof = (pts.len() as f64 - 3.0).max(1.0);
+    let s2 = rss / dof;
+    let mut cov = [[0.0; 3]; 3];
+    for (i, row) in cov.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = inv[(i, j)] * s2;
+        }
+    }
+    Some(Parabola {
+        coef: [c[0], c[1], c[2]],
+        cov,
+        rss,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadratic_peak_recovers_offset_of_a_paraboloid() {
+        let (px, py) = (0.3, -0.2);
+        let mut f = [[0.0; 3]; 3];
+        for (j, row) in f.iter_mut().enumerate() {
+            for (i, v) in row.iter_mut().enumerate() {
+                let (x, y) = (i as f64 - 1.0, j as f64 - 1.0);
+                *v = 1.0 - 0.2 * (x - px).powi(2) - 0.1 * (y - py).powi(2)
+                    + 0.05 * (x - px) * (y - py);
+            }
+        }
+        let (ox, oy) = quadratic_peak(&f);
+        assert!(
+            (ox - px).abs() < 1e-12 && (oy - py).abs() < 1e-12,
+            "{ox} {oy}"
+        );
+    }
+
+    /// A dome with an area-sampled edge: rows covered by a parabola
+    /// `y = y0 + k (x - xa)^2`, background 200 above, 60 below, integrated
+    /// exactly per pixel (supersampled 64x in x, exact in y).
+    #[test]
+    fn edge_fit_finds_sub_pixel_apex() {
+        let (w, h) = (80usize, 60usize);
+        let (xa, y0, k) = (40.3, 25.37, 0.004);
+        let mut data = vec![0u8; w * h];
+        let mut fdata = vec![0.0f64; w * h];
+        for x in 0..w {
+            for sx in 0..64 {
+                let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 64.0;
+                let e = y0 + k * (xs - xa).powi(2);
+                for y in 0..h {
+                    // pixel y spans [y - 0.5, y + 0.5); below the edge is dome.
+                    let cov = ((y as f64 + 0.5) - e).clamp(0.0, 1.0);
+                    fdata[y * w + x] += cov / 64.0;
+                }
+            }
+        }
+        for (d, f) in data.iter_mut().zip(&fdata) {
+            *d = (200.0 - 140.0 * f).round() as u8;
+        }
+        let img = Gray {
+            width: w,
+            height: h,
+            data,
+        };
+        let fit = edge_fit(
+            &img,
+            40.0,
+            25.0,
+            EdgeSettings {
+                half_span_px: 20,
+                half_window_px: 6,
+            },
+        )
+        .unwrap();
+        assert!((fit.y - y0).abs() < 0.02, "apex row {} vs {y0}", fit.y);
+        assert!(
+            (fit.curvature - 2.0 * k).abs() < 1e-3,
+            "curvature {}",
+            fit.curvature
+        );
+    }
+}

@@ -1,0 +1,758 @@
+//! Synthetic side-view photos of an inflated membrane with known truth.
+//!
+//! The bubble's silhouette seen from the side (orthographic camera looking
+//! along the clamp plane) is exactly its meridian profile `(rho(s), z(s))`
+//! mirrored about the axis. It is drawn as a closed polygon (the profile
+//! densified by Catmull-Rom interpolation to segments of at most 0.25 px) with
+//! the exact area coverage of every pixel (signed-area accumulation, as in
+//! font rasterisers), over a textured background and a dark clamp fixture,
+//! then blurred (Gaussian), given an exposure gain, sensor noise and 8-bit
+//! quantisation.
+//!
+//! Image coordinates: the centre of the top-left pixel is (0, 0), x to the
+//! right, y down (OpenCV's convention); pixel (i, j) covers
+//! `[i - 0.5, i + 0.5) x [j - 0.5, j + 0.5)`.
+
+use std::path::Path;
+
+use super::TrackError;
+use super::image::{Encoding, Gray};
+use crate::experiment::Specimen;
+use crate::io::{CsvOut, fmt_num};
+
+/// A meridian profile, pole first: `rho_m` is the current radial position and
+/// `z_m` the height above the clamp plane; the last point is on the rim
+/// (`z = 0`, `rho = a`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Silhouette {
+    /// Radial positions, m (0 at the pole).
+    pub rho_m: Vec<f64>,
+    /// Heights above the clamp plane, m.
+    pub z_m: Vec<f64>,
+}
+
+impl Silhouette {
+    /// A spherical cap of base radius `a` and apex height `h` (`h = 0`: flat),
+    /// `n` points from pole to rim.
+    pub fn spherical_cap(a: f64, h: f64, n: usize) -> Self {
+        let n = n.max(3);
+        if h <= 0.0 {
+            let rho = (0..n).map(|i| a * i as f64 / (n - 1) as f64).collect();
+            return Silhouette {
+                rho_m: rho,
+                z_m: vec![0.0; n],
+            };
+        }
+        let r = (a * a + h * h) / (2.0 * h);
+        let theta = 2.0 * (h / a).atan();
+        let mut rho = Vec::with_capacity(n);
+        let mut z = Vec::with_capacity(n);
+        for i in 0..n {
+            let phi = theta * i as f64 / (n - 1) as f64;
+            rho.push(r * phi.sin());
+            z.push(h - r * (1.0 - phi.cos()));
+        }
+        *z.last_mut().expect("n >= 3") = 0.0;
+        *rho.last_mut().expect("n >= 3") = a;
+        Silhouette { rho_m: rho, z_m: z }
+    }
+
+    /// Apex height, m.
+    pub fn height_m(&self) -> f64 {
+        self.z_m[0]
+    }
+}
+
+/// Where the specimen is in the picture and what the picture looks like
+/// apart from the bubble (fixed for a whole sequence).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// Image width, px.
+    pub width: usize,
+    /// Image height, px.
+    pub height: usize,
+    /// Scale, m per px.
+    pub metres_per_pixel: f64,
+    /// Column of the bubble's axis, px (image coordinates).
+    pub axis_x_px: f64,
+    /// Row of the clamp plane, px (image coordinates).
+    pub clamp_row_px: f64,
+    /// Free radius of the specimen, m.
+    pub radius_m: f64,
+    /// Background texture: (amplitude, kx, ky, phase) of a few plane waves.
+    waves: Vec<(f64, f64, f64, f64)>,
+    /// Seed of the fixed fine grain of the background.
+    grain_seed: u64,
+}
+
+impl Scene {
+    /// The default framing: the clamped disc spans 70 % of the width, the
+    /// clamp plane sits at 80 % of the height; the axis and the clamp plane
+    /// are placed at seeded sub-pixel offsets so that the apex is never on a
+    /// pixel centre by construction.
+    pub fn new(width: usize, height: usize, radius_m: f64, seed: u64) -> Self {
+        let mut rng = Rng::new(seed ^ 0x5CE9E);
+        let mpp = 2.0 * radius_m / (0.7 * width as f64);
+        let axis_x_px = (width as f64 / 2.0).floor() + rng.uniform() - 0.5;
+        let clamp_row_px = (0.8 * height as f64).floor() + rng.uniform() - 0.5;
+        let scale = width as f64;
+        let waves = (0..6)
+            .map(|_| {
+                let lambda = scale / (8.0 + 16.0 * rng.uniform());
+                let dir = std::f64::consts::TAU * rng.uniform();
+                let k = std::f64::consts::TAU / lambda;
+                (
+                    1.5 + 1.0 * rng.uniform(),
+                    k * dir.cos(),
+                    k * dir.sin(),
+                    std::f64::consts::TAU * rng.uniform(),
+                )
+            })
+            .collect();
+        Scene {
+            width,
+            height,
+            metres_per_pixel: mpp,
+            axis_x_px,
+            clamp_row_px,
+            radius_m,
+            waves,
+            grain_seed: rng.next_u64(),
+        }
+    }
+
+    /// Apex position of a silhouette in image coordinates, px.
+    pub fn apex_px(&self, s: &Silhouette) -> [f64; 2] {
+        [
+            self.axis_x_px,
+            self.clamp_row_px - s.height_m() / self.metres_per_pixel,
+        ]
+    }
+
+    /// The tallest bubble (m) that leaves a margin of 10 % of the image
+    /// height above the apex.
+    pub fn max_height_m(&self) -> f64 {
+        (self.clamp_row_px - 0.1 * self.height as f64) * self.metres_per_pixel
+    }
+}
+
+/// What the camera adds to the ideal picture.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Degradation {
+    /// Gaussian blur standard deviation, px (0: none).
+    pub blur_px: f64,
+    /// Sensor noise standard deviation, grey levels (0: none).
+    pub noise_grey: f64,
+    /// Exposure gain applied to the whole frame (1: none).
+    pub gain: f64,
+}
+
+/// Grey levels of the scene.
+const BACKGROUND: f64 = 190.0;
+const BUBBLE: f64 = 72.0;
+const FIXTURE: f64 = 38.0;
+const FLANGE: f64 = 58.0;
+
+/// Renders one frame; `noise_seed` makes the sensor noise reproducible.
+pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -> Gray {
+    let (w, h) = (scene.width, scene.height);
+    let cov = coverage(scene, s);
+    let apex = scene.apex_px(s);
+    let a_px = scene.radius_m / scene.metres_per_pixel;
+    let h_px = s.height_m() / scene.metres_per_pixel;
+    // Separable tables for the plane waves: sin(kx x + ky y + p).
+    // (amp sin(kx x + p), amp cos(kx x + p), sin(ky y), cos(ky y)) per wave.
+    type WaveTables = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+    let tables: Vec<WaveTables> = scene
+        .waves
+        .iter()
+        .map(|&(amp, kx, ky, p)| {
+            let sx = (0..w).map(|x| amp * (kx * x as f64 + p).sin()).collect();
+            let cx = (0..w).map(|x| amp * (kx * x as f64 + p).cos()).collect();
+            let sy = (0..h).map(|y| (ky * y as f64).sin()).collect();
+            let cy = (0..h).map(|y| (ky * y as f64).cos()).collect();
+            (sx, cx, sy, cy)
+        })
+        .collect();
+    let mut grain = Rng::new(scene.grain_seed);
+    let fixture_half = 1.25 * a_px;
+    let flange_rows = (0.025 * h as f64).max(2.0);
+    let mut img = vec![0.0f64; w * h];
+    for y in 0..h {
+        let yf = y as f64;
+        for x in 0..w {
+            let xf = x as f64;
+            // Background: smooth gradient, plane waves, fixed grain.
+            let mut bg = BACKGROUND + 12.0 * (xf / w as f64 - 0.5) - 8.0 * (yf / h as f64 - 0.5);
+            for t in &tables {
+                bg += t.0[x] * t.3[y] + t.1[x] * t.2[y];
+            }
+            bg += 1.5 * (grain.uniform() - 0.5) * 2.0;
+            // Fixture below the clamp plane (pixel-exact vertical coverage).
+            let below = ((yf + 0.5) - scene.clamp_row_px).clamp(0.0, 1.0);
+            let in_fixture = ((fixture_half + 0.5) - (xf - scene.axis_x_px).abs()).clamp(0.0, 1.0);
+            let fix_level = if yf - scene.clamp_row_px < flange_rows {
+                FLANGE
+            } else {
+                FIXTURE
+            };
+            let fixture_cov = below * in_fixture;
+            let base = bg * (1.0 - fixture_cov) + fix_level * fixture_cov;
+            // Bubble: matte shading darker towards the rim, a soft highlight
+            // below the apex.
+            let c = cov[y * w + x];
+            let v = if c > 0.0 {
+                let u = (xf - apex[0]) / a_px;
+                let hy = (yf - (apex[1] + 0.45 * h_px.max(0.1 * a_px))) / (0.35 * a_px);
+                let shade = BUBBLE * (1.0 - 0.3 * u * u) + 14.0 * (-(u * u / 0.18 + hy * hy)).exp();
+                base * (1.0 - c) + shade * c
+            } else {
+                base
+            };
+            img[y * w + x] = v;
+        }
+    }
+    if d.blur_px > 0.0 {
+        gaussian_blur(&mut img, w, h, d.blur_px);
+    }
+    let mut rng = Rng::new(noise_seed);
+    let data = img
+        .iter()
+        .map(|&v| {
+            let n = if d.noise_grey > 0.0 {
+                d.noise_grey * rng.normal()
+            } else {
+                0.0
+            };
+            (v * d.gain + n).round().clamp(0.0, 255.0) as u8
+        })
+        .collect();
+    Gray {
+        width: w,
+        height: h,
+        data,
+    }
+}
+
+/// Exact area coverage of the bubble's side silhouette, per pixel, in [0, 1].
+pub fn coverage(scene: &Scene, s: &Silhouette) -> Vec<f64> {
+    let (w, h) = (scene.width, scene.height);
+    let dense = densify(s, 0.25 * scene.metres_per_pixel);
+    // Raster coordinates: cell i covers [i, i + 1), so u = x + 0.5.
+    let to_raster = |rho: f64, z: f64| {
+        (
+            scene.axis_x_px + rho / scene.metres_per_pixel + 0.5,
+            scene.clamp_row_px - z / scene.metres_per_pixel + 0.5,
+        )
+    };
+    let mut poly: Vec<(f64, f64)> = Vec::with_capacity(2 * dense.len());
+    for &(r, z) in &dense {
+        poly.push(to_raster(r, z));
+    }
+    for &(r, z) in dense.iter().rev() {
+        poly.push(to_raster(-r, z));
+    }
+    let mut acc = vec![0.0f64; w * h + w + 4];
+    for i in 0..poly.len() {
+        let p0 = poly[i];
+        let p1 = poly[(i + 1) % poly.len()];
+        let clampx = |p: (f64, f64)| (p.0.clamp(0.0, w as f64 - 1.001), p.1);
+        draw_line(&mut acc, w, h, clampx(p0), clampx(p1));
+    }
+    let mut out = vec![0.0; w * h];
+    let mut run = 0.0;
+    for (o, a) in out.iter_mut().zip(&acc) {
+        run += a;
+        *o = run.abs().min(1.0);
+    }
+    out
+}
+
+/// The profile as (rho, z) points, pole first, with segments no longer than
+/// `max_seg_m`, by centripetal-free (uniform) Catmull-Rom interpolation; the
+/// pole is made smooth by mirroring (the point before the pole is
+/// `(-rho_1, z_1)`).
+fn densify(s: &Silhouette, max_seg_m: f64) -> Vec<(f64, f64)> {
+    let n = s.rho_m.len();
+    let p = |i: isize| -> (f64, f64) {
+        if i < 0 {
+            let j = (-i) as usize;
+            (-s.rho_m[j.min(n - 1)], s.z_m[j.min(n - 1)])
+        } else if (i as usize) >= n {
+            let (a, b) = (
+                (s.rho_m[n - 1], s.z_m[n - 1]),
+                (s.rho_m[n - 2], s.z_m[n - 2]),
+            );
+            (2.0 * a.0 - b.0, 2.0 * a.1 - b.1)
+        } else {
+            (s.rho_m[i as usize], s.z_m[i as usize])
+        }
+    };
+    let mut out = vec![p(0)];
+    for i in 0..n as isize - 1 {
+        let (p0, p1, p2, p3) = (p(i - 1), p(i), p(i + 1), p(i + 2));
+        let len = ((p2.0 - p1.0).powi(2) + (p2.1 - p1.1).powi(2)).sqrt();
+        let m = ((len / max_seg_m).ceil() as usize).max(1);
+        for k in 1..=m {
+            let t = k as f64 / m as f64;
+            let cr = |a: f64, b: f64, c: f64, d: f64| {
+                0.5 * (2.0 * b
+                    + (-a + c) * t
+                    + (2.0 * a - 5.0 * b + 4.0 * c - d) * t * t
+                    + (-a + 3.0 * b - 3.0 * c + d) * t * t * t)
+            };
+            out.push((cr(p0.0, p1.0, p2.0, p3.0), cr(p0.1, p1.1, p2.1, p3.1)));
+        }
+    }
+    out
+}
+
+/// Adds the signed area of segment p0-p1 (raster coordinates) to the
+/// accumulation buffer (R. Levien's font-rs algorithm); a running sum of the
+/// buffer gives each cell's coverage.
+fn draw_line(acc: &mut [f64], w: usize, h: usize, p0: (f64, f64), p1: (f64, f64)) {
+    if (p0.1 - p1.1).abs() <= 1e-12 {
+        return;
+    }
+    let (dir, p0, p1) = if p0.1 < p1.1 {
+        (1.0, p0, p1)
+    } else {
+        (-1.0, p1, p0)
+    };
+    let dxdy = (p1.0 - p0.0) / (p1.1 - p0.1);
+    let mut x = p0.0;
+    if p0.1 < 0.0 {
+        x -= p0.1 * dxdy;
+    }
+    let y_start = p0.1.max(0.0) as usize;
+    let y_end = (h as f64).min(p1.1.ceil()).max(0.0) as usize;
+    for y in y_start..y_end {
+        let ls = y * w;
+        let dy = ((y + 1) as f64).min(p1.1) - (y as f64).max(p0.1);
+        let xnext = x + dxdy * dy;
+        let d = dy * dir;
+        let (x0, x1) = if x < xnext { (x, xnext) } else { (xnext, x) };
+        let x0f = x0.floor();
+        let x0i = x0f as usize;
+        let x1c = x1.ceil();
+        let x1i = x1c as usize;
+        if x1i <= x0i + 1 {
+            let xmf = 0.5 * (x + xnext) - x0f;
+            acc[ls + x0i] += d - d * xmf;
+            acc[ls + x0i + 1] += d * xmf;
+        } else {
+            let s = 1.0 / (x1 - x0);
+            let x0frac = x0 - x0f;
+            let a0 = 0.5 * s * (1.0 - x0frac) * (1.0 - x0frac);
+            let x1frac = x1 - x1c + 1.0;
+            let am = 0.5 * s * x1frac * x1frac;
+            acc[ls + x0i] += d * a0;
+            if x1i == x0i + 2 {
+                acc[ls + x0i + 1] += d * (1.0 - a0 - am);
+            } else {
+                let a1 = s * (1.5 - x0frac);
+                acc[ls + x0i + 1] += d * (a1 - a0);
+                for xi in x0i + 2..x1i - 1 {
+                    acc[ls + xi] += d * s;
+                }
+                let a2 = a1 + (x1i - x0i - 3) as f64 * s;
+                acc[ls + x1i - 1] += d * (1.0 - a2 - am);
+            }
+            acc[ls + x1i] += d * am;
+        }
+        x = xnext;
+    }
+}
+
+/// Separable Gaussian blur with replicated borders, radius ceil(4 sigma).
+pub fn gaussian_blur(img: &mut [f64], w: usize, h: usize, sigma: f64) {
+    let r = (4.0 * sigma).ceil() as isize;
+    let k: Vec<f64> = (-r..=r)
+        .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let sum: f64 = k.iter().sum();
+    let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
+    let mut tmp = vec![0.0; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let mut acc = 0.0;
+            for (j, kv) in k.iter().enumerate() {
+                let xi = (x as isize + j as isize - r).clamp(0, w as isize - 1) as usize;
+                acc += kv * img[y * w + xi];
+            }
+            tmp[y * w + x] = acc;
+        }
+    }
+    for y in 0..h {
+        for x in 0..w {
+            let mut acc = 0.0;
+            for (j, kv) in k.iter().enumerate() {
+                let yi = (y as isize + j as isize - r).clamp(0, h as isize - 1) as usize;
+                acc += kv * tmp[yi * w + x];
+            }
+            img[y * w + x] = acc;
+        }
+    }
+}
+
+/// A synthetic sequence: the camera, the specimen and the degradations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SequenceSpec {
+    /// Image width, px.
+    pub width: usize,
+    /// Image height, px.
+    pub height: usize,
+    /// Seed of the scene placement, texture and noise.
+    pub seed: u64,
+    /// Gaussian blur, px.
+    pub blur_px: f64,
+    /// Sensor noise, grey levels.
+    pub noise_grey: f64,
+    /// Exposure drift: the gain goes linearly from `1 - drift` to `1 + drift`.
+    pub drift: f64,
+    /// File format.
+    pub encoding: Encoding,
+    /// The specimen written into `experiment.toml`.
+    pub specimen: Specimen,
+}
+
+/// One frame to draw: the pressure and the bubble's profile at it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthFrame {
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// Meridian profile (pole first).
+    pub silhouette: Silhouette,
+}
+
+/// The truth of one written frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Truth {
+    /// File name inside `photos/`.
+    pub file: String,
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// Apex height above the clamp plane, m.
+    pub height_m: f64,
+    /// Apex column, px.
+    pub apex_x_px: f64,
+    /// Apex row, px.
+    pub apex_y_px: f64,
+}
+
+/// What [`write_sequence`] wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Written {
+    /// The truth per frame.
+    pub truth: Vec<Truth>,
+    /// Total bytes of the photos.
+    pub photo_bytes: usize,
+    /// The scene.
+    pub scene: Scene,
+}
+
+/// Template size for an image width: 10 % by 5 % of the width (even).
+pub fn template_size(width: usize) -> (usize, usize) {
+    let tw = ((0.1 * width as f64 / 2.0).round() as usize * 2).max(16);
+    (tw, (tw / 2).max(8))
+}
+
+/// Renders and writes a whole synthetic experiment into `out`:
+/// `photos/frame_NNN.{png,jpg}`, `pressure.csv`, `truth.csv`,
+/// `experiment.toml`. Frames are rendered in parallel; every file is written
+/// atomically. Fails when the tallest bubble does not fit in the picture.
+pub fn write_sequence(
+    out: &Path,
+    spec: &SequenceSpec,
+    frames: &[SynthFrame],
+) -> Result<Written, TrackError> {
+    use rayon::prelude::*;
+    let scene = Scene::new(spec.width, spec.height, spec.specimen.radius_m, spec.seed);
+    let hmax = frames
+        .iter()
+        .map(|f| f.silhouette.height_m())
+        .fold(0.0, f64::max);
+    if frames.is_empty() {
+        return Err(TrackError::Config {
+            path: out.to_path_buf(),
+            message: "no frames to draw: give at least one pressure".into(),
+        });
+    }
+    if hmax > scene.max_height_m() {
+        return Err(TrackError::Config {
+            path: out.to_path_buf(),
+            message: format!(
+                "the tallest bubble ({:.4} m) does not fit in a {}x{} px picture framed for the {:.4} m disc (at most {:.4} m): lower the pressure or use a wider image height",
+                hmax,
+                spec.width,
+                spec.height,
+                2.0 * spec.specimen.radius_m,
+                scene.max_height_m()
+            ),
+        });
+    }
+    let n = frames.len();
+    let digits = n.to_string().len().max(3);
+    let ext = spec.encoding.extension();
+    let photos = out.join("photos");
+    let write_err = |p: &Path, e: std::io::Error| TrackError::Write {
+        path: p.to_path_buf(),
+        reason: e.to_string(),
+    };
+    std::fs::create_dir_all(&photos).map_err(|e| write_err(&photos, e))?;
+    let results: Vec<Result<(Truth, usize), TrackError>> = frames
+        .par_iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let t = if n > 1 {
+                i as f64 / (n - 1) as f64
+            } else {
+                0.5
+            };
+            let d = Degradation {
+                blur_px: spec.blur_px,
+                noise_grey: spec.noise_grey,
+                gain: 1.0 + spec.drift * (2.0 * t - 1.0),
+            };
+            let img = render(
+                &scene,
+                &f.silhouette,
+                &d,
+                spec.seed.wrapping_mul(1_000_003).wrapping_add(i as u64 + 1),
+            );
+            let bytes = super::image::encode(&img, spec.encoding)?;
+            let file = format!("frame_{:0digits$}.{ext}", i + 1);
+            let path = photos.join(&file);
+            crate::io::write_atomic(&path, &bytes).map_err(|e| write_err(&path, e))?;
+            let [ax, ay] = scene.apex_px(&f.silhouette);
+            Ok((
+                Truth {
+                    file,
+                    pressure_pa: f.pressure_pa,
+                    height_m: f.silhouette.height_m(),
+                    apex_x_px: ax,
+                    apex_y_px: ay,
+                },
+                bytes.len(),
+            ))
+        })
+        .collect();
+    let mut truth = Vec::with_capacity(n);
+    let mut photo_bytes = 0;
+    for r in results {
+        let (t, b) = r?;
+        truth.push(t);
+        photo_bytes += b;
+    }
+
+    let mut pcsv = CsvOut::new(&["file", "pressure_pa"]);
+    let mut tcsv = CsvOut::new(&["file", "pressure_pa", "height_m", "apex_x_px", "apex_y_px"]);
+    for t in &truth {
+        pcsv.row(&[t.file.clone(), fmt_num(Some(t.pressure_pa))]);
+        tcsv.row(&[
+            t.file.clone(),
+            fmt_num(Some(t.pressure_pa)),
+            fmt_num(Some(t.height_m)),
+            fmt_num(Some(t.apex_x_px)),
+            fmt_num(Some(t.apex_y_px)),
+        ]);
+    }
+    let p = out.join("pressure.csv");
+    pcsv.write(&p).map_err(|e| write_err(&p, e))?;
+    let p = out.join("truth.csv");
+    tcsv.write(&p).map_err(|e| write_err(&p, e))?;
+
+    // Template around the reference (first) frame's apex; region covering
+    // every apex with a template's margin.
+    let (tw, th) = template_size(spec.width);
+    let [ax0, ay0] = [truth[0].apex_x_px, truth[0].apex_y_px];
+    let tx = (ax0 - tw as f64 / 2.0).round() as i64;
+    let ty = (ay0 - th as f64 / 2.0).round() as i64;
+    let ymin = truth
+        .iter()
+        .map(|t| t.apex_y_px)
+        .fold(f64::INFINITY, f64::min);
+    let ymax = truth
+        .iter()
+        .map(|t| t.apex_y_px)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let rx = (ax0 - 1.5 * tw as f64).round().max(0.0) as i64;
+    let ry = (ymin - th as f64).floor().max(0.0) as i64;
+    let rw = (3 * tw) as i64;
+    let rh = ((ymax + th as f64).ceil() as i64 - ry).min(spec.height as i64 - ry);
+    let glob = format!("*.{ext}");
+    let s = spec.specimen;
+    let toml = format!(
+        "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
+         # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
+         [specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
+         [photos]\ndir = \"photos\"\nglob = \"{glob}\"\nroi_px = [{rx}, {ry}, {rw}, {rh}]\n\
+         template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
+         apex_in_template_px = [{:?}, {:?}]\n\n\
+         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n\n\
+         [pressure]\ncsv = \"pressure.csv\"\n",
+        s.radius_m,
+        s.thickness_m,
+        s.poisson,
+        s.prebulge_height_m,
+        ax0 - tx as f64,
+        ay0 - ty as f64,
+        scene.metres_per_pixel,
+        scene.clamp_row_px,
+    );
+    let p = out.join("experiment.toml");
+    crate::io::write_atomic(&p, toml.as_bytes()).map_err(|e| write_err(&p, e))?;
+    Ok(Written {
+        truth,
+        photo_bytes,
+        scene,
+    })
+}
+
+/// Spherical caps of heights rising linearly from `h_max / n` to `h_max`
+/// (for tests and benchmarks that must not depend on a material model; the
+/// pressure column is then only a label: 100 Pa per frame).
+pub fn cap_frames(radius_m: f64, h_max_m: f64, n: usize) -> Vec<SynthFrame> {
+    (1..=n)
+        .map(|k| SynthFrame {
+            pressure_pa: 100.0 * k as f64,
+            silhouette: Silhouette::spherical_cap(radius_m, h_max_m * k as f64 / n as f64, 400),
+        })
+        .collect()
+}
+
+/// RMS errors of the apex positions against the truth, px: `[x, y]` for the
+/// integer match, the quadratic peak fit and the reported apex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ApexErrors {
+    /// Integer-pixel match (minMaxLoc alone).
+    pub integer: [f64; 2],
+    /// 2-D quadratic fit of the score peak.
+    pub quadratic: [f64; 2],
+    /// The reported apex (`apex_x_px`, `apex_y_px`).
+    pub reported: [f64; 2],
+    /// RMS of (error / apex_y_std_px) of the reported row: about 1 when the
+    /// stated uncertainty is honest about the noise.
+    pub y_z_rms: f64,
+    /// Frames compared.
+    pub frames: usize,
+}
+
+/// Compares tracked rows with the truth (matched by file name).
+pub fn apex_errors(rows: &[super::FrameResult], truth: &[Truth]) -> ApexErrors {
+    let mut sums = [[0.0f64; 2]; 3];
+    let mut z2 = 0.0;
+    let mut n = 0usize;
+    for r in rows {
+        let Some(t) = truth.iter().find(|t| t.file == r.file) else {
+            continue;
+        };
+        let est = [
+            r.apex_integer_px,
+            r.apex_quadratic_px,
+            [r.apex_x_px, r.apex_y_px],
+        ];
+        for (s, e) in sums.iter_mut().zip(est) {
+            s[0] += (e[0] - t.apex_x_px).powi(2);
+            s[1] += (e[1] - t.apex_y_px).powi(2);
+        }
+        z2 += ((r.apex_y_px - t.apex_y_px) / r.apex_y_std_px.max(1e-12)).powi(2);
+        n += 1;
+    }
+    let rms = |s: [f64; 2]| [(s[0] / n as f64).sqrt(), (s[1] / n as f64).sqrt()];
+    ApexErrors {
+        integer: rms(sums[0]),
+        quadratic: rms(sums[1]),
+        reported: rms(sums[2]),
+        y_z_rms: (z2 / n as f64).sqrt(),
+        frames: n,
+    }
+}
+
+/// A small deterministic generator (SplitMix64), so that a seed gives the
+/// same photos on every platform and version of the dependencies.
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0xD1B5_4A32_D192_ED03)
+    }
+
+    /// The next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Standard normal (Box-Muller).
+    pub fn normal(&mut self) -> f64 {
+        let u1 = 1.0 - self.uniform();
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        Scene::new(320, 240, 0.0375, 7)
+    }
+
+    #[test]
+    fn coverage_area_equals_the_cap_area() {
+        let sc = scene();
+        let h = 0.02;
+        let s = Silhouette::spherical_cap(0.0375, h, 200);
+        let cov = coverage(&sc, &s);
+        let area_px: f64 = cov.iter().sum();
+        // Circular segment of radius R, chord 2a, height h.
+        let (a, r) = (0.0375f64, (0.0375f64.powi(2) + h * h) / (2.0 * h));
+        let area = r * r * (2.0 * (a / r).asin()) / 2.0 - a * (r - h);
+        let area_expected = area / sc.metres_per_pixel.powi(2);
+        assert!(
+            (area_px - area_expected).abs() / area_expected < 1e-4,
+            "{area_px} vs {area_expected}"
+        );
+        assert!(cov.iter().all(|c| (0.0..=1.0).contains(c)));
+    }
+
+    #[test]
+    fn apex_column_coverage_matches_the_apex_row() {
+        // In the column through the apex, the coverage summed over rows is the
+        // height of the silhouette from the apex to the clamp plane (up to the
+        // curvature inside one pixel width, < 1e-3 px here).
+        let sc = scene();
+        let s = Silhouette::spherical_cap(0.0375, 0.015, 400);
+        let cov = coverage(&sc, &s);
+        let [ax, ay] = sc.apex_px(&s);
+        let col = ax.round() as usize;
+        let sum: f64 = (0..sc.height).map(|y| cov[y * sc.width + col]).sum();
+        let expected = sc.clamp_row_px - ay;
+        assert!((sum - expected).abs() < 2e-3, "{sum} vs {expected}");
+    }
+
+    #[test]
+    fn rendering_is_deterministic_per_seed() {
+        let sc = scene();
+        let s = Silhouette::spherical_cap(0.0375, 0.01, 100);
+        let d = Degradation {
+            blur_px: 1.0,
+            noise_grey: 3.0,
+            gain: 1.0,
+        };
+        assert_eq!(render(&sc, &s, &d, 3), render(&sc, &s, &d, 3));
+        assert_ne!(render(&sc, &s, &d, 3), render(&sc, &s, &d, 4));
+    }
+}
