@@ -142,6 +142,21 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
             "give a scene file (bulge simulate scene.toml) or --experiment FILE --material FILE --pressures P1,P2,..."
         ));
     };
+    let origin = apply_overrides(&mut scene, args)?;
+    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
+    Ok(scene)
+}
+
+/// A model of the `--model` list.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Choice {
+    Spring(SpringModel),
+    Axisym,
+}
+
+/// Applies the flags that override a scene (pressures, mesh size, symmetry,
+/// density) and returns the name of where the scene came from, for messages.
+fn apply_overrides(scene: &mut Scene, args: &Args) -> anyhow::Result<String> {
     if let Some(p) = &args.pressures {
         scene.pressures_pa = scene::parse_pressures(p).map_err(|m| anyhow!("--pressures: {m}"))?;
     }
@@ -160,22 +175,13 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
     if let Some(d) = args.density {
         scene.density_kg_m3 = d;
     }
-    let origin = args
+    Ok(args
         .scene
         .as_deref()
         .or(args.experiment.as_deref())
         .unwrap_or(Path::new("command line"))
         .display()
-        .to_string();
-    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
-    Ok(scene)
-}
-
-/// A model of the `--model` list.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Choice {
-    Spring(SpringModel),
-    Axisym,
+        .to_string())
 }
 
 fn parse_choice(s: &str) -> Option<Choice> {

@@ -1,7 +1,7 @@
 //! `bulge simulate --dynamic`: time integration of a scene under a load step
 //! (see `docs/dynamics.md`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, anyhow};
@@ -14,7 +14,7 @@ use crate::io::{CsvOut, fmt_num, read_toml, write_atomic};
 use crate::material::Material;
 use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
 use crate::sim::paper003::in_plane;
-use crate::sim::scene::{self, DiscPredictor, MeshSize, Scene, SceneKind};
+use crate::sim::scene::{DiscPredictor, Scene, SceneKind};
 use crate::sim::solve::{self, Options, Predictor, Solver, Stay};
 use crate::sim::springs::{Membrane, SpringModel};
 
@@ -88,31 +88,7 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
             "give a scene file (bulge simulate scene.toml --dynamic ...) or --experiment FILE --material FILE --pressures P1,..."
         ));
     };
-    if let Some(p) = &args.pressures {
-        scene.pressures_pa = scene::parse_pressures(p).map_err(|m| anyhow!("--pressures: {m}"))?;
-    }
-    if let Some(h) = args.edge_length {
-        scene.mesh.size = Some(MeshSize::EdgeLength(h));
-    }
-    if let Some(n) = args.nodes {
-        scene.mesh.size = Some(MeshSize::Nodes(n));
-    }
-    if let Some(a) = args.accuracy {
-        scene.mesh.size = Some(MeshSize::Accuracy(a));
-    }
-    if args.full {
-        scene.mesh.symmetry = false;
-    }
-    if let Some(d) = args.density {
-        scene.density_kg_m3 = d;
-    }
-    let origin = args
-        .scene
-        .as_deref()
-        .or(args.experiment.as_deref())
-        .unwrap_or(Path::new("command line"))
-        .display()
-        .to_string();
+    let origin = super::apply_overrides(&mut scene, args)?;
     // a sheet may be loaded by its nodal loads alone
     let need_p = !matches!(scene.kind, SceneKind::Sheet { .. }) || scene.loads.is_empty();
     scene
