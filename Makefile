@@ -5,8 +5,11 @@ SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
 TARGET := $(or $(CARGO_TARGET_DIR),target)
-# The demo uses the test build (dependencies optimised, bulge at opt-level 1),
-# so `make demo` after `make test` builds nothing new; benchmarks use release.
+# The demo uses the test build (dependencies optimised, bulge at opt-level 1):
+# `cargo test --no-run` builds target/debug/bulge with the same dependency
+# features as the tests (a plain `cargo build` would not unify them with the
+# dev-dependencies and would rebuild half the dependencies), so `make demo`
+# and `make test` share one build. Benchmarks use release.
 BULGE := $(TARGET)/debug/bulge
 BULGE_RELEASE := $(TARGET)/release/bulge
 
@@ -18,7 +21,7 @@ deps:
 	@bash scripts/install-deps.sh
 
 build: deps
-	$(CARGO) build --locked
+	$(CARGO) test --locked --no-run --lib --bins --tests
 
 build-release: deps
 	$(CARGO) build --release --locked
