@@ -107,6 +107,15 @@ fn parse_list<T>(
 }
 
 fn build_scene(args: &Args) -> anyhow::Result<Scene> {
+    let (scene, origin) = load_scene(args)?;
+    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
+    Ok(scene)
+}
+
+/// Reads the scene (a scene file, or `--experiment` + `--material`), applies
+/// the overriding flags, and returns it with the name of where it came from;
+/// the static and dynamic paths validate it each their own way.
+fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
     let material = match &args.material {
         Some(p) => Some(read_toml::<Material>(p)?),
         None => None,
@@ -143,8 +152,7 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
         ));
     };
     let origin = apply_overrides(&mut scene, args)?;
-    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
-    Ok(scene)
+    Ok((scene, origin))
 }
 
 /// A model of the `--model` list.

@@ -9,9 +9,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::super::{Classify, Failure};
 use super::{Args, describe, parse_list};
-use crate::experiment::Experiment;
-use crate::io::{CsvOut, fmt_num, read_toml, write_atomic};
-use crate::material::Material;
+use crate::io::{CsvOut, fmt_num, write_atomic};
 use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
 use crate::sim::paper003::in_plane;
 use crate::sim::scene::{DiscPredictor, Scene, SceneKind};
@@ -69,26 +67,7 @@ pub struct DynArgs {
 }
 
 fn build_scene(args: &Args) -> anyhow::Result<Scene> {
-    let material = match &args.material {
-        Some(p) => Some(read_toml::<Material>(p)?),
-        None => None,
-    };
-    let mut scene = if let Some(path) = &args.scene {
-        let mut s = Scene::read(path)?;
-        if let Some(m) = material {
-            s.material = m;
-        }
-        s
-    } else if let Some(exp) = &args.experiment {
-        let e = Experiment::read(exp)?;
-        let m = material.ok_or_else(|| anyhow!("--experiment needs --material material.toml"))?;
-        Scene::from_specimen(&e.specimen, m, Vec::new())
-    } else {
-        return Err(anyhow!(
-            "give a scene file (bulge simulate scene.toml --dynamic ...) or --experiment FILE --material FILE --pressures P1,..."
-        ));
-    };
-    let origin = super::apply_overrides(&mut scene, args)?;
+    let (scene, origin) = super::load_scene(args)?;
     // a sheet may be loaded by its nodal loads alone
     let need_p = !matches!(scene.kind, SceneKind::Sheet { .. }) || scene.loads.is_empty();
     scene
