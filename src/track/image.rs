@@ -94,12 +94,9 @@ pub fn read_gray(path: &Path, roi: Option<[usize; 4]>) -> Result<Decoded, TrackE
     decode_gray(path, &bytes, roi)
 }
 
-/// Decodes encoded bytes (named `path` in errors) to grayscale.
-pub fn decode_gray(
-    path: &Path,
-    bytes: &[u8],
-    roi: Option<[usize; 4]>,
-) -> Result<Decoded, TrackError> {
+/// Decodes encoded bytes (named `path` in errors): a truncated file, bytes
+/// OpenCV cannot decode and an empty image are refused.
+fn decode_checked(path: &Path, bytes: &[u8]) -> Result<Mat, TrackError> {
     check_complete(path, bytes)?;
     let mat = decode_mat(bytes).map_err(|e| TrackError::Unreadable {
         path: path.to_path_buf(),
@@ -113,6 +110,16 @@ pub fn decode_gray(
                     .to_string(),
         });
     }
+    Ok(mat)
+}
+
+/// Decodes encoded bytes (named `path` in errors) to grayscale.
+pub fn decode_gray(
+    path: &Path,
+    bytes: &[u8],
+    roi: Option<[usize; 4]>,
+) -> Result<Decoded, TrackError> {
+    let mat = decode_checked(path, bytes)?;
     let roi = roi.unwrap_or([0, 0, mat.cols() as usize, mat.rows() as usize]);
     crop_mat(path, &mat, roi)
 }
@@ -124,19 +131,7 @@ pub fn decode_gray_lenient(
     bytes: &[u8],
     roi: Option<[usize; 4]>,
 ) -> Result<Decoded, TrackError> {
-    check_complete(path, bytes)?;
-    let mat = decode_mat(bytes).map_err(|e| TrackError::Unreadable {
-        path: path.to_path_buf(),
-        reason: format!("OpenCV cannot decode it: {e}"),
-    })?;
-    if mat.empty() || mat.rows() <= 0 || mat.cols() <= 0 {
-        return Err(TrackError::Unreadable {
-            path: path.to_path_buf(),
-            reason:
-                "OpenCV cannot decode it (not an image, an unsupported format, or a damaged file)"
-                    .to_string(),
-        });
-    }
+    let mat = decode_checked(path, bytes)?;
     let (width, height) = (mat.cols() as usize, mat.rows() as usize);
     match roi {
         Some([x, y, w, h]) if x + w <= width && y + h <= height => {
