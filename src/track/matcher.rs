@@ -67,23 +67,28 @@ pub fn match_in_window(img: &Gray, templ: &Gray, win: [usize; 4]) -> Result<Matc
 }
 
 /// Block average by an integer factor `f` (the image's last partial blocks
-/// are dropped).
-pub fn reduce(img: &Gray, f: usize) -> Gray {
+/// are dropped), rounded to the nearest grey level: OpenCV's area resize.
+pub fn reduce(img: &Gray, f: usize) -> Result<Gray, TrackError> {
     let (w, h) = (img.width / f, img.height / f);
-    let mut acc = vec![0u32; w * h];
-    for y in 0..h * f {
-        let row = &img.data[y * img.width..y * img.width + w * f];
-        let out = &mut acc[(y / f) * w..(y / f + 1) * w];
-        for (o, block) in out.iter_mut().zip(row.chunks_exact(f)) {
-            *o += block.iter().map(|&v| u32::from(v)).sum::<u32>();
-        }
-    }
-    let n = (f * f) as u32;
-    Gray {
+    let mut out = Gray {
         width: w,
         height: h,
-        data: acc.iter().map(|&s| ((s + n / 2) / n) as u8).collect(),
+        data: vec![0u8; w * h],
+    };
+    if w == 0 || h == 0 {
+        return Ok(out);
     }
+    let src = if img.width == w * f && img.height == h * f {
+        std::borrow::Cow::Borrowed(img)
+    } else {
+        std::borrow::Cow::Owned(img.crop(0, 0, w * f, h * f))
+    };
+    let a = src.as_mat().map_err(cv)?;
+    let mut dst = Mat::default();
+    let size = opencv::core::Size::new(w as i32, h as i32);
+    imgproc::resize(&a, &mut dst, size, 0.0, 0.0, imgproc::INTER_AREA).map_err(cv)?;
+    out.data.copy_from_slice(dst.data_bytes().map_err(cv)?);
+    Ok(out)
 }
 
 fn cv(e: opencv::Error) -> TrackError {
@@ -209,6 +214,41 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
     Some((e, step))
 }
 
+/// The edge rows found so far in the columns of one image, so that the
+/// passes of [`edge_fit`] and the wider [`axis_fit`] locate each column once:
+/// [`column_edge`] iterates to a fixed point, so a column already converged
+/// within a pixel of a new start would converge to the same row again.
+pub struct Columns<'a> {
+    img: &'a Gray,
+    hw: f64,
+    found: Vec<Option<(f64, f64)>>,
+}
+
+impl<'a> Columns<'a> {
+    /// No column located yet; `half_window_px` as in [`EdgeSettings`].
+    pub fn new(img: &'a Gray, half_window_px: usize) -> Self {
+        Columns {
+            img,
+            hw: half_window_px.max(2) as f64,
+            found: vec![None; img.width],
+        }
+    }
+
+    /// The edge row and step of column `c` starting from row `start`.
+    fn edge(&mut self, c: usize, start: f64) -> Option<(f64, f64)> {
+        if let Some((e, step)) = self.found[c]
+            && (e - start).abs() < 1.0
+        {
+            return Some((e, step));
+        }
+        let r = column_edge(self.img, c, start, self.hw);
+        if r.is_some() {
+            self.found[c] = r;
+        }
+        r
+    }
+}
+
 /// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
 /// the edge row of each column of `x0 +- half_span` ([`column_edge`]), then
 /// a least-squares parabola `y = A + B u + C u^2` (u = x - x0) through them;
@@ -216,8 +256,12 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
 /// on the first parabola, the third re-centres the span on the vertex when
 /// the vertex is well determined. `None` when too few columns show an edge.
 pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
-    let w = img.width as i64;
-    let hw = s.half_window_px.max(2) as f64;
+    edge_fit_in(&mut Columns::new(img, s.half_window_px), x0, y0, s)
+}
+
+/// [`edge_fit`] on columns some of which may be located already.
+pub fn edge_fit_in(cols: &mut Columns, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
+    let w = cols.img.width as i64;
     let span = s.half_span_px as i64;
     let mut centre = x0;
     let mut coef = [y0, 0.0, 0.0];
@@ -248,7 +292,7 @@ pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit
         {
             let u = c as f64 - centre;
             let start = coef[0] + coef[1] * u + coef[2] * u * u;
-            if let Some((e, step)) = column_edge(img, c as usize, start, hw) {
+            if let Some((e, step)) = cols.edge(c as usize, start) {
                 located.push((u, e, step));
             }
         }
@@ -342,20 +386,26 @@ pub fn axis_fit(
     half_span_px: usize,
     half_window_px: usize,
 ) -> Option<(f64, f64)> {
-    let w = img.width as i64;
-    let hw = half_window_px.max(2) as f64;
+    axis_fit_in(&mut Columns::new(img, half_window_px), apex, half_span_px)
+}
+
+/// [`axis_fit`] on columns some of which may be located already (by the
+/// edge fit of the same image).
+pub fn axis_fit_in(cols: &mut Columns, apex: &EdgeFit, half_span_px: usize) -> Option<(f64, f64)> {
+    let w = cols.img.width as i64;
     let xc = apex.x_vertex.round() as i64;
     let k = 0.5 * apex.curvature.max(0.0);
     let span = half_span_px as i64;
     let mut located = Vec::new();
-    // At most about 257 columns: wider spans (large photos) are sampled.
-    let stride = (span as usize / 128).max(1);
+    // At most about 97 columns: wider spans are sampled (the axis is a
+    // least-squares fit; more columns of the same edge add little).
+    let stride = (span as usize).div_ceil(48).max(1);
     for c in (xc - span..=xc + span)
         .step_by(stride)
         .filter(|&c| c >= 0 && c < w)
     {
         let u = c as f64 - apex.x_vertex;
-        if let Some((e, step)) = column_edge(img, c as usize, apex.y + k * u * u, hw) {
+        if let Some((e, step)) = cols.edge(c as usize, apex.y + k * u * u) {
             located.push((c as f64, e, step));
         }
     }
@@ -378,28 +428,7 @@ pub fn axis_fit(
     if pts.len() < 9 {
         return None;
     }
-    let rss = |s: f64| -> f64 {
-        let mut ata = nalgebra::Matrix3::<f64>::zeros();
-        let mut aty = nalgebra::Vector3::<f64>::zeros();
-        // Scaled abscissa keeps the normal equations well conditioned.
-        let sc = half_span_px.max(1) as f64;
-        for &(x, y) in &pts {
-            let v = ((x - s) / sc).powi(2);
-            let g = nalgebra::Vector3::new(1.0, v, v * v);
-            ata += g * g.transpose();
-            aty += g * y;
-        }
-        let Some(inv) = ata.try_inverse() else {
-            return f64::INFINITY;
-        };
-        let c = inv * aty;
-        pts.iter()
-            .map(|&(x, y)| {
-                let v = ((x - s) / sc).powi(2);
-                (y - c[0] - c[1] * v - c[2] * v * v).powi(2)
-            })
-            .sum()
-    };
+    let rss = even_fit_rss(&pts, apex.x_vertex, half_span_px.max(1) as f64);
     let (mut a, mut b) = (apex.x_vertex - 8.0, apex.x_vertex + 8.0);
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
@@ -433,6 +462,65 @@ pub fn axis_fit(
         return None;
     }
     Some((s, (2.0 * sigma2 / curv).sqrt()))
+}
+
+/// `RSS(s)` of the least-squares fit of `y = A + C v + E v^2`, with
+/// `v = ((x - s) / scale)^2`, to `pts`, for any axis `s`. Power sums of the
+/// abscissa (centred on `centre`, divided by `scale`) are taken once, and
+/// each evaluation expands `sum (t - u)^m` binomially: O(1) per `s`, where
+/// refitting costs O(points) for each of the 30-odd evaluations of the
+/// golden-section search.
+fn even_fit_rss(pts: &[(f64, f64)], centre: f64, scale: f64) -> impl Fn(f64) -> f64 {
+    let ym = pts.iter().map(|p| p.1).sum::<f64>() / pts.len().max(1) as f64;
+    let (mut st, mut sty, mut syy) = ([0.0f64; 9], [0.0f64; 5], 0.0);
+    for &(x, y) in pts {
+        let (t, y) = ((x - centre) / scale, y - ym);
+        let mut p = 1.0;
+        for k in 0..9 {
+            st[k] += p;
+            if k < 5 {
+                sty[k] += p * y;
+            }
+            p *= t;
+        }
+        syy += y * y;
+    }
+    // Binomial coefficients C(m, j), m <= 8.
+    let mut binom = [[0.0f64; 9]; 9];
+    for m in 0..9 {
+        binom[m][0] = 1.0;
+        for j in 1..=m {
+            binom[m][j] = binom[m - 1][j - 1] + if j < m { binom[m - 1][j] } else { 0.0 };
+        }
+    }
+    move |s: f64| {
+        let u = (s - centre) / scale;
+        let mut nu = [1.0f64; 9];
+        for k in 1..9 {
+            nu[k] = nu[k - 1] * -u;
+        }
+        // sum (t - u)^m and sum (t - u)^m y.
+        let shifted = |sums: &[f64], m: usize| -> f64 {
+            (0..=m).map(|j| binom[m][j] * nu[m - j] * sums[j]).sum::<f64>()
+        };
+        let mm = |m: usize| shifted(&st, m);
+        let ata = nalgebra::Matrix3::new(
+            mm(0),
+            mm(2),
+            mm(4),
+            mm(2),
+            mm(4),
+            mm(6),
+            mm(4),
+            mm(6),
+            mm(8),
+        );
+        let aty = nalgebra::Vector3::new(shifted(&sty, 0), shifted(&sty, 2), shifted(&sty, 4));
+        match ata.cholesky() {
+            Some(ch) => (syy - ch.solve(&aty).dot(&aty)).max(0.0),
+            None => f64::INFINITY,
+        }
+    }
 }
 
 fn quad_form(m: &[[f64; 3]; 3], g: &[f64; 3]) -> f64 {
@@ -510,6 +598,59 @@ mod tests {
             (ox - px).abs() < 1e-12 && (oy - py).abs() < 1e-12,
             "{ox} {oy}"
         );
+    }
+
+    #[test]
+    fn reduce_is_the_rounded_block_mean() {
+        let (w, h) = (37usize, 23usize);
+        let img = Gray {
+            width: w,
+            height: h,
+            data: (0..w * h).map(|i| ((i * 7919) % 251) as u8).collect(),
+        };
+        for f in [2usize, 3] {
+            let r = reduce(&img, f).unwrap();
+            assert_eq!((r.width, r.height), (w / f, h / f));
+            for y in 0..h / f {
+                for x in 0..w / f {
+                    let mut sum = 0u32;
+                    for j in 0..f {
+                        for i in 0..f {
+                            sum += u32::from(img.at(x * f + i, y * f + j));
+                        }
+                    }
+                    let want = (f64::from(sum) / (f * f) as f64).round();
+                    assert!((f64::from(r.at(x, y)) - want).abs() <= 0.5, "f {f} ({x}, {y})");
+                }
+            }
+        }
+    }
+
+    /// The O(1) evaluation of the even fit's RSS against refitting the
+    /// points directly (SVD of the design matrix) at several axes.
+    #[test]
+    fn even_fit_rss_matches_a_direct_refit() {
+        let pts: Vec<(f64, f64)> = (0..150)
+            .map(|i| {
+                let x = 100.0 + i as f64;
+                let u = x - 173.4;
+                (x, 40.0 + 0.01 * u * u - 2e-7 * u.powi(4) + 0.3 * (i as f64 * 1.7).sin())
+            })
+            .collect();
+        let rss = even_fit_rss(&pts, 175.0, 75.0);
+        for s in [167.0, 171.2, 173.4, 175.0, 180.9] {
+            let a = nalgebra::DMatrix::from_fn(pts.len(), 3, |r, c| {
+                ((pts[r].0 - s) / 75.0).powi(2 * c as i32)
+            });
+            let y = nalgebra::DVector::from_iterator(pts.len(), pts.iter().map(|p| p.1));
+            let coef = a.clone().svd(true, true).solve(&y, 1e-14).unwrap();
+            let direct = (&y - &a * coef).norm_squared();
+            let fast = rss(s);
+            assert!(
+                (fast - direct).abs() <= 1e-9 * direct.max(1.0),
+                "s = {s}: {fast} vs {direct}"
+            );
+        }
     }
 
     /// A dome with an area-sampled edge: rows covered by a parabola

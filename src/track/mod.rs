@@ -671,11 +671,11 @@ pub fn track(
     let roi_req = (r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0)
         .then(|| [r[0] as usize, r[1] as usize, r[2] as usize, r[3] as usize]);
     // The pipeline: the rayon pool decodes the photos roughly in order
-    // (`par_bridge`) and sends their regions through a bounded channel; this
-    // thread meanwhile decodes the reference photo whole (for the template),
-    // then takes the regions back in frame order and tracks them one by one
-    // (each search starts from the previous frame's position). No barrier
-    // stops the decoders, and memory holds only a few regions at a time.
+    // (`par_bridge`), the reference photo first and whole (for the
+    // template), and sends them through a bounded channel; this thread takes
+    // them back in frame order and tracks them one by one (each search
+    // starts from the previous frame's position). No barrier stops the
+    // decoders, and memory holds only a few regions at a time.
     // A deep queue (up to 128 MB of regions) keeps the decoders running
     // when the matching thread waits for a core on a busy machine.
     let crop_bytes = roi_req.map_or(1 << 20, |r| (r[2] * r[3]).max(1));
@@ -687,13 +687,22 @@ pub fn track(
     std::thread::scope(|scope| {
         let cancel = &cancel;
         scope.spawn(move || {
-            let order = (0..n).filter(|&i| i != setup.reference_frame);
+            // The reference photo first, whole (the template may lie
+            // outside the region), then the others' regions.
+            let r = setup.reference_frame;
+            let order = std::iter::once(r).chain((0..n).filter(|&i| i != r));
             order.par_bridge().for_each(|i| {
                 if cancel.load(std::sync::atomic::Ordering::Relaxed) {
                     return;
                 }
+                let path = &setup.frames[i].path;
+                let decoded = if i == r {
+                    image::read_gray(path, None)
+                } else {
+                    decode_frame(path, roi_req)
+                };
                 // A closed channel means the matching stopped on an error.
-                let _ = tx.send((i, decode_frame(&setup.frames[i].path, roi_req)));
+                let _ = tx.send((i, decoded));
             });
         });
         let result = match_frames(setup, opts, tick, reference, rx);
@@ -714,7 +723,28 @@ fn match_frames(
     rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
 ) -> Result<Tracked, TrackError> {
     let n = setup.frames.len();
-    let full = image::read_gray(&reference.path, None)?;
+    // Decoded photos that arrived before their turn.
+    let mut early = std::collections::BTreeMap::new();
+    let mut take = |i: usize| -> Result<Decoded, TrackError> {
+        if let Some(d) = early.remove(&i) {
+            return d;
+        }
+        loop {
+            match rx.recv() {
+                Ok((k, d)) if k == i => return d,
+                Ok((k, d)) => {
+                    early.insert(k, d);
+                }
+                Err(_) => {
+                    return Err(TrackError::OpenCv(format!(
+                        "the decoding of photo {} stopped early",
+                        setup.frames[i].path.display()
+                    )));
+                }
+            }
+        }
+    };
+    let full = take(setup.reference_frame)?;
     let (width, height) = (full.width, full.height);
     let roi = check_rect(&reference.path, setup.roi, width, height)?;
     let templ: Gray = match &setup.template {
@@ -761,12 +791,18 @@ fn match_frames(
         edge_settings,
         apex_in_t,
         reduced: {
-            // Coarse search on a template about 64-128 px wide.
+            // Coarse search on a template about 64-128 px wide; 32-64 px
+            // when the edge fit refines (it needs only a seed within a few
+            // px, and OpenCV's matching then costs a fraction of decoding).
+            let min_width = if opts.refine == Refine::Edge { 32 } else { 64 };
             let mut f = 1;
-            while templ.width / (2 * f) >= 64 && templ.height / (2 * f) >= 16 {
+            while templ.width / (2 * f) >= min_width && templ.height / (2 * f) >= 16 {
                 f *= 2;
             }
-            (f > 1).then(|| (f, matcher::reduce(&templ, f)))
+            match f {
+                1 => None,
+                f => Some((f, matcher::reduce(&templ, f)?)),
+            }
         },
         // A template cut from the reference photo says where the search
         // starts: no search of the whole region for the first frame.
@@ -781,7 +817,6 @@ fn match_frames(
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
     let mut skipped = Vec::new();
     let mut locate_time = 0.0;
-    let mut early = std::collections::BTreeMap::new();
     while located.len() < n {
         let i = located.len();
         let f = &setup.frames[i];
@@ -789,23 +824,7 @@ fn match_frames(
         let crop: &Gray = if i == setup.reference_frame {
             &ref_crop
         } else {
-            let dec = match early.remove(&i) {
-                Some(d) => d,
-                None => match rx.recv() {
-                    Ok((k, d)) if k == i => d,
-                    Ok((k, d)) => {
-                        early.insert(k, d);
-                        continue;
-                    }
-                    Err(_) => {
-                        return Err(TrackError::OpenCv(format!(
-                            "the decoding of photo {} stopped early",
-                            f.path.display()
-                        )));
-                    }
-                },
-            };
-            let dec = dec?;
+            let dec = take(i)?;
             if (dec.width, dec.height) != (width, height) {
                 return Err(TrackError::MixedSizes {
                     path: f.path.clone(),
@@ -840,8 +859,11 @@ fn match_frames(
             state.prev = None;
             located.push(None);
         } else {
+            // The next search starts from this frame's refined apex (the
+            // template alone slides along a flat top).
+            let (apex, _) = state.apex(&loc);
             state.prev = state.last;
-            state.last = Some(loc.m.quadratic);
+            state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
             located.push(Some(loc));
         }
         tick();
@@ -849,38 +871,17 @@ fn match_frames(
 
     // Apex in image coordinates and its statistical uncertainty, px.
     let apex_of = |l: &Located| -> ([f64; 2], f64, [f64; 2], [f64; 2], Option<EdgeFit>) {
-        let off = [roi[0] as f64 + apex_in_t[0], roi[1] as f64 + apex_in_t[1]];
-        let int = [l.m.integer[0] + off[0], l.m.integer[1] + off[1]];
-        let quad = [l.m.quadratic[0] + off[0], l.m.quadratic[1] + off[1]];
+        let (off_x, off_y) = (roi[0] as f64, roi[1] as f64);
+        let shift = |p: [f64; 2]| [p[0] + off_x, p[1] + off_y];
+        let (apex, std) = state.apex(l);
+        let int = [l.m.integer[0] + apex_in_t[0], l.m.integer[1] + apex_in_t[1]];
+        let quad = [l.m.quadratic[0] + apex_in_t[0], l.m.quadratic[1] + apex_in_t[1]];
         let edge = l.edge.map(|e| EdgeFit {
-            y: e.y + roi[1] as f64,
-            x_vertex: e.x_vertex + roi[0] as f64,
+            y: e.y + off_y,
+            x_vertex: e.x_vertex + off_x,
             ..e
         });
-        // Without an edge fit, the error bound of a peak on the pixel grid.
-        let grid = 0.5;
-        // The edge fit's statistical error plus its bias floor.
-        let edge_std = |e: &EdgeFit| e.y_std.hypot(EDGE_BIAS_FLOOR_PX);
-        let axis = l.axis.map(|(x, s)| (x + roi[0] as f64, s));
-        let (apex, std) = match (opts.refine, edge) {
-            // The column from the edge's symmetry, else the parabola's
-            // vertex when the edge's curvature pins it down at all: the
-            // template sees mostly a horizontal edge, so its column follows
-            // the background texture (errors of several px measured).
-            (Refine::Edge, Some(e)) if axis.is_some_and(|(_, s)| s < e.x_std) => {
-                ([axis.map_or(e.x_vertex, |a| a.0), e.y], edge_std(&e))
-            }
-            (Refine::Edge, Some(e)) if e.x_std < 0.5 * edge_settings.half_span_px as f64 => {
-                ([e.x_vertex, e.y], edge_std(&e))
-            }
-            (Refine::Edge, Some(e)) => ([quad[0], e.y], edge_std(&e)),
-            (Refine::Edge, None) | (Refine::Quadratic, None) => (quad, grid),
-            (Refine::Integer, None) => (int, grid),
-            // The template's own bias is the gap to the edge fit.
-            (Refine::Quadratic, Some(e)) => (quad, edge_std(&e).hypot(quad[1] - e.y)),
-            (Refine::Integer, Some(e)) => (int, edge_std(&e).hypot(int[1] - e.y)),
-        };
-        (apex, std, int, quad, edge)
+        (shift(apex), std, shift(int), shift(quad), edge)
     };
     let mpp = setup.calibration.metres_per_pixel;
     let (origin_row, origin_std, offset_m) = match setup.calibration.origin {
@@ -958,8 +959,9 @@ struct Tracker<'a> {
 
 impl Tracker<'_> {
     /// Template search in `img` (full or reduced resolution): around the
-    /// position predicted from the last two frames, widened to the whole
-    /// image on a poor score or a peak on the window's border.
+    /// position predicted from the last two frames, widened (four times the
+    /// margin, then the whole image) on a poor score or a peak on the
+    /// window's border.
     fn search(
         &self,
         img: &Gray,
@@ -977,23 +979,67 @@ impl Tracker<'_> {
         let vel = prev.map_or([0.0, 0.0], |p| [last[0] - p[0], last[1] - p[1]]);
         let pred = [last[0] + vel[0], last[1] + vel[1]];
         let margin = margin_px + 0.5 * vel[0].abs().max(vel[1].abs());
-        let x0 = (pred[0] - margin).floor().clamp(0.0, (rw - tw) as f64) as usize;
-        let y0 = (pred[1] - margin).floor().clamp(0.0, (rh - th) as f64) as usize;
-        let x1 = ((pred[0] + margin).ceil().max(0.0) as usize + tw).clamp(x0 + tw, rw);
-        let y1 = ((pred[1] + margin).ceil().max(0.0) as usize + th).clamp(y0 + th, rh);
-        let win = [x0, y0, x1 - x0, y1 - y0];
-        let m = matcher::match_in_window(img, templ, win)?;
-        let on_border = |v: f64, lo: usize, hi: usize, full_hi: usize| {
-            (v <= lo as f64 && lo > 0) || (v >= hi as f64 && hi < full_hi)
+        // The window of positions within `margin` of the prediction.
+        let window = |margin: f64| {
+            let x0 = (pred[0] - margin).floor().clamp(0.0, (rw - tw) as f64) as usize;
+            let y0 = (pred[1] - margin).floor().clamp(0.0, (rh - th) as f64) as usize;
+            let x1 = ((pred[0] + margin).ceil().max(0.0) as usize + tw).clamp(x0 + tw, rw);
+            let y1 = ((pred[1] + margin).ceil().max(0.0) as usize + th).clamp(y0 + th, rh);
+            [x0, y0, x1 - x0, y1 - y0]
         };
-        let poor = m.score < self.opts.min_score.max(0.8)
-            || on_border(m.integer[0], x0, x1 - tw, rw - tw)
-            || on_border(m.integer[1], y0, y1 - th, rh - th);
-        if poor && win != whole {
-            let w = matcher::match_in_window(img, templ, whole)?;
-            Ok(if w.score > m.score { w } else { m })
-        } else {
-            Ok(m)
+        // A good match: a high score, and a peak off the window's top and
+        // bottom borders (where the apex could have moved past). A peak on
+        // a side border with a high score is the template sliding along a
+        // flat top, which the edge fit resolves; widening would only let it
+        // slide further.
+        let good = |m: &Match, win: [usize; 4]| {
+            let (lo, hi) = (win[1], win[1] + win[3] - th);
+            let y = m.integer[1];
+            let on_border = (y <= lo as f64 && lo > 0) || (y >= hi as f64 && hi < rh - th);
+            m.score >= self.opts.min_score.max(0.8) && !on_border
+        };
+        // Widened in two steps on a poor match: four times the margin, then
+        // the whole region.
+        let wins = [window(margin), window(4.0 * margin), whole];
+        for (k, &win) in wins.iter().enumerate() {
+            if k > 0 && win == wins[k - 1] {
+                continue;
+            }
+            let m = matcher::match_in_window(img, templ, win)?;
+            if win == whole || good(&m, win) {
+                return Ok(m);
+            }
+        }
+        unreachable!("the last window is the whole region")
+    }
+
+    /// The apex of a located frame in region coordinates and its
+    /// statistical uncertainty, px, as `opts.refine` asks.
+    fn apex(&self, l: &Located) -> ([f64; 2], f64) {
+        let t = self.apex_in_t;
+        let int = [l.m.integer[0] + t[0], l.m.integer[1] + t[1]];
+        let quad = [l.m.quadratic[0] + t[0], l.m.quadratic[1] + t[1]];
+        // Without an edge fit, the error bound of a peak on the pixel grid.
+        let grid = 0.5;
+        // The edge fit's statistical error plus its bias floor.
+        let edge_std = |e: &EdgeFit| e.y_std.hypot(EDGE_BIAS_FLOOR_PX);
+        match (self.opts.refine, l.edge) {
+            // The column from the edge's symmetry, else the parabola's
+            // vertex when the edge's curvature pins it down at all: the
+            // template sees mostly a horizontal edge, so its column follows
+            // the background texture (errors of several px measured).
+            (Refine::Edge, Some(e)) if l.axis.is_some_and(|(_, s)| s < e.x_std) => {
+                ([l.axis.map_or(e.x_vertex, |a| a.0), e.y], edge_std(&e))
+            }
+            (Refine::Edge, Some(e)) if e.x_std < 0.5 * self.edge_settings.half_span_px as f64 => {
+                ([e.x_vertex, e.y], edge_std(&e))
+            }
+            (Refine::Edge, Some(e)) => ([quad[0], e.y], edge_std(&e)),
+            (Refine::Edge, None) | (Refine::Quadratic, None) => (quad, grid),
+            (Refine::Integer, None) => (int, grid),
+            // The template's own bias is the gap to the edge fit.
+            (Refine::Quadratic, Some(e)) => (quad, edge_std(&e).hypot(quad[1] - e.y)),
+            (Refine::Integer, Some(e)) => (int, edge_std(&e).hypot(int[1] - e.y)),
         }
     }
 
@@ -1006,7 +1052,7 @@ impl Tracker<'_> {
                 // match in a window of +-(f + 2) px around it.
                 let f = *f;
                 let fl = f as f64;
-                let small = matcher::reduce(crop, f);
+                let small = matcher::reduce(crop, f)?;
                 let down = |p: [f64; 2]| [p[0] / fl, p[1] / fl];
                 let mc = self.search(
                     &small,
@@ -1043,11 +1089,12 @@ impl Tracker<'_> {
             m.quadratic[0] + self.apex_in_t[0],
             m.quadratic[1] + self.apex_in_t[1],
         ];
-        let edge = matcher::edge_fit(crop, apex[0], apex[1], self.edge_settings);
+        let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
+        let edge = matcher::edge_fit_in(&mut cols, apex[0], apex[1], self.edge_settings);
         // The axis over the whole region's width (less the slope margin).
         let axis = edge.and_then(|e| {
             let half = (crop.width / 2).saturating_sub(1);
-            matcher::axis_fit(crop, &e, half, self.edge_settings.half_window_px)
+            matcher::axis_fit_in(&mut cols, &e, half)
         });
         Ok(Located { m, edge, axis })
     }
@@ -1244,8 +1291,10 @@ mod tests {
         );
     }
 
-    /// A 1280x960 sequence: the 128 px template is searched at half
-    /// resolution first, then matched at full resolution near the coarse peak.
+    /// A 1280x960 sequence: the 128 px template is searched at a quarter of
+    /// the resolution for the edge fit's seed; the integer mode searches at
+    /// half resolution first, then matches at full resolution near the
+    /// coarse peak.
     #[test]
     fn coarse_to_fine_search_on_larger_photos() {
         let s = synth::SequenceSpec {
@@ -1260,11 +1309,13 @@ mod tests {
             "RMS apex row error {} px > 0.1",
             a.reported[1]
         );
-        // The full-resolution integer match agrees with the edge to a pixel.
+        // The full-resolution integer match (after the coarse search at
+        // half resolution) is right to a pixel.
+        let i = accuracy(&s, 6, Refine::Integer);
         assert!(
-            a.integer[1] <= 1.0,
+            i.integer[1] <= 1.0,
             "integer match row error {} px",
-            a.integer[1]
+            i.integer[1]
         );
     }
 
