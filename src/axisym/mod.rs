@@ -654,7 +654,19 @@ impl<'a> Ctx<'a> {
             )));
         }
         let (p, shot) = self.pressure_at(root.x, guess, tol, rtol)?;
-        debug_assert!((p / pi - 1.0).abs() < 1e-3);
+        // The nested shooting can land on another branch from another
+        // guess (laws with a rising and falling stiffness, met by the
+        // inverse fit's trial laws): refuse rather than return a solution
+        // at another pressure.
+        let agrees = (p / pi - 1.0).abs() < 1e-6;
+        if !agrees {
+            return Err(AxisymError::NoConvergence(format!(
+                "at pressure {} Pa the pole stretch {} solves for {} Pa on re-evaluation: two branches of the shooting meet; the law may not be monotonic there",
+                pi * self.t / self.a,
+                root.x,
+                p * self.t / self.a
+            )));
+        }
         Ok((root.x, shot))
     }
 

@@ -114,7 +114,7 @@ impl Kind {
     }
 
     /// Whether parameter `k` has the unit of stress (scaled in the fit).
-    fn is_stress(&self, k: usize) -> bool {
+    pub(crate) fn is_stress(&self, k: usize) -> bool {
         match self {
             Kind::Ogden(n) => k < *n,
             Kind::Gent => k == 0,

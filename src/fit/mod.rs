@@ -10,6 +10,8 @@
 //!   Gent fitted to equibiaxial stress by Levenberg-Marquardt ([`lm`], an
 //!   argmin solver) from one or many starting points, with a Drucker
 //!   stability check and AIC for comparing models ([`stats`]);
+//! * [`inverse`]: the law corrected until the exact axisymmetric inflation
+//!   reproduces the measured heights (the cap method's bias removed);
 //! * [`data`]: which columns of which file feed which fit, validated with
 //!   errors that name the file, line and value.
 //!
@@ -18,6 +20,7 @@
 
 pub mod data;
 pub mod hyperelastic;
+pub mod inverse;
 pub mod linear;
 pub mod lm;
 pub mod quartic;

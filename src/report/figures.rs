@@ -1,7 +1,8 @@
 //! The report's figures, built on [`super::plot`]: height against pressure
 //! (measured with error bars, each model as a line, and the relative error
 //! per model below), and the fit (stress against strain with the law, the
-//! secant modulus `E(eps)` with the law, residuals).
+//! secant modulus `E(eps)` with the law, residuals of the points' own fit);
+//! with the correction to the heights, both laws.
 
 use super::pipeline::{Comparison, FitDetail, FitOut, ModelRun};
 use super::plot::{Figure, LegendPosition, Panel, Series};
@@ -99,11 +100,28 @@ pub fn fit(f: &FitOut) -> Figure {
         .collect();
     // kPa for everything: membrane moduli of rubber are 0.1-10 MPa.
     let kpa = 1e-3;
-    let law_e: Vec<(f64, f64)> = grid
-        .iter()
-        .filter_map(|&e| implied_modulus(&f.material.model, k, sm, e).map(|m| (e, m * kpa)))
-        .collect();
-    let law_s: Vec<(f64, f64)> = law_e.iter().map(|&(e, m)| (e, m * e / k)).collect();
+    // The law's modulus and stress curves over the grid.
+    type Curve = Vec<(f64, f64)>;
+    let curve = |model: &Model| -> (Curve, Curve) {
+        let e: Vec<(f64, f64)> = grid
+            .iter()
+            .filter_map(|&e| implied_modulus(model, k, sm, e).map(|m| (e, m * kpa)))
+            .collect();
+        let s = e.iter().map(|&(e, m)| (e, m * e / k)).collect();
+        (e, s)
+    };
+    let (law_e, law_s) = curve(&f.material.model);
+    // With the correction to the heights: the cap-method law dashed, the
+    // corrected one solid.
+    let cap = f.refined.as_ref().map(|_| curve(&f.cap_material.model));
+    let name = f.material.model.name();
+    let (law_name, cap_name) = match cap {
+        Some(_) => (
+            format!("{name} corrected to the heights"),
+            format!("{name} fitted to these points"),
+        ),
+        None => (format!("fitted {name}"), String::new()),
+    };
     let data_e: Vec<(f64, f64)> = f.modulus_points.iter().map(|p| (p.0, p.1 * kpa)).collect();
     let data_e_err: Vec<f64> = f
         .modulus_points
@@ -120,19 +138,25 @@ pub fn fit(f: &FitOut) -> Figure {
     } else {
         format!("E eps / {k:.3}")
     };
-    let p1 = Panel::new(&xlabel, format!("stress S = {kname} (kPa)"))
+    let mut p1 = Panel::new(&xlabel, format!("stress S = {kname} (kPa)"))
         .titled("stress against strain")
-        .with(Series::scatter("measured (stress stage)", data_s).color(0))
-        .with(Series::line(format!("fitted {}", f.material.model.name()), law_s).color(1))
-        .weight(1.6);
-    let p2 = Panel::new(&xlabel, "secant modulus E (kPa)")
+        .with(Series::scatter("measured (stress stage)", data_s).color(0));
+    let mut p2 = Panel::new(&xlabel, "secant modulus E (kPa)")
         .titled("secant modulus E(eps)")
         .with(
             Series::scatter("measured", data_e)
                 .with_errors(data_e_err)
                 .color(0),
-        )
-        .with(Series::line(format!("fitted {}", f.material.model.name()), law_e).color(1))
+        );
+    if let Some((cap_e, cap_s)) = cap {
+        p1 = p1.with(Series::line(cap_name.clone(), cap_s).color(1).dashed());
+        p2 = p2.with(Series::line(cap_name, cap_e).color(1).dashed());
+    }
+    let p1 = p1
+        .with(Series::line(law_name.clone(), law_s).color(3))
+        .weight(1.6);
+    let p2 = p2
+        .with(Series::line(law_name, law_e).color(3))
         .legend(LegendPosition::UpperRight)
         .weight(1.6);
     let p3 = match &f.detail {
@@ -143,7 +167,7 @@ pub fn fit(f: &FitOut) -> Figure {
                 .zip(&q.residuals_pa)
                 .map(|(p, r)| (p.0, r * kpa))
                 .collect();
-            Panel::new(&xlabel, "E residual, data - fit (kPa)")
+            Panel::new(&xlabel, "E residual, data - fit to the points (kPa)")
                 .with(Series::scatter("", res).color(2))
                 .zero_line()
         }

@@ -24,7 +24,7 @@ use crate::axisym::{self, AxisymError};
 use crate::experiment::{Experiment, Specimen};
 use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
 use crate::fit::quartic::{self, PolyFit};
-use crate::fit::{FitError, StressMeasure};
+use crate::fit::{FitError, StressMeasure, inverse};
 use crate::io::{CsvOut, fmt_num};
 use crate::material::{Material, Model, StrainMeasure as MatStrain};
 use crate::mechanics::{
@@ -183,6 +183,9 @@ pub struct Settings {
     pub solver: Solver,
     /// Residual force relative to the load at which a solve stops.
     pub tolerance: f64,
+    /// Correct the fitted law until the exact axisymmetric inflation
+    /// reproduces the measured heights ([`crate::fit::inverse`]).
+    pub refine: bool,
 }
 
 impl Default for Settings {
@@ -197,6 +200,7 @@ impl Default for Settings {
             mesh: None,
             solver: Solver::Newton,
             tolerance: 1e-8,
+            refine: true,
         }
     }
 }
@@ -395,6 +399,11 @@ pub struct FitOut {
     pub strain_measure: MatStrain,
     /// Warnings about the law (unphysical regions, ill conditioning).
     pub warnings: Vec<String>,
+    /// The law as the stress/strain points gave it, before the correction
+    /// to the heights (the same as `material` without it).
+    pub cap_material: Material,
+    /// The correction to the heights, when made.
+    pub refined: Option<inverse::Refined>,
 }
 
 /// Sorts points by their abscissa and merges exact repeats (noise can put
@@ -502,22 +511,79 @@ pub fn fit_stage(
             (f.model.clone(), FitDetail::Hyper(f))
         }
     };
+    let cap_material = Material {
+        model,
+        poisson: nu,
+        fit: None,
+    };
+    let mut material = cap_material.clone();
+    let mut refined = None;
+    if settings.refine {
+        let measured: Vec<inverse::Measured> = s
+            .points
+            .iter()
+            .filter(|p| p.pressure_pa > 0.0 && p.height_m > 0.0)
+            .map(|p| inverse::Measured {
+                pressure_pa: p.pressure_pa,
+                height_m: p.height_m,
+            })
+            .collect();
+        match inverse::refine(&cap_material, spec, &measured, &inverse::Options::default()) {
+            Ok(r) => {
+                let mut t = toml::Table::new();
+                t.insert(
+                    "method".into(),
+                    "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+                );
+                if let Some(v) = inverse::Refined::rms(&r.before) {
+                    t.insert("height_rms_before".into(), v.into());
+                }
+                if let Some(v) = inverse::Refined::rms(&r.after) {
+                    t.insert("height_rms_after".into(), v.into());
+                }
+                t.insert("iterations".into(), (r.iterations as i64).into());
+                t.insert("axisym_solves".into(), (r.solves as i64).into());
+                t.insert(
+                    "cap_law".into(),
+                    toml::Value::try_from(&cap_material.model)
+                        .unwrap_or_else(|e| e.to_string().into()),
+                );
+                fit_table.insert("refined".into(), t.into());
+                if let Model::Quartic {
+                    coefficients_pa,
+                    strain_range,
+                    ..
+                } = &r.material.model
+                {
+                    warnings.extend(
+                        quartic::check_law(coefficients_pa, *strain_range)
+                            .iter()
+                            .map(|w| format!("corrected law: {w}")),
+                    );
+                }
+                material = r.material.clone();
+                refined = Some(r);
+            }
+            Err(e) => warnings.push(format!(
+                "the law was not corrected to the heights ({e}); the cap-method law is used"
+            )),
+        }
+    }
     fit_table.insert(
         "warnings".into(),
         toml::Value::Array(warnings.iter().map(|w| w.clone().into()).collect()),
     );
+    material.fit = Some(fit_table);
     Ok(FitOut {
-        material: Material {
-            model,
-            poisson: nu,
-            fit: Some(fit_table),
-        },
+        material,
         detail,
         modulus_points,
         stress_points,
         modulus_factor: k,
         strain_measure,
         warnings,
+        cap_material,
+        refined,
     })
 }
 

@@ -501,7 +501,9 @@ fn even_fit_rss(pts: &[(f64, f64)], centre: f64, scale: f64) -> impl Fn(f64) -> 
         }
         // sum (t - u)^m and sum (t - u)^m y.
         let shifted = |sums: &[f64], m: usize| -> f64 {
-            (0..=m).map(|j| binom[m][j] * nu[m - j] * sums[j]).sum::<f64>()
+            (0..=m)
+                .map(|j| binom[m][j] * nu[m - j] * sums[j])
+                .sum::<f64>()
         };
         let mm = |m: usize| shifted(&st, m);
         let ata = nalgebra::Matrix3::new(
@@ -620,7 +622,10 @@ mod tests {
                         }
                     }
                     let want = (f64::from(sum) / (f * f) as f64).round();
-                    assert!((f64::from(r.at(x, y)) - want).abs() <= 0.5, "f {f} ({x}, {y})");
+                    assert!(
+                        (f64::from(r.at(x, y)) - want).abs() <= 0.5,
+                        "f {f} ({x}, {y})"
+                    );
                 }
             }
         }
@@ -634,7 +639,10 @@ mod tests {
             .map(|i| {
                 let x = 100.0 + i as f64;
                 let u = x - 173.4;
-                (x, 40.0 + 0.01 * u * u - 2e-7 * u.powi(4) + 0.3 * (i as f64 * 1.7).sin())
+                (
+                    x,
+                    40.0 + 0.01 * u * u - 2e-7 * u.powi(4) + 0.3 * (i as f64 * 1.7).sin(),
+                )
             })
             .collect();
         let rss = even_fit_rss(&pts, 175.0, 75.0);

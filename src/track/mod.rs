@@ -875,7 +875,10 @@ fn match_frames(
         let shift = |p: [f64; 2]| [p[0] + off_x, p[1] + off_y];
         let (apex, std) = state.apex(l);
         let int = [l.m.integer[0] + apex_in_t[0], l.m.integer[1] + apex_in_t[1]];
-        let quad = [l.m.quadratic[0] + apex_in_t[0], l.m.quadratic[1] + apex_in_t[1]];
+        let quad = [
+            l.m.quadratic[0] + apex_in_t[0],
+            l.m.quadratic[1] + apex_in_t[1],
+        ];
         let edge = l.edge.map(|e| EdgeFit {
             y: e.y + off_y,
             x_vertex: e.x_vertex + off_x,
