@@ -14,7 +14,8 @@
 //!
 //! where `h(p; theta)` is the apex height of the axisymmetric membrane
 //! ([`crate::axisym::solve_pressure`]) with the law's parameters `theta`, by
-//! Levenberg-Marquardt ([`super::lm`]) from the cap fit. The Jacobian is by
+//! Levenberg-Marquardt ([`super::lm`]) from the cap fit: first for one
+//! factor on its stress parameters, then for every parameter. The Jacobian is by
 //! central differences of the axisymmetric solutions (solved to 1e-10, so the
 //! differences are clean), the pressures solved in parallel. A trial law
 //! with no equilibrium at some measured pressure (a limit point below it)
@@ -167,6 +168,18 @@ impl Params {
         }
     }
 
+    /// `x0` with its stress-like parameters (all but the Ogden exponents
+    /// and the Gent locking parameter) multiplied by `s`.
+    fn scaled(&self, x0: &[f64], s: f64) -> Vec<f64> {
+        x0.iter()
+            .enumerate()
+            .map(|(k, &v)| match self {
+                Params::Hyper { kind, .. } if !kind.is_stress(k) => v,
+                _ => v * s,
+            })
+            .collect()
+    }
+
     fn model(&self, x: &[f64]) -> Model {
         match self {
             Params::Quartic { template, scale } => {
@@ -199,12 +212,19 @@ struct Problem<'a> {
     points: &'a [Measured],
     opts: &'a axisym::Options,
     solves: &'a AtomicUsize,
+    /// `Some(x0)`: the unknown is one factor on `x0`'s stress-like
+    /// parameters (the first stage, robust from a start far off).
+    scale_of: Option<Vec<f64>>,
 }
 
 impl Problem<'_> {
     fn material(&self, x: &[f64]) -> Material {
+        let x = match &self.scale_of {
+            Some(x0) => self.params.scaled(x0, x[0]),
+            None => x.to_vec(),
+        };
         Material {
-            model: self.params.model(x),
+            model: self.params.model(&x),
             poisson: self.base.poisson,
             fit: self.base.fit.clone(),
         }
@@ -310,6 +330,7 @@ pub fn refine(
         points: measured,
         opts: &opts.axisym,
         solves: &solves,
+        scale_of: None,
     };
     let before = problem.errors(&x0);
     if let Some(i) = before.iter().position(Option::is_none) {
@@ -319,13 +340,22 @@ pub fn refine(
             measured[i].pressure_pa
         )));
     }
-    let r = lm::minimize(
-        problem.clone(),
-        DVector::from_vec(x0.clone()),
+    // First one factor on the stress parameters (a start 20-40 % too stiff
+    // or soft, as other stress conventions give, is mostly a scale), then
+    // every parameter from there.
+    let scale = lm::minimize(
+        Problem {
+            scale_of: Some(x0.clone()),
+            ..problem.clone()
+        },
+        DVector::from_vec(vec![1.0]),
         opts.max_iterations,
     )
     .map_err(|e| FitError::Solver(e.to_string()))?;
-    let (x, iterations) = (r.x, r.iterations);
+    let x1 = problem.params.scaled(&x0, scale.x[0]);
+    let r = lm::minimize(problem.clone(), DVector::from_vec(x1), opts.max_iterations)
+        .map_err(|e| FitError::Solver(e.to_string()))?;
+    let (x, iterations) = (r.x, scale.iterations + r.iterations);
     let after = problem.errors(x.as_slice());
     // Keep the starting law if the correction did not improve the fit.
     let better = match (Refined::rms(&after), Refined::rms(&before)) {
