@@ -223,7 +223,11 @@ struct Tri {
     v: [u32; 3],
     l0: [f64; 3],
     l0sq: [f64; 3],
+    /// `1 / l0` per side (the force loop multiplies instead of dividing).
+    inv_l0: [f64; 3],
     area0: f64,
+    /// `1 / area0`.
+    inv_area0: f64,
     /// TP: `t / (8 (1 - nu^2) |T0|)` in [0], `t / (8 (1 - nu) |T0|)` in [1];
     /// Van Gelder / Lloyd: `k_k / E` per side.
     c: [f64; 3],
@@ -321,7 +325,9 @@ impl Membrane {
                 v: *tri,
                 l0,
                 l0sq,
+                inv_l0: l0.map(|v| 1.0 / v),
                 area0,
+                inv_area0: 1.0 / area0,
                 c,
             });
         }
@@ -396,44 +402,81 @@ impl Membrane {
         for v in f.iter_mut() {
             *v = Vector3::zeros();
         }
-        if let Some(k) = &self.edge_k {
-            for ((e, &k), &l0) in self.edges.iter().zip(k).zip(&self.edge_l0) {
-                let (i, j) = (e[0] as usize, e[1] as usize);
-                let d = x[j] - x[i];
-                let l = d.norm();
-                let fv = d * (k * (l - l0) / l);
-                f[i] += fv;
-                f[j] -= fv;
-            }
-            let p6 = self.pressure_pa / 6.0;
-            if p6 != 0.0 {
-                for tri in &self.tris {
-                    let [a, b, c] = tri.v.map(|i| i as usize);
-                    let n2 = (x[b] - x[a]).cross(&(x[c] - x[a])) * p6;
-                    f[a] += n2;
-                    f[b] += n2;
-                    f[c] += n2;
-                }
-            }
+        if self.edge_k.is_some() {
+            self.add_springs(0..self.edges.len(), 0..self.tris.len(), x, f, 0);
         } else {
-            for (ti, tri) in self.tris.iter().enumerate() {
-                let p = tri.v.map(|i| x[i as usize]);
-                let out = self.local(tri, &p).map_err(|(strain, young_pa)| {
-                    SimError::NonPositiveModulus {
-                        strain,
-                        young_pa,
-                        triangle: ti,
-                    }
-                })?;
-                for k in 0..3 {
-                    f[tri.v[k] as usize] += out[k];
-                }
-            }
+            self.add_triangles(0..self.tris.len(), x, f, 0)?;
         }
         for (i, load) in &self.node_loads {
             f[*i] += load;
         }
         Ok(())
+    }
+
+    /// True when the forces take the spring path (Van Gelder and Lloyd with
+    /// a constant modulus: one stiffness per edge) rather than the triangle
+    /// path.
+    pub fn has_spring_path(&self) -> bool {
+        self.edge_k.is_some()
+    }
+
+    /// Adds the forces of triangles `tris` (their springs and pressure) to
+    /// `out`, whose entry 0 is node `lo` (the serial loop and the blocks of
+    /// `sim::par`).
+    pub fn add_triangles(
+        &self,
+        tris: std::ops::Range<usize>,
+        x: &[Point3<f64>],
+        out: &mut [Vector3<f64>],
+        lo: usize,
+    ) -> Result<(), SimError> {
+        for t in tris {
+            let tri = &self.tris[t];
+            let p = tri.v.map(|i| x[i as usize]);
+            let f =
+                self.local(tri, &p)
+                    .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
+                        strain,
+                        young_pa,
+                        triangle: t,
+                    })?;
+            for k in 0..3 {
+                out[tri.v[k] as usize - lo] += f[k];
+            }
+        }
+        Ok(())
+    }
+
+    /// The spring path: adds the forces of the springs `edges` and the
+    /// pressure of the triangles `tris` to `out`, whose entry 0 is node `lo`.
+    /// Panics without a spring path ([`Membrane::has_spring_path`]).
+    pub fn add_springs(
+        &self,
+        edges: std::ops::Range<usize>,
+        tris: std::ops::Range<usize>,
+        x: &[Point3<f64>],
+        out: &mut [Vector3<f64>],
+        lo: usize,
+    ) {
+        let k = self.edge_k.as_ref().expect("the spring path");
+        for e in edges {
+            let (i, j) = (self.edges[e][0] as usize, self.edges[e][1] as usize);
+            let d = x[j] - x[i];
+            let l = d.norm();
+            let fv = d * (k[e] * (l - self.edge_l0[e]) / l);
+            out[i - lo] += fv;
+            out[j - lo] -= fv;
+        }
+        let p6 = self.pressure_pa / 6.0;
+        if p6 != 0.0 {
+            for t in tris {
+                let [a, b, c] = self.tris[t].v.map(|i| i as usize);
+                let n2 = (x[b] - x[a]).cross(&(x[c] - x[a])) * p6;
+                out[a - lo] += n2;
+                out[b - lo] += n2;
+                out[c - lo] += n2;
+            }
+        }
     }
 
     /// Removes the constrained components of nodal vectors.
@@ -445,13 +488,19 @@ impl Membrane {
 
     /// Net force of one triangle (its three springs' shares and its pressure)
     /// on its three vertices; `Err((strain, E))` when `E <= 0` or not finite.
-    #[inline]
+    #[inline(always)]
     fn local(&self, tri: &Tri, p: &[Point3<f64>; 3]) -> Result<[Vector3<f64>; 3], (f64, f64)> {
         let d: [Vector3<f64>; 3] = std::array::from_fn(|k| p[SIDE[k].1] - p[SIDE[k].0]);
         let l: [f64; 3] = std::array::from_fn(|k| d[k].norm());
+        let inv_l: [f64; 3] = l.map(|v| 1.0 / v);
         let n2 = d[2].cross(&(-d[1])); // (p1 - p0) x (p2 - p0)
         let area = n2.norm() / 2.0;
-        let (strain, e) = self.law.young((area / tri.area0).sqrt());
+        let area_ratio = area * tri.inv_area0;
+        let (strain, e) = match self.law {
+            // Validated positive when the membrane was built.
+            ModulusLaw::Constant(e) => (0.0, e),
+            _ => self.law.young(area_ratio.sqrt()),
+        };
         if !(e > 0.0 && e.is_finite()) {
             return Err((strain, e));
         }
@@ -459,8 +508,8 @@ impl Membrane {
             SpringModel::Tp | SpringModel::TpPaper => {
                 let nu = self.poisson;
                 let q: [f64; 3] = std::array::from_fn(|k| {
-                    let et = l[k] / tri.l0[k] - 1.0;
-                    let en = area * tri.l0[k] / (tri.area0 * l[k]) - 1.0;
+                    let et = l[k] * tri.inv_l0[k] - 1.0;
+                    let en = area_ratio * tri.l0[k] * inv_l[k] - 1.0;
                     en + nu * et
                 });
                 let s = tri.l0sq[0] * q[0] + tri.l0sq[1] * q[1] + tri.l0sq[2] * q[2];
@@ -471,7 +520,7 @@ impl Membrane {
                     let q0 = e * tri.c[1];
                     let sum0 = tri.l0sq[0] + tri.l0sq[1] + tri.l0sq[2];
                     std::array::from_fn(|k| {
-                        let et = (l[k] - tri.l0[k]) / tri.l0[k];
+                        let et = (l[k] - tri.l0[k]) * tri.inv_l0[k];
                         let kk = if et.abs() > TP_PAPER_SWITCH {
                             qq * (s - 2.0 * tri.l0sq[k] * q[k]) / et
                         } else {
@@ -489,7 +538,7 @@ impl Membrane {
         let mut out = [pn; 3];
         for k in 0..3 {
             let (i, j) = SIDE[k];
-            let fv = d[k] * (tension[k] / l[k]);
+            let fv = d[k] * (tension[k] * inv_l[k]);
             out[i] += fv;
             out[j] -= fv;
         }
@@ -607,19 +656,7 @@ impl Membrane {
         for v in f.iter_mut() {
             *v = Vector3::zeros();
         }
-        for (ti, tri) in self.tris.iter().enumerate() {
-            let p = tri.v.map(|i| x[i as usize]);
-            let out =
-                self.local(tri, &p)
-                    .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
-                        strain,
-                        young_pa,
-                        triangle: ti,
-                    })?;
-            for k in 0..3 {
-                f[tri.v[k] as usize] += out[k];
-            }
-        }
+        self.add_triangles(0..self.tris.len(), x, f, 0)?;
         for (i, load) in &self.node_loads {
             f[*i] += load;
         }

@@ -256,15 +256,24 @@ impl<'a> Columns<'a> {
 /// on the first parabola, the third re-centres the span on the vertex when
 /// the vertex is well determined. `None` when too few columns show an edge.
 pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
-    edge_fit_in(&mut Columns::new(img, s.half_window_px), x0, y0, s)
+    edge_fit_in(&mut Columns::new(img, s.half_window_px), x0, y0, 0.0, s)
 }
 
-/// [`edge_fit`] on columns some of which may be located already.
-pub fn edge_fit_in(cols: &mut Columns, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
+/// [`edge_fit`] on columns some of which may be located already, the first
+/// pass starting each column on the parabola of curvature `d2y/dx2 =
+/// curvature` through `(x0, y0)` (the previous frame's, when tracking: the
+/// second pass then finds most columns already converged).
+pub fn edge_fit_in(
+    cols: &mut Columns,
+    x0: f64,
+    y0: f64,
+    curvature: f64,
+    s: EdgeSettings,
+) -> Option<EdgeFit> {
     let w = cols.img.width as i64;
     let span = s.half_span_px as i64;
     let mut centre = x0;
-    let mut coef = [y0, 0.0, 0.0];
+    let mut coef = [y0, 0.0, 0.5 * curvature];
     let mut result: Option<EdgeFit> = None;
     for pass in 0..3 {
         if pass == 2 {
@@ -399,7 +408,7 @@ pub fn axis_fit_in(cols: &mut Columns, apex: &EdgeFit, half_span_px: usize) -> O
     let mut located = Vec::new();
     // At most about 97 columns: wider spans are sampled (the axis is a
     // least-squares fit; more columns of the same edge add little).
-    let stride = (span as usize).div_ceil(48).max(1);
+    let stride = (span as usize).div_ceil(24).max(1);
     for c in (xc - span..=xc + span)
         .step_by(stride)
         .filter(|&c| c >= 0 && c < w)

@@ -813,6 +813,7 @@ fn match_frames(
             TemplateSource::File(_) => None,
         },
         prev: None,
+        curvature: 0.0,
     };
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
     let mut skipped = Vec::new();
@@ -857,6 +858,7 @@ fn match_frames(
             });
             state.last = None;
             state.prev = None;
+            state.curvature = 0.0;
             located.push(None);
         } else {
             // The next search starts from this frame's refined apex (the
@@ -864,6 +866,7 @@ fn match_frames(
             let (apex, _) = state.apex(&loc);
             state.prev = state.last;
             state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
+            state.curvature = loc.edge.map_or(0.0, |e| e.curvature);
             located.push(Some(loc));
         }
         tick();
@@ -958,6 +961,8 @@ struct Tracker<'a> {
     /// Template position (region coordinates) in the last two tracked frames.
     last: Option<[f64; 2]>,
     prev: Option<[f64; 2]>,
+    /// Edge curvature of the last tracked frame, 1/px (0: none yet).
+    curvature: f64,
 }
 
 impl Tracker<'_> {
@@ -1093,7 +1098,13 @@ impl Tracker<'_> {
             m.quadratic[1] + self.apex_in_t[1],
         ];
         let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
-        let edge = matcher::edge_fit_in(&mut cols, apex[0], apex[1], self.edge_settings);
+        let edge = matcher::edge_fit_in(
+            &mut cols,
+            apex[0],
+            apex[1],
+            self.curvature,
+            self.edge_settings,
+        );
         // The axis over the whole region's width (less the slope margin).
         let axis = edge.and_then(|e| {
             let half = (crop.width / 2).saturating_sub(1);
