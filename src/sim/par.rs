@@ -2,14 +2,14 @@
 //!
 //! [`Membrane::forces`] scatters each triangle's (or spring's) force into its
 //! nodes, which a parallel loop cannot do without races. Here the elements
-//! are cut into a few contiguous blocks, one task each; a task scatters its
-//! block's forces into its own buffer, which covers only the span of nodes
-//! the block touches (meshes number their nodes and elements ring by ring or
-//! row by row, so the spans barely overlap). The buffers are then summed
-//! into the nodal forces in parallel over node ranges, each node adding the
-//! buffers of the blocks that touch it in block order: the result is the
-//! same whatever the scheduling, and equals the serial sum up to the order
-//! of the additions (round-off).
+//! are cut into a few contiguous blocks, one task each, and the nodes into
+//! as many contiguous ranges, one owned by each block: meshes number their
+//! nodes and elements ring by ring or row by row, so a block's elements
+//! touch mostly the nodes it owns. A task zeroes its own range of the nodal
+//! forces and adds its elements' forces there directly; the few forces on
+//! nodes it does not own go to its small halo buffers, added afterwards in
+//! block order. The result is the same whatever the scheduling, and equals
+//! the serial sum up to the order of the additions (round-off).
 //!
 //! * triangle path (every model): each triangle's springs and pressure;
 //! * spring path (Van Gelder and Lloyd with a constant modulus): each
@@ -22,20 +22,49 @@ use rayon::prelude::*;
 
 use super::SimError;
 use super::mesh::Mesh;
-use super::springs::Membrane;
+use super::springs::{Membrane, NodeSink};
 
-/// One task: its elements and its buffer over the nodes they touch.
+/// One task: its elements, the nodes it owns and its halo buffers.
 struct Block {
     tris: Range<usize>,
     edges: Range<usize>,
-    /// First node of the span; the buffer holds `lo..lo + buf.len()`.
+    /// First node its elements touch.
     lo: usize,
-    buf: Vec<Vector3<f64>>,
+    /// Nodes it owns.
+    own: Range<usize>,
+    /// Forces on nodes `lo..own.start`.
+    low: Vec<Vector3<f64>>,
+    /// Forces on nodes `own.end..own.end + high.len()`.
+    high: Vec<Vector3<f64>>,
 }
 
-/// Blocks and buffers for parallel force evaluation.
+/// A block's view of the nodal forces: its own range, then its halos.
+struct Owned<'a> {
+    own: &'a mut [Vector3<f64>],
+    start: usize,
+    lo: usize,
+    low: &'a mut [Vector3<f64>],
+    high: &'a mut [Vector3<f64>],
+}
+
+impl NodeSink for Owned<'_> {
+    #[inline(always)]
+    fn add(&mut self, i: usize, v: Vector3<f64>) {
+        let k = i.wrapping_sub(self.start);
+        if k < self.own.len() {
+            self.own[k] += v;
+        } else if i < self.start {
+            self.low[i - self.lo] += v;
+        } else {
+            self.high[k - self.own.len()] += v;
+        }
+    }
+}
+
+/// Blocks and halo buffers for parallel force evaluation.
 pub struct ParForces {
     blocks: Vec<Block>,
+    nodes: usize,
 }
 
 /// The span `[lo, hi)` of the nodes of some elements.
@@ -55,11 +84,12 @@ fn cut(n: usize, k: usize) -> impl Iterator<Item = Range<usize>> {
 
 impl ParForces {
     /// Indexes a mesh for a membrane built on it, in blocks for the current
-    /// rayon pool (four per thread, for balance).
+    /// rayon pool (two per thread).
     pub fn new(mesh: &Mesh, membrane: &Membrane) -> ParForces {
+        let n = mesh.nodes.len();
         let springs = membrane.has_spring_path();
-        let k = (4 * rayon::current_num_threads()).max(1);
-        let blocks = cut(mesh.triangles.len(), k)
+        let k = (2 * rayon::current_num_threads()).max(1);
+        let spans: Vec<(Range<usize>, Range<usize>, usize, usize)> = cut(mesh.triangles.len(), k)
             .zip(cut(mesh.edges.len(), k))
             .map(|(tris, edges)| {
                 let t = span(mesh.triangles[tris.clone()].iter().flatten());
@@ -73,15 +103,33 @@ impl ParForces {
                     (Some(a), None) | (None, Some(a)) => a,
                     (None, None) => (0, 0),
                 };
+                (tris, edges, lo, hi)
+            })
+            .collect();
+        // Cut points: block b owns [cut_b, cut_{b+1}), cut_b = max(lo_b,
+        // cut_{b-1}), the first from node 0 and the last to node n.
+        let mut cuts = vec![0usize; spans.len() + 1];
+        for b in 1..spans.len() {
+            cuts[b] = spans[b].2.max(cuts[b - 1]).min(n);
+        }
+        cuts[spans.len()] = n;
+        let blocks = spans
+            .into_iter()
+            .enumerate()
+            .map(|(b, (tris, edges, lo, hi))| {
+                let own = cuts[b]..cuts[b + 1];
+                let lo = lo.min(own.start);
                 Block {
                     tris,
                     edges,
                     lo,
-                    buf: vec![Vector3::zeros(); hi - lo],
+                    low: vec![Vector3::zeros(); own.start - lo],
+                    high: vec![Vector3::zeros(); hi.saturating_sub(own.end)],
+                    own,
                 }
             })
             .collect();
-        ParForces { blocks }
+        ParForces { blocks, nodes: n }
     }
 
     /// Net nodal forces as [`Membrane::forces`], in parallel on the current
@@ -92,31 +140,48 @@ impl ParForces {
         x: &[Point3<f64>],
         f: &mut [Vector3<f64>],
     ) -> Result<(), SimError> {
+        assert_eq!(
+            f.len(),
+            self.nodes,
+            "one force per node of the indexed mesh"
+        );
         let springs = m.has_spring_path();
-        self.blocks
-            .par_iter_mut()
-            .try_for_each(|b| -> Result<(), SimError> {
-                b.buf.iter_mut().for_each(|v| *v = Vector3::zeros());
+        let mut tasks = Vec::with_capacity(self.blocks.len());
+        let mut rest = &mut *f;
+        for b in &mut self.blocks {
+            let (own, tail) = rest.split_at_mut(b.own.len());
+            rest = tail;
+            tasks.push((b, own));
+        }
+        tasks
+            .into_par_iter()
+            .try_for_each(|(b, own)| -> Result<(), SimError> {
+                own.iter_mut().for_each(|v| *v = Vector3::zeros());
+                b.low.iter_mut().for_each(|v| *v = Vector3::zeros());
+                b.high.iter_mut().for_each(|v| *v = Vector3::zeros());
+                let mut sink = Owned {
+                    own,
+                    start: b.own.start,
+                    lo: b.lo,
+                    low: &mut b.low,
+                    high: &mut b.high,
+                };
                 if springs {
-                    m.add_springs(b.edges.clone(), b.tris.clone(), x, &mut b.buf, b.lo);
+                    m.add_springs(b.edges.clone(), b.tris.clone(), x, &mut sink);
                     Ok(())
                 } else {
-                    m.add_triangles(b.tris.clone(), x, &mut b.buf, b.lo)
+                    m.add_triangles(b.tris.clone(), x, &mut sink)
                 }
             })?;
-        // Gather: node ranges in parallel, each adding the blocks over it.
-        let blocks = &self.blocks;
-        let chunk = f.len().div_ceil(4 * rayon::current_num_threads()).max(1024);
-        f.par_chunks_mut(chunk).enumerate().for_each(|(c, out)| {
-            let first = c * chunk;
-            out.iter_mut().for_each(|v| *v = Vector3::zeros());
-            for b in blocks {
-                let (lo, hi) = (b.lo.max(first), (b.lo + b.buf.len()).min(first + out.len()));
-                for i in lo..hi {
-                    out[i - first] += b.buf[i - b.lo];
-                }
+        // The halos, in block order.
+        for b in &self.blocks {
+            for (k, v) in b.low.iter().enumerate() {
+                f[b.lo + k] += v;
             }
-        });
+            for (k, v) in b.high.iter().enumerate() {
+                f[b.own.end + k] += v;
+            }
+        }
         for (i, load) in &m.node_loads {
             f[*i] += load;
         }

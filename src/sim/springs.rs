@@ -233,6 +233,20 @@ struct Tri {
     c: [f64; 3],
 }
 
+/// Where element forces go: a node's force is added to.
+pub trait NodeSink {
+    /// Adds `v` to node `i`'s force.
+    fn add(&mut self, i: usize, v: Vector3<f64>);
+}
+
+/// The whole nodal force array.
+impl NodeSink for &mut [Vector3<f64>] {
+    #[inline(always)]
+    fn add(&mut self, i: usize, v: Vector3<f64>) {
+        self[i] += v;
+    }
+}
+
 /// Side `k` of a triangle joins vertices `(k+1)%3` and `(k+2)%3`.
 const SIDE: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
 
@@ -403,9 +417,9 @@ impl Membrane {
             *v = Vector3::zeros();
         }
         if self.edge_k.is_some() {
-            self.add_springs(0..self.edges.len(), 0..self.tris.len(), x, f, 0);
+            self.add_springs(0..self.edges.len(), 0..self.tris.len(), x, &mut &mut *f);
         } else {
-            self.add_triangles(0..self.tris.len(), x, f, 0)?;
+            self.add_triangles(0..self.tris.len(), x, &mut &mut *f)?;
         }
         for (i, load) in &self.node_loads {
             f[*i] += load;
@@ -421,14 +435,12 @@ impl Membrane {
     }
 
     /// Adds the forces of triangles `tris` (their springs and pressure) to
-    /// `out`, whose entry 0 is node `lo` (the serial loop and the blocks of
-    /// `sim::par`).
-    pub fn add_triangles(
+    /// `out` (the serial loop, and the blocks of `sim::par`).
+    pub fn add_triangles<S: NodeSink>(
         &self,
         tris: std::ops::Range<usize>,
         x: &[Point3<f64>],
-        out: &mut [Vector3<f64>],
-        lo: usize,
+        out: &mut S,
     ) -> Result<(), SimError> {
         for t in tris {
             let tri = &self.tris[t];
@@ -441,22 +453,21 @@ impl Membrane {
                         triangle: t,
                     })?;
             for k in 0..3 {
-                out[tri.v[k] as usize - lo] += f[k];
+                out.add(tri.v[k] as usize, f[k]);
             }
         }
         Ok(())
     }
 
     /// The spring path: adds the forces of the springs `edges` and the
-    /// pressure of the triangles `tris` to `out`, whose entry 0 is node `lo`.
-    /// Panics without a spring path ([`Membrane::has_spring_path`]).
-    pub fn add_springs(
+    /// pressure of the triangles `tris` to `out`. Panics without a spring
+    /// path ([`Membrane::has_spring_path`]).
+    pub fn add_springs<S: NodeSink>(
         &self,
         edges: std::ops::Range<usize>,
         tris: std::ops::Range<usize>,
         x: &[Point3<f64>],
-        out: &mut [Vector3<f64>],
-        lo: usize,
+        out: &mut S,
     ) {
         let k = self.edge_k.as_ref().expect("the spring path");
         for e in edges {
@@ -464,17 +475,17 @@ impl Membrane {
             let d = x[j] - x[i];
             let l = d.norm();
             let fv = d * (k[e] * (l - self.edge_l0[e]) / l);
-            out[i - lo] += fv;
-            out[j - lo] -= fv;
+            out.add(i, fv);
+            out.add(j, -fv);
         }
         let p6 = self.pressure_pa / 6.0;
         if p6 != 0.0 {
             for t in tris {
                 let [a, b, c] = self.tris[t].v.map(|i| i as usize);
                 let n2 = (x[b] - x[a]).cross(&(x[c] - x[a])) * p6;
-                out[a - lo] += n2;
-                out[b - lo] += n2;
-                out[c - lo] += n2;
+                out.add(a, n2);
+                out.add(b, n2);
+                out.add(c, n2);
             }
         }
     }
@@ -656,7 +667,7 @@ impl Membrane {
         for v in f.iter_mut() {
             *v = Vector3::zeros();
         }
-        self.add_triangles(0..self.tris.len(), x, f, 0)?;
+        self.add_triangles(0..self.tris.len(), x, &mut &mut *f)?;
         for (i, load) in &self.node_loads {
             f[*i] += load;
         }
