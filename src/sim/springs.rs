@@ -452,8 +452,8 @@ impl Membrane {
                         young_pa,
                         triangle: t,
                     })?;
-            for k in 0..3 {
-                out.add(tri.v[k] as usize, f[k]);
+            for (v, fk) in tri.v.iter().zip(f) {
+                out.add(*v as usize, fk);
             }
         }
         Ok(())
