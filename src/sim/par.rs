@@ -84,11 +84,11 @@ fn cut(n: usize, k: usize) -> impl Iterator<Item = Range<usize>> {
 
 impl ParForces {
     /// Indexes a mesh for a membrane built on it, in blocks for the current
-    /// rayon pool (two per thread).
+    /// rayon pool (one per thread: fewer blocks, fewer shared nodes).
     pub fn new(mesh: &Mesh, membrane: &Membrane) -> ParForces {
         let n = mesh.nodes.len();
         let springs = membrane.has_spring_path();
-        let k = (2 * rayon::current_num_threads()).max(1);
+        let k = rayon::current_num_threads().max(1);
         let spans: Vec<(Range<usize>, Range<usize>, usize, usize)> = cut(mesh.triangles.len(), k)
             .zip(cut(mesh.edges.len(), k))
             .map(|(tris, edges)| {
