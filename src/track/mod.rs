@@ -1305,6 +1305,16 @@ mod tests {
         synth::apex_errors(&t.rows, &w.truth)
     }
 
+    /// Prints the errors and holds the reported apex row's RMS to `bound` px.
+    fn assert_row_rms(a: &synth::ApexErrors, bound: f64) {
+        eprintln!("{a:?}");
+        assert!(
+            a.reported[1] <= bound,
+            "RMS apex row error {} px > {bound}",
+            a.reported[1]
+        );
+    }
+
     fn spec(seed: u64, blur: f64, noise: f64, enc: image::Encoding) -> synth::SequenceSpec {
         synth::SequenceSpec {
             width: 640,
@@ -1327,12 +1337,7 @@ mod tests {
     #[test]
     fn sub_pixel_apex_without_noise() {
         let a = accuracy(&spec(101, 0.0, 0.0, image::Encoding::Png), 10, Refine::Edge);
-        eprintln!("{a:?}");
-        assert!(
-            a.reported[1] <= 0.05,
-            "RMS apex row error {} px > 0.05",
-            a.reported[1]
-        );
+        assert_row_rms(&a, 0.05);
     }
 
     /// A 1280x960 sequence: the 128 px template is searched at a quarter of
@@ -1347,12 +1352,7 @@ mod tests {
             ..spec(103, 1.5, 3.0, image::Encoding::Jpeg(85))
         };
         let a = accuracy(&s, 6, Refine::Edge);
-        eprintln!("{a:?}");
-        assert!(
-            a.reported[1] <= 0.1,
-            "RMS apex row error {} px > 0.1",
-            a.reported[1]
-        );
+        assert_row_rms(&a, 0.1);
         // The full-resolution integer match (after the coarse search at
         // half resolution) is right to a pixel.
         let i = accuracy(&s, 6, Refine::Integer);
@@ -1375,12 +1375,7 @@ mod tests {
             ..spec(104, 1.0, 2.0, image::Encoding::Jpeg(90))
         };
         let a = accuracy(&s, 6, Refine::Edge);
-        eprintln!("{a:?}");
-        assert!(
-            a.reported[1] <= 0.1,
-            "RMS apex row error {} px > 0.1",
-            a.reported[1]
-        );
+        assert_row_rms(&a, 0.1);
     }
 
     #[test]
@@ -1390,11 +1385,6 @@ mod tests {
             10,
             Refine::Edge,
         );
-        eprintln!("{a:?}");
-        assert!(
-            a.reported[1] <= 0.1,
-            "RMS apex row error {} px > 0.1",
-            a.reported[1]
-        );
+        assert_row_rms(&a, 0.1);
     }
 }
