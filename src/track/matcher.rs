@@ -307,25 +307,9 @@ pub fn edge_fit_in(
         }
         // Keep columns whose step has the dome's polarity and at least a
         // quarter of the median contrast.
-        let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
-        let mut mags: Vec<f64> = located
-            .iter()
-            .map(|l| l.2 * sign)
-            .filter(|m| *m > 0.0)
-            .collect();
-        if mags.len() < 5 {
+        let Some(pts) = strong_columns(&located, 5) else {
             return result;
-        }
-        mags.sort_by(f64::total_cmp);
-        let med = mags[mags.len() / 2];
-        let pts: Vec<(f64, f64)> = located
-            .iter()
-            .filter(|l| l.2 * sign > 0.25 * med)
-            .map(|l| (l.0, l.1))
-            .collect();
-        if pts.len() < 5 {
-            return result;
-        }
+        };
         let fit = parabola(&pts)?;
         coef = fit.coef;
         let (a, b, c) = (coef[0], coef[1], coef[2]);
@@ -367,6 +351,29 @@ pub fn edge_fit_in(
         });
     }
     result
+}
+
+/// The `(column, edge row)` of the located columns whose step has the
+/// dome's polarity (the sign of the summed steps) and at least a quarter of
+/// the median contrast; `None` when fewer than `min` remain.
+fn strong_columns(located: &[(f64, f64, f64)], min: usize) -> Option<Vec<(f64, f64)>> {
+    let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
+    let mut mags: Vec<f64> = located
+        .iter()
+        .map(|l| l.2 * sign)
+        .filter(|m| *m > 0.0)
+        .collect();
+    if mags.len() < min {
+        return None;
+    }
+    mags.sort_by(f64::total_cmp);
+    let med = mags[mags.len() / 2];
+    let pts: Vec<(f64, f64)> = located
+        .iter()
+        .filter(|l| l.2 * sign > 0.25 * med)
+        .map(|l| (l.0, l.1))
+        .collect();
+    (pts.len() >= min).then_some(pts)
 }
 
 /// The smaller of two slopes of the same sign, else 0.
@@ -418,25 +425,7 @@ pub fn axis_fit_in(cols: &mut Columns, apex: &EdgeFit, half_span_px: usize) -> O
             located.push((c as f64, e, step));
         }
     }
-    let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
-    let mut mags: Vec<f64> = located
-        .iter()
-        .map(|l| l.2 * sign)
-        .filter(|m| *m > 0.0)
-        .collect();
-    if mags.len() < 9 {
-        return None;
-    }
-    mags.sort_by(f64::total_cmp);
-    let med = mags[mags.len() / 2];
-    let pts: Vec<(f64, f64)> = located
-        .iter()
-        .filter(|l| l.2 * sign > 0.25 * med)
-        .map(|l| (l.0, l.1))
-        .collect();
-    if pts.len() < 9 {
-        return None;
-    }
+    let pts = strong_columns(&located, 9)?;
     let rss = even_fit_rss(&pts, apex.x_vertex, half_span_px.max(1) as f64);
     let (mut a, mut b) = (apex.x_vertex - 8.0, apex.x_vertex + 8.0);
     let g = 0.5 * (5f64.sqrt() - 1.0);
