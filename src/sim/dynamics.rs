@@ -493,19 +493,28 @@ impl<'a> Dynamics<'a> {
         })
     }
 
+    /// The active dashpots at positions `x`: the edge's nodes `(i, j)`, its
+    /// coefficient and the unit vector from `i` to `j` (edges without
+    /// damping or of zero length are left out).
+    fn dashpots<'b>(
+        &'b self,
+        x: &'b [Point3<f64>],
+    ) -> impl Iterator<Item = (usize, usize, f64, Vector3<f64>)> + 'b {
+        self.mesh
+            .edges
+            .iter()
+            .zip(&self.damping)
+            .filter_map(|(e, &c)| {
+                let (i, j) = (e[0] as usize, e[1] as usize);
+                let d = x[j] - x[i];
+                let l = d.norm();
+                (c != 0.0 && l > 0.0).then(|| (i, j, c, d / l))
+            })
+    }
+
     /// Adds the dashpot forces at positions `x` and velocities `v` to `f`.
     pub fn add_damping(&self, x: &[Point3<f64>], v: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
-        for (e, &c) in self.mesh.edges.iter().zip(&self.damping) {
-            if c == 0.0 {
-                continue;
-            }
-            let (i, j) = (e[0] as usize, e[1] as usize);
-            let d = x[j] - x[i];
-            let l = d.norm();
-            if l <= 0.0 {
-                continue;
-            }
-            let u = d / l;
+        for (i, j, c, u) in self.dashpots(x) {
             let fv = u * (c * (v[j] - v[i]).dot(&u));
             f[i] += fv;
             f[j] -= fv;
@@ -1166,17 +1175,7 @@ impl ImplicitWorkspace {
                 }
             }
         }
-        for (e, &c) in d.mesh.edges.iter().zip(&d.damping) {
-            if c == 0.0 {
-                continue;
-            }
-            let (i, j) = (e[0] as usize, e[1] as usize);
-            let dd = x[j] - x[i];
-            let l = dd.norm();
-            if l <= 0.0 {
-                continue;
-            }
-            let u = dd / l;
+        for (i, j, c, u) in d.dashpots(x) {
             let cb: [[f64; 3]; 3] =
                 std::array::from_fn(|r| std::array::from_fn(|s| c / h * u[r] * u[s]));
             let neg: [[f64; 3]; 3] = cb.map(|row| row.map(|x| -x));
