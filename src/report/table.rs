@@ -111,15 +111,10 @@ pub fn markdown(rows: &[Comparison], runs: &[ModelRun]) -> String {
     s.push_str(&sep);
     s.push('\n');
     for row in rows {
-        let std = row
-            .measured_std_m
-            .map(|d| format!(" ± {:.3}", d * 1e3))
-            .unwrap_or_default();
         s.push_str(&format!(
-            "| {:.1} | {}{} |",
+            "| {:.1} | {} |",
             row.pressure_pa,
-            mm(row.measured_m),
-            std
+            measured_cell(row)
         ));
         for (h, e) in row.simulated_m.iter().zip(row.rel_errors()) {
             s.push_str(&format!(" {} | {} |", mm(*h), pct(e)));
@@ -127,6 +122,15 @@ pub fn markdown(rows: &[Comparison], runs: &[ModelRun]) -> String {
         s.push('\n');
     }
     s
+}
+
+/// The measured height in mm with its standard deviation, `12.345 ± 0.006`.
+fn measured_cell(row: &Comparison) -> String {
+    let std = row
+        .measured_std_m
+        .map(|d| format!(" ± {:.3}", d * 1e3))
+        .unwrap_or_default();
+    format!("{}{std}", mm(row.measured_m))
 }
 
 /// Escapes text for HTML.
@@ -150,15 +154,10 @@ pub fn html(rows: &[Comparison], runs: &[ModelRun], flag: f64) -> String {
     }
     s.push_str("</tr></thead><tbody>\n");
     for row in rows {
-        let std = row
-            .measured_std_m
-            .map(|d| format!(" ± {:.3}", d * 1e3))
-            .unwrap_or_default();
         s.push_str(&format!(
-            "<tr><td>{:.1}</td><td>{}{}</td>",
+            "<tr><td>{:.1}</td><td>{}</td>",
             row.pressure_pa,
-            mm(row.measured_m),
-            std
+            measured_cell(row)
         ));
         for (h, e) in row.simulated_m.iter().zip(row.rel_errors()) {
             let cls = if e.is_some_and(|e| e.abs() > flag) {
