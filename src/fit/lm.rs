@@ -114,15 +114,7 @@ where
         problem: &mut Problem<O>,
         mut state: LmState,
     ) -> Result<(LmState, Option<KV>), Error> {
-        let x = state
-            .take_param()
-            .ok_or_else(|| Error::msg("LM: no parameters"))?;
-        let r = state
-            .take_residuals()
-            .ok_or_else(|| Error::msg("LM: no residuals"))?;
-        let j = state
-            .take_jacobian()
-            .ok_or_else(|| Error::msg("LM: no Jacobian"))?;
+        let (x, r, j) = take_all(&mut state)?;
         let (n, p) = j.shape();
         let c0 = cost(&r);
         for (k, col) in j.column_iter().enumerate() {
@@ -184,6 +176,23 @@ where
     }
 }
 
+/// Parameters, residuals and Jacobian.
+type Taken = (DVector<f64>, DVector<f64>, DMatrix<f64>);
+
+/// Takes the parameters, residuals and Jacobian out of argmin's state.
+fn take_all(state: &mut LmState) -> Result<Taken, Error> {
+    let x = state
+        .take_param()
+        .ok_or_else(|| Error::msg("LM: no parameters"))?;
+    let r = state
+        .take_residuals()
+        .ok_or_else(|| Error::msg("LM: no residuals"))?;
+    let j = state
+        .take_jacobian()
+        .ok_or_else(|| Error::msg("LM: no Jacobian"))?;
+    Ok((x, r, j))
+}
+
 /// The outcome of one local minimisation.
 #[derive(Debug, Clone)]
 pub struct LmResult {
@@ -209,15 +218,7 @@ where
         .run()?;
     let mut state = res.state().clone();
     let iterations = state.get_iter();
-    let x = state
-        .take_param()
-        .ok_or_else(|| Error::msg("LM: no result"))?;
-    let residuals = state
-        .take_residuals()
-        .ok_or_else(|| Error::msg("LM: no residuals"))?;
-    let jacobian = state
-        .take_jacobian()
-        .ok_or_else(|| Error::msg("LM: no Jacobian"))?;
+    let (x, residuals, jacobian) = take_all(&mut state)?;
     Ok(LmResult {
         x,
         residuals,
