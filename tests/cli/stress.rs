@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 use std::fs;
 use std::path::Path;
 
-use crate::util::{bulge_in, repo, tempdir};
+use crate::util::{Run, bulge_in, repo, tempdir};
 
 const A: f64 = 0.0375;
 const T: f64 = 0.00035;
@@ -70,22 +70,26 @@ fn write_inputs(dir: &Path, heights: &str) {
 const GOOD: &str =
     "frame,file,pressure_pa,height_m\n0,a.png,0,0\n1,b.png,4000,0.0375\n2,c.png,6000,0.075\n";
 
-#[test]
-fn stress_good_run_closed_forms() {
-    let dir = tempdir();
-    write_inputs(dir.path(), GOOD);
-    let run = bulge_in(
-        dir.path(),
+/// `bulge stress heights.csv --experiment experiment.toml -o OUTPUT` in `dir`.
+fn stress_in(dir: &Path, output: &str) -> Run {
+    bulge_in(
+        dir,
         &[
             "stress",
             "heights.csv",
             "--experiment",
             "experiment.toml",
             "-o",
-            "out/ss.csv",
+            output,
         ],
     )
-    .ok();
+}
+
+#[test]
+fn stress_good_run_closed_forms() {
+    let dir = tempdir();
+    write_inputs(dir.path(), GOOD);
+    let run = stress_in(dir.path(), "out/ss.csv").ok();
     assert!(run.stderr.contains("3 rows"), "{}", run.stderr);
     let out = Csv::read(&dir.path().join("out/ss.csv"));
     assert_eq!(out.header.join(","), format!("frame,file,{COLUMNS}"));
@@ -128,18 +132,7 @@ fn stress_good_run_closed_forms() {
 fn stress_flags_equal_experiment_file() {
     let dir = tempdir();
     write_inputs(dir.path(), GOOD);
-    bulge_in(
-        dir.path(),
-        &[
-            "stress",
-            "heights.csv",
-            "--experiment",
-            "experiment.toml",
-            "-o",
-            "a.csv",
-        ],
-    )
-    .ok();
+    stress_in(dir.path(), "a.csv").ok();
     bulge_in(
         dir.path(),
         &[
@@ -558,18 +551,7 @@ fn stress_refuses_pressure_on_a_flat_disc() {
 fn stress_refuses_to_overwrite_its_input() {
     let dir = tempdir();
     write_inputs(dir.path(), GOOD);
-    bulge_in(
-        dir.path(),
-        &[
-            "stress",
-            "heights.csv",
-            "--experiment",
-            "experiment.toml",
-            "-o",
-            "heights.csv",
-        ],
-    )
-    .bad_input(&["input file itself"]);
+    stress_in(dir.path(), "heights.csv").bad_input(&["input file itself"]);
     assert_eq!(
         fs::read_to_string(dir.path().join("heights.csv")).unwrap(),
         GOOD
