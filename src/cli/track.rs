@@ -7,7 +7,6 @@ use anyhow::Context;
 
 use super::{Classify, Failure};
 use crate::experiment::Experiment;
-use crate::io::{CsvOut, fmt_num};
 use crate::track::{self, Options, Refine, TrackError};
 
 /// Flags of `bulge track`.
@@ -89,28 +88,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let tracked = track::track(&setup, &opts, &|| pb.inc(1)).map_err(classify)?;
     pb.finish_and_clear();
 
-    let mut out = CsvOut::new(&[
-        "frame",
-        "file",
-        "pressure_pa",
-        "apex_x_px",
-        "apex_y_px",
-        "score",
-        "height_m",
-        "height_std_m",
-    ]);
-    for r in &tracked.rows {
-        out.row(&[
-            r.frame.to_string(),
-            r.file.clone(),
-            fmt_num(Some(r.pressure_pa)),
-            fmt_num(Some(r.apex_x_px)),
-            fmt_num(Some(r.apex_y_px)),
-            format!("{:.4}", r.score),
-            fmt_num(Some(r.height_m)),
-            fmt_num(Some(r.height_std_m)),
-        ]);
-    }
+    let out = tracked.heights_csv();
     if tracked.rows.is_empty() {
         return Err(Failure::BadInput(anyhow::anyhow!(
             "every one of the {} frames scored below --min-score {}: nothing to write; check the template and the region",

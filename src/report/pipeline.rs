@@ -221,29 +221,7 @@ pub struct Tracking {
 impl Tracking {
     /// `heights.csv` as `bulge track` writes it.
     pub fn csv(&self) -> CsvOut {
-        let mut out = CsvOut::new(&[
-            "frame",
-            "file",
-            "pressure_pa",
-            "apex_x_px",
-            "apex_y_px",
-            "score",
-            "height_m",
-            "height_std_m",
-        ]);
-        for r in &self.tracked.rows {
-            out.row(&[
-                r.frame.to_string(),
-                r.file.clone(),
-                fmt_num(Some(r.pressure_pa)),
-                fmt_num(Some(r.apex_x_px)),
-                fmt_num(Some(r.apex_y_px)),
-                format!("{:.4}", r.score),
-                fmt_num(Some(r.height_m)),
-                fmt_num(Some(r.height_std_m)),
-            ]);
-        }
-        out
+        self.tracked.heights_csv()
     }
 
     /// The measured points.

@@ -343,6 +343,37 @@ pub struct Tracked {
     pub locate_seconds: f64,
 }
 
+impl Tracked {
+    /// `heights.csv`: `frame,file,pressure_pa,apex_x_px,apex_y_px,score,
+    /// height_m,height_std_m`, one row per tracked frame.
+    pub fn heights_csv(&self) -> crate::io::CsvOut {
+        use crate::io::fmt_num;
+        let mut out = crate::io::CsvOut::new(&[
+            "frame",
+            "file",
+            "pressure_pa",
+            "apex_x_px",
+            "apex_y_px",
+            "score",
+            "height_m",
+            "height_std_m",
+        ]);
+        for r in &self.rows {
+            out.row(&[
+                r.frame.to_string(),
+                r.file.clone(),
+                fmt_num(Some(r.pressure_pa)),
+                fmt_num(Some(r.apex_x_px)),
+                fmt_num(Some(r.apex_y_px)),
+                format!("{:.4}", r.score),
+                fmt_num(Some(r.height_m)),
+                fmt_num(Some(r.height_std_m)),
+            ]);
+        }
+        out
+    }
+}
+
 /// Compares names the way people count: `img2` < `img10`.
 pub fn natural_cmp(a: &str, b: &str) -> Ordering {
     let (ab, bb) = (a.as_bytes(), b.as_bytes());
