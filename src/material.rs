@@ -345,10 +345,12 @@ impl std::ops::Mul for D2 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn models() -> Vec<Model> {
+    /// One of each hyperelastic model, with rubber-like parameters (shared
+    /// by the material and axisymmetric tests).
+    pub(crate) fn models() -> Vec<Model> {
         vec![
             Model::NeoHookean { c1_pa: 2.0e5 },
             Model::MooneyRivlin {

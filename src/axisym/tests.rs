@@ -177,26 +177,7 @@ fn linear_membrane_matches_hencky() {
 /// nu = 1/2: Hencky's K(0.5) = 0.59488 at w0/a = 0.03, to 0.5 %.
 #[test]
 fn hyperelastic_models_match_hencky_at_small_deflection() {
-    let models = [
-        Model::NeoHookean { c1_pa: 2.0e5 },
-        Model::MooneyRivlin {
-            c1_pa: 1.8e5,
-            c2_pa: 2.0e4,
-        },
-        Model::Yeoh {
-            c1_pa: 1.8e5,
-            c2_pa: -2.0e3,
-            c3_pa: 50.0,
-        },
-        Model::Ogden {
-            mu_pa: vec![6.3e5, 1.2e3, -1.0e4],
-            alpha: vec![1.3, 5.0, -2.0],
-        },
-        Model::Gent {
-            mu_pa: 3.5e5,
-            jm: 80.0,
-        },
-    ];
+    let models = crate::material::tests::models();
     let o = Options::default();
     for model in models {
         let e = model.initial_young_pa();
