@@ -54,6 +54,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::SimError;
 use super::mesh::{Constraint, Mesh};
+use super::par::ParForces;
 use super::solve::load_norm;
 use super::springs::{Membrane, SpringModel};
 
@@ -444,7 +445,14 @@ pub struct Dynamics<'a> {
     pub edge_k: Vec<f64>,
     inv_mass: Vec<f64>,
     size_m: f64,
+    /// Parallel forces for meshes of [`PAR_MIN_NODES`] nodes and more when
+    /// the rayon pool has more than one thread.
+    par: Option<std::cell::RefCell<ParForces>>,
 }
+
+/// Meshes from this size on evaluate their forces in parallel (measured: two
+/// threads 1.1-1.6 times one at 1e4 nodes, 1.3-2 times at 1e5).
+pub const PAR_MIN_NODES: usize = 10_000;
 
 impl<'a> Dynamics<'a> {
     /// Prepares masses, dashpots and the stiffness of the springs.
@@ -483,6 +491,8 @@ impl<'a> Dynamics<'a> {
             hi = hi.sup(&p.coords);
         }
         let size_m = (hi - lo).norm().max(f64::MIN_POSITIVE);
+        let par = (mesh.nodes.len() >= PAR_MIN_NODES && rayon::current_num_threads() > 1)
+            .then(|| std::cell::RefCell::new(ParForces::new(mesh, membrane)));
         Ok(Dynamics {
             membrane,
             mesh,
@@ -490,6 +500,7 @@ impl<'a> Dynamics<'a> {
             edge_k: k,
             inv_mass,
             size_m,
+            par,
         })
     }
 
@@ -512,6 +523,14 @@ impl<'a> Dynamics<'a> {
             })
     }
 
+    /// The membrane's nodal forces at `x` (in parallel on large meshes).
+    fn forces(&self, x: &[Point3<f64>], f: &mut [Vector3<f64>]) -> Result<(), SimError> {
+        match &self.par {
+            Some(p) => p.borrow_mut().forces(self.membrane, x, f),
+            None => self.membrane.forces(x, f),
+        }
+    }
+
     /// Adds the dashpot forces at positions `x` and velocities `v` to `f`.
     pub fn add_damping(&self, x: &[Point3<f64>], v: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
         for (i, j, c, u) in self.dashpots(x) {
@@ -528,7 +547,7 @@ impl<'a> Dynamics<'a> {
         v: &[Vector3<f64>],
         f: &mut [Vector3<f64>],
     ) -> Result<(), DynError> {
-        self.membrane.forces(x, f)?;
+        self.forces(x, f)?;
         self.add_damping(x, v, f);
         self.membrane.project(f);
         Ok(())
@@ -583,8 +602,8 @@ impl<'a> Dynamics<'a> {
                 xp[i] = x[i] + dv;
                 xm[i] = x[i] - dv;
             }
-            m.forces(&xp, &mut fp)?;
-            m.forces(&xm, &mut fm)?;
+            self.forces(&xp, &mut fp)?;
+            self.forces(&xm, &mut fm)?;
             for i in 0..n {
                 w[i] = -(fp[i] - fm[i]) / (2.0 * s) / sqm[i].max(f64::MIN_POSITIVE);
             }
@@ -851,7 +870,7 @@ impl<'a> Dynamics<'a> {
                     kinetic_j: ke,
                 });
                 if let Some(tol) = opts.settle_tolerance {
-                    self.membrane.forces(x, &mut f)?;
+                    self.forces(x, &mut f)?;
                     self.membrane.project(&mut f);
                     let rn = f.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
                     let ln = load_norm(self.membrane, x, &mut scratch).max(f64::MIN_POSITIVE);
@@ -866,7 +885,7 @@ impl<'a> Dynamics<'a> {
                 }
             }
         }
-        self.membrane.forces(x, &mut f)?;
+        self.forces(x, &mut f)?;
         self.membrane.project(&mut f);
         let rn = f.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
         let residual = rn / load.max(f64::MIN_POSITIVE);
@@ -1025,7 +1044,7 @@ impl<'a> Dynamics<'a> {
         };
         for it in 0..opts.newton_iterations {
             // residual as a force: g/h^2 = M (dx - h v)/h^2 - f - C dx / h
-            m.forces(&xn, &mut f)?;
+            self.forces(&xn, &mut f)?;
             evals += 1;
             for i in 0..n {
                 vn[i] = (xn[i] - x_old[i]) / h;
@@ -1320,8 +1339,8 @@ impl Dynamics<'_> {
                 xp[i] = x[i] + u[i] * (s / sqm[i]);
                 xm[i] = x[i] - u[i] * (s / sqm[i]);
             }
-            m.forces(&xp, &mut fp)?;
-            m.forces(&xm, &mut fm)?;
+            self.forces(&xp, &mut fp)?;
+            self.forces(&xm, &mut fm)?;
             for i in 0..n {
                 u[i] = -(fp[i] - fm[i]) / (2.0 * s) / sqm[i];
             }
