@@ -483,16 +483,34 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .with_context(|| format!("writing {}", path.display()))
             .failed()?;
     }
-    println!("  pressure_pa     height_m      model  solver  iters  residual   wall_s");
-    for line in &table {
+    finish(
+        "  pressure_pa     height_m      model  solver  iters  residual   wall_s",
+        &table,
+        &args.output,
+        &failures,
+        "the rows solved before",
+    )
+}
+
+/// Prints the result table and where it was written; fails naming every
+/// failure and where the finished part (`kept`) is.
+fn finish(
+    header: &str,
+    table: &[String],
+    output: &std::path::Path,
+    failures: &[String],
+    kept: &str,
+) -> Result<(), Failure> {
+    println!("{header}");
+    for line in table {
         println!("{line}");
     }
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", output.display());
     if !failures.is_empty() {
         return Err(Failure::Failed(anyhow!(
-            "{}; the rows solved before are in {}",
+            "{}; {kept} are in {}",
             failures.join("; "),
-            args.output.display()
+            output.display()
         )));
     }
     Ok(())

@@ -8,7 +8,7 @@ use anyhow::{Context, anyhow};
 use nalgebra::{Point3, Vector3};
 
 use super::super::{Classify, Failure};
-use super::{Args, describe, parse_list};
+use super::{Args, describe, finish, parse_list};
 use crate::io::{CsvOut, fmt_num, write_atomic};
 use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
 use crate::sim::paper003::in_plane;
@@ -340,19 +340,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .with_context(|| format!("writing {}", t.display()))
             .failed()?;
     }
-    println!(
-        "  pressure_pa    model       integrator      final_m       peak_m     static_m       dt_s    steps   wall_s"
-    );
-    for line in &table {
-        println!("{line}");
-    }
-    println!("wrote {}", args.output.display());
-    if !failures.is_empty() {
-        return Err(Failure::Failed(anyhow!(
-            "{}; the runs that finished are in {}",
-            failures.join("; "),
-            args.output.display()
-        )));
-    }
-    Ok(())
+    finish(
+        "  pressure_pa    model       integrator      final_m       peak_m     static_m       dt_s    steps   wall_s",
+        &table,
+        &args.output,
+        &failures,
+        "the runs that finished",
+    )
 }
