@@ -123,6 +123,40 @@ pub fn in_plane(m: &mut Mesh) {
 }
 
 /// Displacement magnitude of node `node`.
+/// 0.9 of Verlet's estimated step limit on the sheet at rest.
+fn verlet_step(setup: &SheetSetup, mem: &mut Membrane, mesh: &Mesh) -> Result<f64, DynError> {
+    let d = Dynamics::new(mem, mesh, setup.damping)?;
+    Ok(0.9 * d.estimate_step(&mesh.nodes)?.limit(Integrator::Verlet))
+}
+
+/// A run of `integ` from rest for `t_end_s` at step `dt` (sub-stepped where
+/// the integrator needs it), sampling the displacement of `node`.
+#[allow(clippy::too_many_arguments)]
+fn from_rest(
+    setup: &SheetSetup,
+    mem: &mut Membrane,
+    mesh: &Mesh,
+    node: usize,
+    integ: Integrator,
+    dt: f64,
+    t_end_s: f64,
+    max_samples: usize,
+) -> Result<super::dynamics::DynRun, DynError> {
+    let mut d = Dynamics::new(mem, mesh, setup.damping)?;
+    let mut x = mesh.nodes.clone();
+    let mut v = vec![Vector3::zeros(); x.len()];
+    let opts = DynOptions {
+        integrator: integ,
+        dt_s: dt,
+        t_end_s,
+        damping: setup.damping,
+        policy: StepPolicy::Substep,
+        max_samples,
+        ..DynOptions::default()
+    };
+    d.run(&mut x, &mut v, &opts, &|x| displacement(mesh, x, node))
+}
+
 fn displacement(mesh: &Mesh, x: &[Point3<f64>], node: usize) -> f64 {
     (x[node] - mesh.nodes[node]).norm()
 }
@@ -193,29 +227,13 @@ pub fn time_table(
         let mut mem = setup.membrane(&mesh, "middle", q_n_m);
         let xs = static_solution(&mut mem, &mesh, 2)?;
         let static_m = displacement(&mesh, &xs, node);
-        let dt = {
-            let d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
-            let est = d.estimate_step(&mesh.nodes)?;
-            0.9 * est.limit(Integrator::Verlet)
-        };
+        let dt = verlet_step(setup, &mut mem, &mesh)?;
         for &integ in integrators {
             if integ == Integrator::ImplicitEuler && np > IMPLICIT_TIME_TABLE_MAX {
                 continue;
             }
-            let mut d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
-            let mut x = mesh.nodes.clone();
-            let mut v = vec![Vector3::zeros(); x.len()];
-            let opts = DynOptions {
-                integrator: integ,
-                dt_s: dt,
-                t_end_s,
-                damping: setup.damping,
-                policy: StepPolicy::Substep,
-                max_samples: 100,
-                ..DynOptions::default()
-            };
             let t0 = Instant::now();
-            let run = d.run(&mut x, &mut v, &opts, &|x| displacement(&mesh, x, node))?;
+            let run = from_rest(setup, &mut mem, &mesh, node, integ, dt, t_end_s, 100)?;
             let wall = t0.elapsed().as_secs_f64();
             rows.push(TimeRow {
                 points: mesh.nodes.len(),
@@ -324,27 +342,13 @@ pub fn load_table(
         } else {
             displacement(&mesh, &xs, node)
         };
-        let dt = {
-            let d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
-            0.9 * d.estimate_step(&mesh.nodes)?.limit(Integrator::Verlet)
-        };
+        let dt = verlet_step(setup, &mut mem, &mesh)?;
         let mut dynamic = Vec::new();
         for &integ in integrators {
             if integ == Integrator::ImplicitEuler && points > IMPLICIT_TIME_TABLE_MAX {
                 continue;
             }
-            let mut d = Dynamics::new(&mut mem, &mesh, setup.damping)?;
-            let mut x = mesh.nodes.clone();
-            let mut v = vec![Vector3::zeros(); x.len()];
-            let opts = DynOptions {
-                integrator: integ,
-                dt_s: dt,
-                t_end_s,
-                damping: setup.damping,
-                max_samples: 10,
-                ..DynOptions::default()
-            };
-            let run = d.run(&mut x, &mut v, &opts, &|x| displacement(&mesh, x, node))?;
+            let run = from_rest(setup, &mut mem, &mesh, node, integ, dt, t_end_s, 10)?;
             dynamic.push((integ, run.last()));
         }
         rows.push(LoadRow {
