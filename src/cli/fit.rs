@@ -13,7 +13,7 @@ use super::{Classify, Failure};
 use crate::fit::data::{self, LoadOptions, Loaded, ModulusConvention, Source};
 use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
 use crate::fit::quartic::{self, PolyFit};
-use crate::fit::{FitError, StressMeasure};
+use crate::fit::{FitError, StressMeasure, inverse};
 use crate::io::{CsvOut, Table, fmt_num, write_atomic};
 use crate::material::{Material, Model, StrainMeasure};
 use crate::report::plot::{Figure, LegendPosition, Panel, Series};
@@ -119,6 +119,17 @@ pub struct Args {
     /// `<stem>_fit.png`, `<stem>_models.csv`).
     #[arg(short, long, default_value = "material.toml")]
     pub output: PathBuf,
+
+    /// Correct the fitted law until the exact axisymmetric inflation of the
+    /// specimen of this experiment file (its [specimen] table) reproduces the
+    /// heights in the input's `pressure_pa` and `height_m` columns, which
+    /// `bulge stress` writes (what `bulge run` does by default; see
+    /// docs/run.md). `material.toml` then holds the corrected law, with the
+    /// fitted one and the height errors before and after under
+    /// [fit.refined]; the curve, residuals and plot stay those of the fit to
+    /// the points.
+    #[arg(long, value_name = "EXPERIMENT")]
+    pub to_heights: Option<PathBuf>,
 
     /// Number of points of the fitted curve in `<stem>_curve.csv` and the
     /// plot (default 200).
@@ -226,6 +237,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
             hyper_product(&args, &loaded, vec![fit], 0)
         }
     };
+    let mut product = product;
+    if let Some(exp) = &args.to_heights {
+        to_heights(&args.input, &table, exp, &mut product)?;
+    }
     // Render everything before writing anything.
     let toml_text = toml::to_string(&product.material).failed()?;
     let (svg, do_png) = if args.no_plot {
@@ -269,6 +284,65 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    Ok(())
+}
+
+/// `--to-heights`: corrects `product.material` to the heights of `table`
+/// (the input `input`) on the specimen of the experiment file `exp`.
+fn to_heights(
+    input: &Path,
+    table: &Table,
+    exp: &Path,
+    product: &mut Product,
+) -> Result<(), Failure> {
+    let e = crate::experiment::Experiment::read(exp)?;
+    let (Some(p), Some(h)) = (
+        table.optional_numbers("pressure_pa")?,
+        table.optional_numbers("height_m")?,
+    ) else {
+        return Err(Failure::BadInput(anyhow!(
+            "{}: --to-heights needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv",
+            input.display()
+        )));
+    };
+    let measured: Vec<inverse::Measured> = p
+        .iter()
+        .zip(&h)
+        .filter_map(|(p, h)| match (p, h) {
+            (Some(p), Some(h)) if *p > 0.0 && *h > 0.0 => Some(inverse::Measured {
+                pressure_pa: *p,
+                height_m: *h,
+            }),
+            _ => None,
+        })
+        .collect();
+    let r = inverse::refine(
+        &product.material,
+        &e.specimen,
+        &measured,
+        &Default::default(),
+    )
+    .map_err(|err| {
+        Failure::Failed(anyhow!(
+            "{}: the law could not be corrected to the heights: {err}",
+            input.display()
+        ))
+    })?;
+    let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v));
+    product.summary.push_str(&format!(
+        "corrected to the heights of {} points on the specimen of {}: rms height error {} -> {} ({} iterations, {} axisymmetric solves)\n",
+        measured.len(),
+        exp.display(),
+        pct(inverse::Refined::rms(&r.before)),
+        pct(inverse::Refined::rms(&r.after)),
+        r.iterations,
+        r.solves
+    ));
+    let table = r.toml_table(&product.material.model);
+    if let Some(ft) = product.material.fit.as_mut() {
+        ft.insert("refined".into(), table.into());
+    }
+    product.material.model = r.material.model;
     Ok(())
 }
 

@@ -101,6 +101,32 @@ impl Refined {
     }
 }
 
+impl Refined {
+    /// The `[fit.refined]` table of `material.toml`: the method, the rms
+    /// height error before and after, the effort, and the law it started
+    /// from (`cap`).
+    pub fn toml_table(&self, cap: &Model) -> toml::Table {
+        let mut t = toml::Table::new();
+        t.insert(
+            "method".into(),
+            "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+        );
+        if let Some(v) = Refined::rms(&self.before) {
+            t.insert("height_rms_before".into(), v.into());
+        }
+        if let Some(v) = Refined::rms(&self.after) {
+            t.insert("height_rms_after".into(), v.into());
+        }
+        t.insert("iterations".into(), (self.iterations as i64).into());
+        t.insert("axisym_solves".into(), (self.solves as i64).into());
+        t.insert(
+            "cap_law".into(),
+            toml::Value::try_from(cap).unwrap_or_else(|e| e.to_string().into()),
+        );
+        t
+    }
+}
+
 /// How the parameters of a model map to a vector of O(1) unknowns.
 #[derive(Debug, Clone)]
 enum Params {

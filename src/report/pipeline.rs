@@ -508,24 +508,7 @@ pub fn fit_stage(
             .collect();
         match inverse::refine(&cap_material, spec, &measured, &inverse::Options::default()) {
             Ok(r) => {
-                let mut t = toml::Table::new();
-                t.insert(
-                    "method".into(),
-                    "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
-                );
-                if let Some(v) = inverse::Refined::rms(&r.before) {
-                    t.insert("height_rms_before".into(), v.into());
-                }
-                if let Some(v) = inverse::Refined::rms(&r.after) {
-                    t.insert("height_rms_after".into(), v.into());
-                }
-                t.insert("iterations".into(), (r.iterations as i64).into());
-                t.insert("axisym_solves".into(), (r.solves as i64).into());
-                t.insert(
-                    "cap_law".into(),
-                    toml::Value::try_from(&cap_material.model)
-                        .unwrap_or_else(|e| e.to_string().into()),
-                );
+                let t = r.toml_table(&cap_material.model);
                 fit_table.insert("refined".into(), t.into());
                 if let Model::Quartic {
                     coefficients_pa,
