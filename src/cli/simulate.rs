@@ -15,7 +15,7 @@ use crate::material::Material;
 use crate::sim::mesh::Mesh;
 use crate::sim::scene::{self, DiscPredictor, MeshSize, Scene, SceneKind};
 use crate::sim::solve::{self, Options, Predictor, Solver, Stay};
-use crate::sim::springs::{Membrane, SpringModel};
+use crate::sim::springs::SpringModel;
 use crate::sim::{SimError, vtk};
 
 /// Flags of `bulge simulate`.
@@ -336,16 +336,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         }
     }
 
-    let mut header: Vec<&str> = vec![
-        "pressure_pa",
-        "height_m",
-        "model",
-        "solver",
-        "nodes",
-        "iterations",
-        "residual",
-        "wall_s",
-    ];
+    let mut header: Vec<&str> = crate::report::pipeline::SIMULATED_COLUMNS.to_vec();
     header.extend(scene.extra_columns());
     let mut csv = CsvOut::new(&header);
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
@@ -367,16 +358,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     }
     for &model in &models {
         for &solver in &solvers {
-            let mut membrane = Membrane::new(
-                &mesh,
-                model,
-                &scene.material,
-                scene.thickness_m,
-                scene.density_kg_m3,
-            )
-            .map_err(|e| anyhow!("{e}"))
-            .bad_input()?;
-            membrane.node_loads = scene.node_loads(&mesh);
+            let mut membrane = scene
+                .membrane(&mesh, model)
+                .map_err(|e| anyhow!("{e}"))
+                .bad_input()?;
             let predictor: Box<dyn Predictor> = match scene.kind {
                 SceneKind::Disc { radius_m } => Box::new(DiscPredictor {
                     radius_m,

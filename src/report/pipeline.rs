@@ -34,7 +34,7 @@ use crate::mechanics::{
 use crate::sim::SimError;
 use crate::sim::scene::{DiscPredictor, MeshSize, Scene};
 use crate::sim::solve::{self, Solver};
-use crate::sim::springs::{Membrane, SpringModel};
+use crate::sim::springs::SpringModel;
 use crate::track::{self, Setup, TemplateSource, TrackError, Tracked};
 
 /// The five stages, in order.
@@ -626,13 +626,7 @@ pub fn simulate_stage(
     let mut runs = Vec::new();
     for &model in &settings.models {
         let t_model = Instant::now();
-        let mut membrane = Membrane::new(
-            &mesh,
-            model,
-            material,
-            spec.thickness_m,
-            scene.density_kg_m3,
-        )?;
+        let mut membrane = scene.membrane(&mesh, model)?;
         let predictor = DiscPredictor {
             radius_m: spec.radius_m,
             young_pa: membrane.law.young(1.0).1,
@@ -764,19 +758,23 @@ pub fn axisym_run(
     })
 }
 
-/// `simulated.csv`: `pressure_pa,height_m,model,solver,nodes,iterations,
-/// residual,wall_s`, solved pressures only (as `bulge simulate`).
+/// The columns every simulated-heights file starts with (`bulge simulate`,
+/// `bulge simulate --dynamic`, `simulated.csv` of `bulge run`).
+pub const SIMULATED_COLUMNS: [&str; 8] = [
+    "pressure_pa",
+    "height_m",
+    "model",
+    "solver",
+    "nodes",
+    "iterations",
+    "residual",
+    "wall_s",
+];
+
+/// `simulated.csv`: [`SIMULATED_COLUMNS`], solved pressures only (as
+/// `bulge simulate`).
 pub fn simulated_csv(runs: &[ModelRun]) -> CsvOut {
-    let mut out = CsvOut::new(&[
-        "pressure_pa",
-        "height_m",
-        "model",
-        "solver",
-        "nodes",
-        "iterations",
-        "residual",
-        "wall_s",
-    ]);
+    let mut out = CsvOut::new(&SIMULATED_COLUMNS);
     for r in runs {
         for p in &r.points {
             if let Some(h) = p.height_m {

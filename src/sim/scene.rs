@@ -34,7 +34,7 @@ use serde::Deserialize;
 use super::SimError;
 use super::mesh::{self, Corner, Mesh};
 use super::solve::Predictor;
-use super::springs::SpringModel;
+use super::springs::{Membrane, SpringModel};
 use crate::io::InputError;
 use crate::material::Material;
 
@@ -495,6 +495,20 @@ impl Scene {
                 })
             }
         }
+    }
+
+    /// The membrane of this scene's material, thickness, density and nodal
+    /// loads on `mesh`, with the spring model `model`.
+    pub fn membrane(&self, mesh: &Mesh, model: SpringModel) -> Result<Membrane, SimError> {
+        let mut m = Membrane::new(
+            mesh,
+            model,
+            &self.material,
+            self.thickness_m,
+            self.density_kg_m3,
+        )?;
+        m.node_loads = self.node_loads(mesh);
+        Ok(m)
     }
 
     /// The nodal loads of the scene on a mesh.

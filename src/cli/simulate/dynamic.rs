@@ -14,7 +14,7 @@ use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrato
 use crate::sim::paper003::in_plane;
 use crate::sim::scene::{DiscPredictor, Scene, SceneKind};
 use crate::sim::solve::{self, Options, Predictor, Solver, Stay};
-use crate::sim::springs::{Membrane, SpringModel};
+use crate::sim::springs::SpringModel;
 
 /// Largest mesh for which `--dynamic` also solves the static equilibrium to
 /// compare with (a 1e5-node Newton solve took 6 min and 3.3 GB).
@@ -141,15 +141,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         }
     }
 
-    let mut csv = CsvOut::new(&[
-        "pressure_pa",
-        "height_m",
-        "model",
-        "solver",
-        "nodes",
-        "iterations",
-        "residual",
-        "wall_s",
+    let mut header = crate::report::pipeline::SIMULATED_COLUMNS.to_vec();
+    header.extend([
         "peak_m",
         "static_height_m",
         "overshoot",
@@ -158,6 +151,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "substeps",
         "dt_limit_s",
     ]);
+    let mut csv = CsvOut::new(&header);
     let mut trace = CsvOut::new(&[
         "t_s",
         "value_m",
@@ -173,16 +167,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "dynamic",
     );
     for &model in &models {
-        let mut membrane = Membrane::new(
-            &mesh,
-            model,
-            &scene.material,
-            scene.thickness_m,
-            scene.density_kg_m3,
-        )
-        .map_err(|e| anyhow!("{e}"))
-        .bad_input()?;
-        membrane.node_loads = scene.node_loads(&mesh);
+        let mut membrane = scene
+            .membrane(&mesh, model)
+            .map_err(|e| anyhow!("{e}"))
+            .bad_input()?;
         let measure = |x: &[Point3<f64>]| scene.measure(&mesh, x).0;
         for &p in &pressures {
             // the static answer the run should settle to
