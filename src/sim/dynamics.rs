@@ -553,9 +553,10 @@ impl<'a> Dynamics<'a> {
         Ok(())
     }
 
-    /// Power-iteration estimate of the stiffest and the most damped modes at
-    /// positions `x` (see the module docs).
-    pub fn estimate_step(&self, x: &[Point3<f64>]) -> Result<StepEstimate, DynError> {
+    /// The stiffest mode at `x` by power iteration on `M^-1/2 K M^-1/2`
+    /// (`K v` by central differences of the forces): its eigenvalue
+    /// `omega^2`, the iterations taken and the unit mode `u` (mass-scaled).
+    fn stiffest(&self, x: &[Point3<f64>]) -> Result<(f64, usize, Vec<Vector3<f64>>), DynError> {
         let n = x.len();
         let m = &self.membrane;
         let sqm: Vec<f64> = m.masses.iter().map(|&mi| mi.sqrt()).collect();
@@ -569,13 +570,6 @@ impl<'a> Dynamics<'a> {
                 )
             })
             .collect();
-        let normalise = |u: &mut [Vector3<f64>]| {
-            let s = u.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
-            if s > 0.0 {
-                u.iter_mut().for_each(|v| *v /= s);
-            }
-            s
-        };
         m.project(&mut u);
         normalise(&mut u);
         let mut xp = x.to_vec();
@@ -621,6 +615,17 @@ impl<'a> Dynamics<'a> {
                 }
             }
         }
+        Ok((lambda, iterations, u))
+    }
+
+    /// Power-iteration estimate of the stiffest and the most damped modes at
+    /// positions `x` (see the module docs).
+    pub fn estimate_step(&self, x: &[Point3<f64>]) -> Result<StepEstimate, DynError> {
+        let n = x.len();
+        let m = &self.membrane;
+        let sqm: Vec<f64> = m.masses.iter().map(|&mi| mi.sqrt()).collect();
+        let (lambda, iterations, u) = self.stiffest(x)?;
+        let mut w = vec![Vector3::zeros(); n];
         let omega_max = lambda.max(0.0).sqrt();
         // damping ratio of that mode: u . M^-1/2 C M^-1/2 u / (2 w)
         let c_of = |u: &[Vector3<f64>], out: &mut [Vector3<f64>]| {
@@ -1086,6 +1091,15 @@ impl<'a> Dynamics<'a> {
     }
 }
 
+/// Scales `u` to unit norm (unless zero); returns its norm before.
+fn normalise(u: &mut [Vector3<f64>]) -> f64 {
+    let s = u.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
+    if s > 0.0 {
+        u.iter_mut().for_each(|v| *v /= s);
+    }
+    s
+}
+
 /// A deterministic number in [-1, 1] (splitmix64 of node and component).
 fn pseudo_random(i: usize, k: u64) -> f64 {
     let mut s =
@@ -1308,57 +1322,19 @@ impl Dynamics<'_> {
     /// the body's size per unit of `omega_max` time.
     fn stiffest_mode(&self, x: &[Point3<f64>]) -> Result<Vec<Vector3<f64>>, DynError> {
         let n = x.len();
-        let m = &*self.membrane;
-        let sqm: Vec<f64> = m
+        let sqm: Vec<f64> = self
+            .membrane
             .masses
             .iter()
             .map(|&mi| mi.sqrt().max(f64::MIN_POSITIVE))
             .collect();
-        let mut u: Vec<Vector3<f64>> = (0..n)
-            .map(|i| {
-                Vector3::new(
-                    pseudo_random(i, 1),
-                    pseudo_random(i, 2),
-                    pseudo_random(i, 3),
-                )
-            })
-            .collect();
-        m.project(&mut u);
-        let mut xp = x.to_vec();
-        let mut xm = x.to_vec();
-        let mut fp = vec![Vector3::zeros(); n];
-        let mut fm = vec![Vector3::zeros(); n];
-        let eps = 1e-7 * self.size_m;
-        let mut lambda = 0.0;
-        for _ in 0..300 {
-            let s0 = u.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
-            u.iter_mut().for_each(|v| *v /= s0);
-            let vmax = (0..n).map(|i| (u[i] / sqm[i]).norm()).fold(0.0, f64::max);
-            let s = eps / vmax;
-            for i in 0..n {
-                xp[i] = x[i] + u[i] * (s / sqm[i]);
-                xm[i] = x[i] - u[i] * (s / sqm[i]);
-            }
-            self.forces(&xp, &mut fp)?;
-            self.forces(&xm, &mut fm)?;
-            for i in 0..n {
-                u[i] = -(fp[i] - fm[i]) / (2.0 * s) / sqm[i];
-            }
-            m.project(&mut u);
-            let l = u.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
-            if (l - lambda).abs() < 1e-6 * l {
-                break;
-            }
-            lambda = l;
-        }
-        let s0 = u.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
-        let omega = lambda.sqrt();
+        let (lambda, _, u) = self.stiffest(x)?;
+        let omega = lambda.max(0.0).sqrt();
         let amp = 1e-6 * self.size_m * omega;
         let vmax = (0..n)
             .map(|i| (u[i] / sqm[i]).norm())
             .fold(0.0, f64::max)
             .max(f64::MIN_POSITIVE);
-        let _ = s0;
         Ok((0..n).map(|i| u[i] / sqm[i] * (amp / vmax)).collect())
     }
 }
