@@ -55,7 +55,7 @@ use nalgebra::{Point3, Vector3};
 use super::SimError;
 use super::mesh::{Constraint, Mesh};
 use super::par::ParForces;
-use super::solve::load_norm;
+use super::solve::{Dofs, load_norm, pattern};
 use super::springs::{Membrane, SpringModel};
 
 /// The time integrator.
@@ -1113,9 +1113,7 @@ fn pseudo_random(i: usize, k: u64) -> f64 {
 /// Sparse matrix `M/h^2 + K + C/h` on the free degrees of freedom, its
 /// pattern and symbolic LU kept across steps.
 struct ImplicitWorkspace {
-    start: Vec<usize>,
-    basis: Vec<Vec<Vector3<f64>>>,
-    len: usize,
+    dofs: Dofs,
     symbolic: SymbolicSparseColMat<usize>,
     symbolic_lu: Option<SymbolicLu<usize>>,
     values: Vec<f64>,
@@ -1126,46 +1124,11 @@ struct ImplicitWorkspace {
 impl ImplicitWorkspace {
     fn new(d: &Dynamics) -> ImplicitWorkspace {
         let m = &*d.membrane;
-        let n = m.nodes();
-        let mut start = Vec::with_capacity(n);
-        let mut basis = Vec::with_capacity(n);
-        let mut len = 0;
-        for c in &m.constraints {
-            start.push(len);
-            let b = c.free_basis();
-            len += b.len();
-            basis.push(b);
-        }
-        let mut adj: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
-        for t in 0..m.triangles() {
-            let v = m.triangle_nodes(t);
-            for &a in &v {
-                for &b in &v {
-                    adj[a as usize].push(b as usize);
-                }
-            }
-        }
-        let mut col_ptr = vec![0usize];
-        let mut row_idx = Vec::new();
-        for (j, b) in basis.iter().enumerate() {
-            let nb = &mut adj[j];
-            nb.sort_unstable();
-            nb.dedup();
-            for _ in 0..b.len() {
-                for &i in nb.iter() {
-                    for a in 0..basis[i].len() {
-                        row_idx.push(start[i] + a);
-                    }
-                }
-                col_ptr.push(row_idx.len());
-            }
-        }
-        let nnz = row_idx.len();
-        let symbolic = SymbolicSparseColMat::new_checked(len, len, col_ptr, None, row_idx);
+        let dofs = Dofs::new(m);
+        let symbolic = pattern(m, &dofs);
+        let nnz = symbolic.row_idx().len();
         ImplicitWorkspace {
-            start,
-            basis,
-            len,
+            dofs,
             symbolic,
             symbolic_lu: None,
             values: vec![0.0; nnz],
@@ -1175,20 +1138,20 @@ impl ImplicitWorkspace {
 
     /// Adds the 3x3 block `k` (node a rows, node b columns).
     fn add_block(&mut self, a: usize, b: usize, k: &[[f64; 3]; 3]) {
-        if self.basis[a].is_empty() {
+        if self.dofs.basis[a].is_empty() {
             return;
         }
         let col_ptr = self.symbolic.col_ptr();
         let row_idx = self.symbolic.row_idx();
-        for (beta, ub) in self.basis[b].iter().enumerate() {
-            let col = self.start[b] + beta;
+        for (beta, ub) in self.dofs.basis[b].iter().enumerate() {
+            let col = self.dofs.start[b] + beta;
             let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
             let pos = col_ptr[col]
                 + rows
-                    .binary_search(&self.start[a])
+                    .binary_search(&self.dofs.start[a])
                     .expect("pattern holds every triangle's node pairs");
             let kv = Vector3::from_fn(|r, _| (0..3).map(|c| k[r][c] * ub[c]).sum());
-            for (alpha, ua) in self.basis[a].iter().enumerate() {
+            for (alpha, ua) in self.dofs.basis[a].iter().enumerate() {
                 self.values[pos + alpha] += ua.dot(&kv);
             }
         }
@@ -1243,17 +1206,17 @@ impl ImplicitWorkspace {
     /// factorisation; returns nodal corrections.
     fn solve(&mut self, g: &[Vector3<f64>]) -> Result<Vec<Vector3<f64>>, String> {
         let (lu, _) = self.lu.as_ref().ok_or("no factorisation")?;
-        let mut rhs = faer::Mat::<f64>::zeros(self.len, 1);
-        for (i, b) in self.basis.iter().enumerate() {
+        let mut rhs = faer::Mat::<f64>::zeros(self.dofs.len, 1);
+        for (i, b) in self.dofs.basis.iter().enumerate() {
             for (a, u) in b.iter().enumerate() {
-                rhs[(self.start[i] + a, 0)] = u.dot(&g[i]);
+                rhs[(self.dofs.start[i] + a, 0)] = u.dot(&g[i]);
             }
         }
         lu.solve_in_place(rhs.as_mut());
         let mut out = vec![Vector3::zeros(); g.len()];
-        for (i, b) in self.basis.iter().enumerate() {
+        for (i, b) in self.dofs.basis.iter().enumerate() {
             for (a, u) in b.iter().enumerate() {
-                out[i] += u * rhs[(self.start[i] + a, 0)];
+                out[i] += u * rhs[(self.dofs.start[i] + a, 0)];
             }
         }
         if out.iter().any(|v| !v.iter().all(|c| c.is_finite())) {

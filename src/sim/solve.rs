@@ -121,8 +121,10 @@ pub struct Stats {
 /// orthonormal basis of its free directions.
 #[derive(Debug, Clone)]
 pub struct Dofs {
-    start: Vec<usize>,
-    basis: Vec<Vec<Vector3<f64>>>,
+    /// First degree of freedom of each node.
+    pub(crate) start: Vec<usize>,
+    /// Free directions of each node (empty when fixed).
+    pub(crate) basis: Vec<Vec<Vector3<f64>>>,
     /// Total number of free degrees of freedom.
     pub len: usize,
 }
@@ -193,38 +195,44 @@ pub struct NewtonWorkspace {
     values: Vec<f64>,
 }
 
+/// The sparsity pattern of a membrane's stiffness over its free degrees of
+/// freedom: every pair of nodes sharing a triangle (shared by the static
+/// Newton solver and the implicit integrator).
+pub(crate) fn pattern(m: &Membrane, dofs: &Dofs) -> SymbolicSparseColMat<usize> {
+    let n = m.nodes();
+    let mut adj: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
+    for t in 0..m.triangles() {
+        let v = m.triangle_nodes(t);
+        for &a in &v {
+            for &b in &v {
+                adj[a as usize].push(b as usize);
+            }
+        }
+    }
+    let mut col_ptr = vec![0usize];
+    let mut row_idx = Vec::new();
+    for (j, b) in dofs.basis.iter().enumerate() {
+        let nb = &mut adj[j];
+        nb.sort_unstable();
+        nb.dedup();
+        for _ in 0..b.len() {
+            for &i in nb.iter() {
+                for a in 0..dofs.basis[i].len() {
+                    row_idx.push(dofs.start[i] + a);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+    }
+    SymbolicSparseColMat::new_checked(dofs.len, dofs.len, col_ptr, None, row_idx)
+}
+
 impl NewtonWorkspace {
     /// Builds the pattern for a membrane.
     pub fn new(m: &Membrane) -> NewtonWorkspace {
         let dofs = Dofs::new(m);
-        let n = m.nodes();
-        let mut adj: Vec<Vec<usize>> = (0..n).map(|i| vec![i]).collect();
-        for t in 0..m.triangles() {
-            let v = m.triangle_nodes(t);
-            for &a in &v {
-                for &b in &v {
-                    adj[a as usize].push(b as usize);
-                }
-            }
-        }
-        let mut col_ptr = vec![0usize];
-        let mut row_idx = Vec::new();
-        for (j, b) in dofs.basis.iter().enumerate() {
-            let nb = &mut adj[j];
-            nb.sort_unstable();
-            nb.dedup();
-            for _ in 0..b.len() {
-                for &i in nb.iter() {
-                    for a in 0..dofs.basis[i].len() {
-                        row_idx.push(dofs.start[i] + a);
-                    }
-                }
-                col_ptr.push(row_idx.len());
-            }
-        }
-        let nnz = row_idx.len();
-        let symbolic =
-            SymbolicSparseColMat::new_checked(dofs.len, dofs.len, col_ptr, None, row_idx);
+        let symbolic = pattern(m, &dofs);
+        let nnz = symbolic.row_idx().len();
         NewtonWorkspace {
             dofs,
             symbolic,
