@@ -1,7 +1,7 @@
 //! Integration tests of `bulge simulate --dynamic`.
 use std::fs;
 
-use crate::util::{bulge_in, tempdir};
+use crate::util::{bulge_in, read_csv, tempdir};
 
 const DISC: &str = r#"
 kind = "disc"
@@ -37,23 +37,6 @@ nodes = 60
 at = "middle"
 force_n = [0.0, -0.01, 0.0]
 "#;
-
-fn table(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<String> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    (
-        head,
-        lines
-            .map(|l| l.split(',').map(str::to_string).collect())
-            .collect(),
-    )
-}
 
 fn col(head: &[String], row: &[String], name: &str) -> f64 {
     let i = head
@@ -91,7 +74,7 @@ fn disc_pressure_step_settles_to_the_static_height() {
         ],
     )
     .ok();
-    let (head, rows) = table(&dir.path().join("dyn.csv"));
+    let (head, rows) = read_csv(&dir.path().join("dyn.csv"));
     assert_eq!(rows.len(), 2);
     for r in &rows {
         let (h, hs, peak) = (
@@ -166,7 +149,7 @@ fn sheet_in_plane_load_substeps() {
     )
     .ok();
     assert!(r.stderr.contains("held in z = 0"), "{}", r.stderr);
-    let (head, rows) = table(&dir.path().join("dyn.csv"));
+    let (head, rows) = read_csv(&dir.path().join("dyn.csv"));
     assert!(col(&head, &rows[0], "substeps") > 1.0, "{rows:?}");
     for row in &rows {
         assert!(col(&head, row, "height_m") > 0.0);

@@ -1,7 +1,7 @@
 //! Integration tests of `bulge fit`: the real binary on Treloar's data, the
 //! noisy-quartic fixture and every kind of bad input.
 
-use crate::util::{bulge_in, fixture, repo, tempdir};
+use crate::util::{bulge_in, fixture, read_csv, repo, tempdir};
 use bulge::material::{Material, Model};
 use std::collections::HashMap;
 use std::fs;
@@ -372,18 +372,13 @@ fn warns_where_the_law_is_unphysical() {
 
 /// Columns `a` and `b` of a CSV file, as numbers.
 fn columns(p: &Path, a: &str, b: &str) -> Vec<(f64, f64)> {
-    let text = fs::read_to_string(p).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (head, rows) = read_csv(p);
     let (ia, ib) = (
-        head.iter().position(|h| *h == a).unwrap(),
-        head.iter().position(|h| *h == b).unwrap(),
+        head.iter().position(|h| h == a).unwrap(),
+        head.iter().position(|h| h == b).unwrap(),
     );
-    lines
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            (f[ia].parse().unwrap(), f[ib].parse().unwrap())
-        })
+    rows.iter()
+        .map(|f| (f[ia].parse().unwrap(), f[ib].parse().unwrap()))
         .collect()
 }
 

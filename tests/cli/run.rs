@@ -10,7 +10,7 @@ use std::path::Path;
 
 use bulge::material::{Material, Model};
 
-use crate::util::{bulge_in, tempdir};
+use crate::util::{bulge_in, read_csv, tempdir};
 
 /// Writes the synthetic experiment into `dir/exp` and returns nothing; the
 /// truth is in `dir/exp/truth.csv`.
@@ -72,23 +72,6 @@ fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
     v
 }
 
-fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let s = fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = s.lines();
-    let head = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    (
-        head,
-        lines
-            .map(|l| l.split(',').map(str::to_string).collect())
-            .collect(),
-    )
-}
-
 fn col(head: &[String], name: &str) -> usize {
     head.iter()
         .position(|h| h == name)
@@ -127,9 +110,9 @@ fn run_writes_every_output_and_the_table() {
         );
     }
     // heights.csv: one row per photo, close to the truth.
-    let (hh, hr) = csv(&out.join("heights.csv"));
+    let (hh, hr) = read_csv(&out.join("heights.csv"));
     assert_eq!(hr.len(), 6);
-    let (th, tr) = csv(&dir.path().join("exp/truth.csv"));
+    let (th, tr) = read_csv(&dir.path().join("exp/truth.csv"));
     for (h, t) in hr.iter().zip(&tr) {
         assert_eq!(h[col(&hh, "file")], t[col(&th, "file")]);
         let hm: f64 = h[col(&hh, "height_m")].parse().unwrap();
@@ -137,7 +120,7 @@ fn run_writes_every_output_and_the_table() {
         assert!((hm / tm - 1.0).abs() < 0.005, "tracked {hm} vs true {tm}");
     }
     // stress_strain.csv: the stress stage's columns.
-    let (sh, sr) = csv(&out.join("stress_strain.csv"));
+    let (sh, sr) = read_csv(&out.join("stress_strain.csv"));
     for c in [
         "pressure_pa",
         "height_m",
@@ -158,7 +141,7 @@ fn run_writes_every_output_and_the_table() {
     );
     assert_eq!(m.poisson, 0.45);
     // simulated.csv: every model at every measured pressure.
-    let (simh, simr) = csv(&out.join("simulated.csv"));
+    let (simh, simr) = read_csv(&out.join("simulated.csv"));
     let model_c = col(&simh, "model");
     for model in ["tp", "van-gelder", "axisym"] {
         assert_eq!(
@@ -238,7 +221,7 @@ fn settings_from_the_experiment_file_and_flags() {
     text.push_str("\n[run]\nmodels = [\"tp\"]\naxisym = false\nfit = \"mooney-rivlin\"\n");
     fs::write(&exp, &text).unwrap();
     bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
-    let (h, rows) = csv(&dir.path().join("out/simulated.csv"));
+    let (h, rows) = read_csv(&dir.path().join("out/simulated.csv"));
     assert!(rows.iter().all(|r| r[col(&h, "model")] == "tp"));
     assert_eq!(rows.len(), 4);
     let m = fs::read_to_string(dir.path().join("out/material.toml")).unwrap();
@@ -256,7 +239,7 @@ fn settings_from_the_experiment_file_and_flags() {
         ],
     )
     .ok();
-    let (h, rows) = csv(&dir.path().join("out2/simulated.csv"));
+    let (h, rows) = read_csv(&dir.path().join("out2/simulated.csv"));
     assert!(rows.iter().all(|r| r[col(&h, "model")] == "lloyd"));
     // A misspelt key is refused, naming the table.
     fs::write(&exp, text.replace("axisym = false", "axisim = false")).unwrap();
