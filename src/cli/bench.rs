@@ -98,31 +98,18 @@ fn static_run(
     let mut ws = None;
     let t0 = Instant::now();
     let p = mem.pressure_pa;
-    let out = if disc {
-        solve::continuation(
-            mem,
-            &mesh.nodes,
-            &mut x,
-            0.0,
-            p,
-            solver,
-            &opts,
-            &pred,
-            &mut ws,
-        )
-    } else {
-        solve::continuation(
-            mem,
-            &mesh.nodes,
-            &mut x,
-            0.0,
-            p,
-            solver,
-            &opts,
-            &solve::Stay,
-            &mut ws,
-        )
-    };
+    let predictor: &dyn solve::Predictor = if disc { &pred } else { &solve::Stay };
+    let out = solve::continuation(
+        mem,
+        &mesh.nodes,
+        &mut x,
+        0.0,
+        p,
+        solver,
+        &opts,
+        predictor,
+        &mut ws,
+    );
     let wall = t0.elapsed().as_secs_f64();
     match out {
         Ok(s) => (wall, s.iterations, Ok(measure(&x)), "ok".into()),
