@@ -15,9 +15,12 @@
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::mechanics::{Modulus, ModulusStress, Options, StrainMeasure, TrueStress};
-use bulge::report::closed_loop::{self, Case, Drawn};
-use bulge::report::pipeline::{FitChoice, Settings, describe_stress};
+#[path = "../tests/support/closed_loop.rs"]
+mod closed_loop;
+
+use bulge::pipeline::{FitChoice, Settings, describe_stress};
 use bulge::sim::springs::SpringModel;
+use closed_loop::{Case, Drawn};
 
 fn cases() -> Vec<Case> {
     let specimen = Specimen {

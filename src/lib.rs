@@ -14,12 +14,13 @@
 //! that `bulge run` only chains them and a test can enter at any stage.
 
 pub mod axisym;
-pub mod cli;
 pub mod experiment;
 pub mod fit;
 pub mod io;
 pub mod material;
 pub mod mechanics;
+pub mod pipeline;
 pub mod report;
 pub mod sim;
+#[cfg(feature = "opencv")]
 pub mod track;

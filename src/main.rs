@@ -1,10 +1,12 @@
 //! The `bulge` binary: parse, call, print the error chain, exit.
 
+mod cli;
+
 use clap::Parser;
 
 fn main() {
-    let cli = bulge::cli::Cli::parse();
-    if let Err(failure) = bulge::cli::dispatch(cli) {
+    let cli = cli::Cli::parse();
+    if let Err(failure) = cli::dispatch(cli) {
         eprintln!("error: {:#}", failure.error());
         std::process::exit(failure.exit_code());
     }

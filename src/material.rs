@@ -41,18 +41,38 @@ pub struct Material {
     pub fit: Option<toml::Table>,
 }
 
+impl Material {
+    /// A linear elastic material (Young's modulus, Pa; Poisson ratio).
+    pub fn linear(young_pa: f64, poisson: f64) -> Material {
+        Material {
+            model: Model::Linear { young_pa },
+            poisson,
+            fit: None,
+        }
+    }
+}
+
 /// Which strain the quartic modulus law is a function of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum StrainMeasure {
-    /// `lambda - 1`.
+    /// Engineering strain `lambda - 1`.
     #[default]
     Engineering,
-    /// `ln lambda`.
+    /// Logarithmic (Hencky) strain `ln lambda`.
     Log,
 }
 
 impl StrainMeasure {
+    /// The name as settings files and the command line spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            StrainMeasure::Engineering => "engineering",
+            StrainMeasure::Log => "log",
+        }
+    }
+
     /// The strain of a stretch.
     pub fn of_stretch(self, lambda: f64) -> f64 {
         match self {

@@ -71,18 +71,16 @@
 //! `g'(x) = (1 - 1/x^2) atan x + 1/x` (series below `x = 1/2`), `dlambda/dH =
 //! g'(x1) / (a g(x0))`, and the product and quotient rules for the rest.
 
-/// Which strain measure is written to `strain` and feeds the modulus.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
-pub enum StrainMeasure {
-    /// Engineering strain `lambda - 1` (eq 24 with the sign corrected).
-    #[default]
-    Engineering,
-    /// Logarithmic (Hencky) strain `ln lambda`.
-    Log,
-}
+/// Which strain measure is written to `strain` and feeds the modulus: the
+/// same measure the material's modulus law is a function of.
+pub use crate::material::StrainMeasure;
+
+use serde::{Deserialize, Serialize};
 
 /// Which "true stress" is written to `true_stress_pa`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum TrueStress {
     /// `lambda * p R / (2t)`: paper 000 eq 25 (thickness `t / lambda`).
     #[default]
@@ -92,7 +90,9 @@ pub enum TrueStress {
 }
 
 /// Which secant modulus is written to `secant_modulus_pa`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum Modulus {
     /// `(1 - nu) S / eps`: equibiaxial plane stress ("the 2D case" of section 7).
     #[default]
@@ -112,7 +112,9 @@ pub enum Modulus {
 /// `lambda N = E t eps / (1 - nu)` under equibiaxial strain; the modulus that
 /// reproduces the measured tension is therefore `(1 - nu) lambda sigma / eps`,
 /// the default.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum ModulusStress {
     /// Nominal (first Piola-Kirchhoff) stress `lambda p R / (2t)`, force per
     /// reference area; equal to eq 25's value.
@@ -123,6 +125,33 @@ pub enum ModulusStress {
     Stress,
     /// The true stress chosen by `--true-stress` (`paper` or `incompressible`).
     True,
+}
+
+/// Kebab-case names of the conventions, as the command line and the settings
+/// files spell them.
+macro_rules! names {
+    ($t:ty { $($v:ident => $n:literal),+ $(,)? }) => {
+        impl $t {
+            /// The name as settings files and the command line spell it.
+            pub fn name(self) -> &'static str {
+                match self { $(<$t>::$v => $n),+ }
+            }
+        }
+    };
+}
+
+names!(TrueStress { Paper => "paper", Incompressible => "incompressible" });
+names!(Modulus { Biaxial => "biaxial", Uniaxial => "uniaxial" });
+names!(ModulusStress { Nominal => "nominal", Stress => "stress", True => "true" });
+
+impl Modulus {
+    /// `k` in `E = k S / eps`: `1 - nu` (biaxial) or 1 (uniaxial).
+    pub fn factor(self, poisson: f64) -> f64 {
+        match self {
+            Modulus::Biaxial => 1.0 - poisson,
+            Modulus::Uniaxial => 1.0,
+        }
+    }
 }
 
 /// The choices of the stress stage; `Default` is what `bulge stress` uses

@@ -10,14 +10,15 @@
 //! refused.
 
 use super::{Classify, Failure};
-use crate::fit::data::{self, LoadOptions, Loaded, ModulusConvention, Source};
-use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
-use crate::fit::quartic::{self, PolyFit};
-use crate::fit::{FitError, StressMeasure, inverse};
-use crate::io::{CsvOut, Table, fmt_num, write_atomic};
-use crate::material::{Material, Model, StrainMeasure};
-use crate::report::plot::{Figure, LegendPosition, Panel, Series};
 use anyhow::anyhow;
+use bulge::fit::data::{self, LoadOptions, Loaded, Source};
+use bulge::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
+use bulge::fit::quartic::{self, PolyFit};
+use bulge::fit::{FitError, StressMeasure, inverse};
+use bulge::io::{CsvOut, Table, fmt_num, write_atomic};
+use bulge::material::{Material, Model, StrainMeasure};
+use bulge::mechanics::Modulus;
+use bulge::report::plot::{Figure, LegendPosition, Panel, Series};
 use std::path::{Path, PathBuf};
 
 /// Which model to fit.
@@ -38,24 +39,6 @@ pub enum ModelArg {
     /// Every hyperelastic model (Ogden with 1, 2 and 3 terms); the one with
     /// the lowest AICc among the Drucker-stable fits goes to material.toml.
     All,
-}
-
-/// Strain measure flag.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum StrainArg {
-    /// lambda - 1.
-    Engineering,
-    /// ln lambda.
-    Log,
-}
-
-impl From<StrainArg> for StrainMeasure {
-    fn from(s: StrainArg) -> Self {
-        match s {
-            StrainArg::Engineering => StrainMeasure::Engineering,
-            StrainArg::Log => StrainMeasure::Log,
-        }
-    }
 }
 
 /// Flags of `bulge fit`.
@@ -105,14 +88,14 @@ pub struct Args {
     /// from its `strain` column (the flag must agree); raw data: default
     /// engineering (lambda - 1).
     #[arg(long, value_enum)]
-    pub strain_measure: Option<StrainArg>,
+    pub strain_measure: Option<StrainMeasure>,
 
     /// Secant modulus convention, as in `bulge stress --modulus`: biaxial
     /// E = (1 - nu) sigma / eps (default, equibiaxial plane stress) or
     /// uniaxial E = sigma / eps. Used to build the modulus from raw data and
     /// to draw the stress that the fitted law implies.
-    #[arg(long, value_enum, default_value_t = ModulusConvention::Biaxial)]
-    pub modulus: ModulusConvention,
+    #[arg(long, value_enum, default_value_t = Modulus::Biaxial)]
+    pub modulus: Modulus,
 
     /// Output material file (TOML); the other outputs are named after it
     /// (`<stem>_curve.csv`, `<stem>_residuals.csv`, `<stem>_fit.svg`,
@@ -210,7 +193,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let table = Table::read(&args.input)?;
     let opts = LoadOptions {
         stress_measure: args.stress_measure,
-        strain_measure: args.strain_measure.map(Into::into),
+        strain_measure: args.strain_measure,
         poisson: args.poisson,
         modulus: args.modulus,
     };
@@ -295,7 +278,7 @@ fn to_heights(
     exp: &Path,
     product: &mut Product,
 ) -> Result<(), Failure> {
-    let e = crate::experiment::Experiment::read(exp)?;
+    let e = bulge::experiment::Experiment::read(exp)?;
     let (Some(p), Some(h)) = (
         table.optional_numbers("pressure_pa")?,
         table.optional_numbers("height_m")?,
@@ -361,13 +344,6 @@ fn stress_unit(max: f64) -> (f64, &'static str) {
         (1e-6, "MPa")
     } else {
         (1e-3, "kPa")
-    }
-}
-
-fn strain_name(m: StrainMeasure) -> &'static str {
-    match m {
-        StrainMeasure::Engineering => "engineering",
-        StrainMeasure::Log => "log",
     }
 }
 
@@ -510,7 +486,7 @@ fn quartic_product(
             .collect();
         data_series = data_series.with_errors(errs);
     }
-    let strain_label = format!("{} strain (-)", strain_name(sm));
+    let strain_label = format!("{} strain (-)", sm.name());
     let p1 = Panel::new(&strain_label, format!("secant modulus E ({unit})"))
         .with(data_series)
         .with(Series::line(
@@ -563,7 +539,7 @@ fn quartic_product(
         args.input.display(),
         fit.stats.n,
         skipped,
-        strain_name(sm),
+        sm.name(),
         args.modulus.name()
     ));
     s.push_str(&format!(

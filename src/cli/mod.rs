@@ -83,8 +83,8 @@ impl From<anyhow::Error> for Failure {
     }
 }
 
-impl From<crate::io::InputError> for Failure {
-    fn from(e: crate::io::InputError) -> Self {
+impl From<bulge::io::InputError> for Failure {
+    fn from(e: bulge::io::InputError) -> Self {
         Failure::BadInput(e.into())
     }
 }

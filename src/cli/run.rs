@@ -1,5 +1,5 @@
 //! `bulge run`: the whole pipeline on an experiment file, with the comparison
-//! report. Chains the library stages of [`crate::report::pipeline`] (track,
+//! report. Chains the library stages of [`bulge::pipeline`] (track,
 //! stress, fit, simulate) and writes each stage's outputs whole as soon as
 //! the stage is done, so that a failed stage leaves the earlier outputs and
 //! a message naming the stage.
@@ -11,20 +11,20 @@ use anyhow::anyhow;
 use serde::Deserialize;
 
 use super::Failure;
-use crate::experiment::Experiment;
-use crate::io::write_atomic;
-use crate::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
-use crate::report::figures;
-use crate::report::html::{Picture, Report};
-use crate::report::pipeline::{
-    self, FitChoice, FitDetail, PipelineError, Settings, Stage, describe_stress, name,
+use bulge::experiment::Experiment;
+use bulge::io::write_atomic;
+use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
+use bulge::pipeline::{
+    self, FitChoice, FitDetail, PipelineError, Settings, Stage, describe_stress,
 };
-use crate::report::plot::Figure;
-use crate::report::table::{self, Timing};
-use crate::sim::scene::{MeshSize, parse_pressures};
-use crate::sim::solve::Solver;
-use crate::sim::springs::SpringModel;
-use crate::track::annotate;
+use bulge::report::figures;
+use bulge::report::html::{Picture, Report};
+use bulge::report::plot::Figure;
+use bulge::report::table::{self, Timing};
+use bulge::sim::scene::{MeshSize, parse_pressures};
+use bulge::sim::solve::Solver;
+use bulge::sim::springs::SpringModel;
+use bulge::track::annotate;
 
 /// Flags of `bulge run`.
 ///
@@ -234,7 +234,7 @@ fn settings(args: &Args, exp: &Experiment) -> anyhow::Result<Settings> {
         None => f.pressures_pa.clone(),
     };
     if let Some(p) = &s.pressures_pa
-        && let Err(m) = crate::sim::scene::validate_pressures(p)
+        && let Err(m) = bulge::sim::scene::validate_pressures(p)
     {
         return Err(anyhow!("{origin}: pressures_pa: {m}"));
     }
@@ -315,7 +315,7 @@ fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<(Str
             "track".into(),
             format!(
                 "refine {}, min score {}, skip bad frames {}",
-                name(&s.track.refine),
+                s.track.refine.name(),
                 s.track.min_score,
                 s.track.skip_bad_frames
             ),
@@ -450,7 +450,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let n_photos = exp
         .photos
         .as_ref()
-        .and_then(|p| crate::track::list_photos(&exp.resolve(&p.dir), &p.glob).ok())
+        .and_then(|p| bulge::track::list_photos(&exp.resolve(&p.dir), &p.glob).ok())
         .map_or(0, |v| v.len());
     let pb = super::progress(n_photos as u64, "track");
     let tracking = pipeline::track_stage(&exp, &s, &|| pb.inc(1)).map_err(|e| {
@@ -579,7 +579,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let what = match &fit.refined {
         Some(r) => {
             let pct = |e: &[Option<f64>]| {
-                crate::fit::inverse::Refined::rms(e)
+                bulge::fit::inverse::Refined::rms(e)
                     .map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v))
             };
             format!(

@@ -9,14 +9,14 @@ use anyhow::{Context, anyhow};
 use super::{Classify, Failure};
 
 mod dynamic;
-use crate::experiment::Experiment;
-use crate::io::{CsvOut, fmt_num, read_toml, write_atomic};
-use crate::material::Material;
-use crate::sim::mesh::Mesh;
-use crate::sim::scene::{self, DiscPredictor, MeshSize, Scene, SceneKind};
-use crate::sim::solve::{self, Options, Predictor, Solver, Stay};
-use crate::sim::springs::SpringModel;
-use crate::sim::{SimError, vtk};
+use bulge::experiment::Experiment;
+use bulge::io::{CsvOut, fmt_num, read_toml, write_atomic};
+use bulge::material::Material;
+use bulge::sim::mesh::Mesh;
+use bulge::sim::scene::{self, DiscPredictor, MeshSize, Scene, SceneKind};
+use bulge::sim::solve::{self, Options, Predictor, Solver, Stay};
+use bulge::sim::springs::SpringModel;
+use bulge::sim::{SimError, vtk};
 
 /// Flags of `bulge simulate`.
 #[derive(Debug, clap::Args)]
@@ -210,14 +210,14 @@ fn run_axisym(
     profile: Option<&Path>,
     pb: &indicatif::ProgressBar,
 ) -> Result<Option<CsvOut>, Failure> {
-    use crate::axisym::{self, AxisymError};
+    use bulge::axisym::{self, AxisymError};
     let SceneKind::Disc { radius_m } = scene.kind else {
         return Err(Failure::BadInput(anyhow!(
             "--model axisym solves the clamped disc only; this scene is a {}",
             scene.kind.name()
         )));
     };
-    let specimen = crate::experiment::Specimen {
+    let specimen = bulge::experiment::Specimen {
         radius_m,
         thickness_m: scene.thickness_m,
         poisson: scene.material.poisson,
@@ -331,12 +331,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .bad_input()?;
     eprintln!("{}", describe(&mesh, &scene));
     for &model in &models {
-        for w in crate::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+        for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
             eprintln!("warning ({}): {w}", model.name());
         }
     }
 
-    let mut header: Vec<&str> = crate::report::pipeline::SIMULATED_COLUMNS.to_vec();
+    let mut header: Vec<&str> = bulge::pipeline::SIMULATED_COLUMNS.to_vec();
     header.extend(scene.extra_columns());
     let mut csv = CsvOut::new(&header);
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
@@ -437,7 +437,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
                         let mut msg = format!("{} / {}: {e}", model.name(), solver.name());
                         // dyn: the disc's limit pressure from the axisymmetric solution
                         if let SceneKind::Disc { radius_m } = scene.kind
-                            && let Some(note) = crate::sim::hard::limit_note(
+                            && let Some(note) = bulge::sim::hard::limit_note(
                                 &scene.material,
                                 radius_m,
                                 scene.thickness_m,

@@ -1,4 +1,4 @@
-//! `bulge stress`: apex heights -> stress and strain ([`crate::mechanics`]).
+//! `bulge stress`: apex heights -> stress and strain ([`bulge::mechanics`]).
 //!
 //! Reads `pressure_pa,height_m` (plus any other columns, carried through in
 //! input order), takes the specimen from `--experiment FILE.toml` or from
@@ -12,9 +12,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
-use crate::experiment::{Experiment, Specimen};
-use crate::io::{CsvOut, InputError, Table, fmt_num, read_toml};
-use crate::mechanics::{
+use bulge::experiment::{Experiment, Specimen};
+use bulge::io::{CsvOut, InputError, Table, fmt_num, read_toml};
+use bulge::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Options, Point, STD_COLUMNS, StrainMeasure,
     StressError, TrueStress,
 };
@@ -222,20 +222,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "bulge stress: {} rows -> {} (strain {}, true stress {}, modulus {} on {} stress{})",
         rows.len(),
         args.output.display(),
-        name(&opts.strain),
-        name(&opts.true_stress),
-        name(&opts.modulus),
-        name(&opts.modulus_stress),
+        opts.strain.name(),
+        opts.true_stress.name(),
+        opts.modulus.name(),
+        opts.modulus_stress.name(),
         if with_std { ", with *_std columns" } else { "" }
     );
     Ok(())
-}
-
-/// The command-line name of an option value.
-fn name<T: clap::ValueEnum>(v: &T) -> String {
-    v.to_possible_value()
-        .map(|p| p.get_name().to_string())
-        .unwrap_or_default()
 }
 
 /// The specimen from `--experiment` or from the flags, validated; errors name

@@ -5,11 +5,11 @@ use std::path::PathBuf;
 use anyhow::anyhow;
 
 use super::{Classify, Failure};
-use crate::axisym;
-use crate::experiment::Specimen;
-use crate::material::{Material, Model};
-use crate::track::image::Encoding;
-use crate::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
+use bulge::axisym;
+use bulge::experiment::Specimen;
+use bulge::material::{Material, Model};
+use bulge::track::image::Encoding;
+use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
 
 /// Flags of `bulge synth`.
 ///
@@ -129,7 +129,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .validate()
         .map_err(|m| bad(format!("specimen: {m}")))?;
     let material = match &args.material {
-        Some(p) => crate::io::read_toml::<Material>(p)?,
+        Some(p) => bulge::io::read_toml::<Material>(p)?,
         None => Material {
             model: Model::NeoHookean { c1_pa: 0.2e6 },
             poisson: 0.45,

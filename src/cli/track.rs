@@ -6,8 +6,8 @@ use std::time::Instant;
 use anyhow::Context;
 
 use super::{Classify, Failure};
-use crate::experiment::Experiment;
-use crate::track::{self, Options, Refine, TrackError};
+use bulge::experiment::Experiment;
+use bulge::track::{self, Options, Refine, TrackError};
 
 /// Flags of `bulge track`.
 ///

@@ -37,34 +37,7 @@ use super::StressMeasure;
 use super::hyperelastic::Equibiaxial;
 use crate::io::{InputError, Table};
 use crate::material::StrainMeasure;
-
-/// How the secant modulus relates stress and strain (must match `bulge stress`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Default)]
-pub enum ModulusConvention {
-    /// Equibiaxial plane stress: `E = (1 - nu) sigma / eps`.
-    #[default]
-    Biaxial,
-    /// `E = sigma / eps`.
-    Uniaxial,
-}
-
-impl ModulusConvention {
-    /// `k` in `E = k sigma / eps`.
-    pub fn factor(self, poisson: f64) -> f64 {
-        match self {
-            ModulusConvention::Biaxial => 1.0 - poisson,
-            ModulusConvention::Uniaxial => 1.0,
-        }
-    }
-
-    /// Name for files.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModulusConvention::Biaxial => "biaxial",
-            ModulusConvention::Uniaxial => "uniaxial",
-        }
-    }
-}
+use crate::mechanics::Modulus;
 
 /// What the input file was.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,7 +59,7 @@ pub struct LoadOptions {
     /// Poisson ratio for the raw-data secant modulus.
     pub poisson: f64,
     /// Modulus convention for the raw-data secant modulus.
-    pub modulus: ModulusConvention,
+    pub modulus: Modulus,
 }
 
 /// Validated data ready for the fits.
@@ -339,7 +312,7 @@ mod tests {
             stress_measure: None,
             strain_measure: None,
             poisson: 0.45,
-            modulus: ModulusConvention::Biaxial,
+            modulus: Modulus::Biaxial,
         }
     }
 

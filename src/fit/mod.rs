@@ -29,7 +29,8 @@ pub mod stats;
 use serde::{Deserialize, Serialize};
 
 /// Which stress a column of equibiaxial data holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum StressMeasure {
     /// First Piola stress: force per unit reference (undeformed) area.

@@ -4,11 +4,11 @@
 //! secant modulus `E(eps)` with the law, residuals of the points' own fit);
 //! with the correction to the heights, both laws.
 
-use super::pipeline::{Comparison, FitDetail, FitOut, ModelRun};
 use super::plot::{Figure, LegendPosition, Panel, Series};
 use crate::fit::quartic;
 use crate::material::{Model, StrainMeasure};
 use crate::mechanics::Point;
+use crate::pipeline::{Comparison, FitDetail, FitOut, ModelRun};
 
 /// Height against pressure (kPa, mm), and the relative error per model.
 pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figure {

@@ -4,8 +4,8 @@
 //! against pressure, the material fit, the error table, the settings used and
 //! the time each stage took.
 
-use super::pipeline::{Comparison, ModelRun};
 use super::table::{self, Timing, esc};
+use crate::pipeline::{Comparison, ModelRun};
 
 /// Standard base64 (RFC 4648, with padding).
 pub fn base64(bytes: &[u8]) -> String {

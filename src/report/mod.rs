@@ -1,9 +1,8 @@
-//! Tables, plots and the HTML report, and the pipeline that `bulge run`
-//! chains ([`pipeline`]).
+//! Tables, plots and the HTML report of a run.
 
-pub mod closed_loop;
+#[cfg(feature = "plots")]
 pub mod figures;
 pub mod html;
-pub mod pipeline;
+#[cfg(feature = "plots")]
 pub mod plot;
 pub mod table;

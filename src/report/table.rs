@@ -2,7 +2,7 @@
 //! height, simulated height per model, relative error), as terminal text,
 //! Markdown and HTML, and the stage-timing table.
 
-use super::pipeline::{Comparison, ModelRun, Stage};
+use crate::pipeline::{Comparison, ModelRun, Stage};
 
 /// Time spent in one stage.
 #[derive(Debug, Clone, PartialEq)]

@@ -286,6 +286,16 @@ impl Mesh {
         }
     }
 
+    /// Holds every free node of a flat mesh in its plane `z = 0` (an
+    /// in-plane problem such as a sheet pulled along its plane).
+    pub fn hold_in_plane(&mut self) {
+        for c in self.constraints.iter_mut() {
+            if *c == Constraint::Free {
+                *c = Constraint::Plane(nalgebra::Vector3::z());
+            }
+        }
+    }
+
     /// The node index of a probe by name.
     pub fn probe(&self, name: &str) -> Option<usize> {
         self.probes.iter().find(|p| p.name == name).map(|p| p.node)

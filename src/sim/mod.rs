@@ -1,7 +1,7 @@
 //! Material -> membrane: meshes, spring models, loads and solvers.
 //!
 //! The pieces are plain data and functions on them, so that the dynamic
-//! integrators (issue 7) reuse the same force evaluation:
+//! integrators reuse the same force evaluation:
 //!
 //! * [`mesh`]: [`Mesh`] (reference nodes, triangles, edges, per-node
 //!   [`Constraint`]) and the scene meshes (disc, sphere segment, sheet);
@@ -11,39 +11,34 @@
 //! * [`solve`]: quasi-static solution per pressure (Newton with a sparse LU,
 //!   dynamic relaxation with kinetic damping), continued from one pressure to
 //!   the next;
+//! * [`disc`]: [`DiscSolver`], the bubble-test disc swept over pressures;
 //! * [`scene`]: the scene file and the quantities reported (apex height,
 //!   sphere radii);
 //! * [`vtk`]: deformed meshes for ParaView.
 //!
-//! ```
-//! use bulge::material::{Material, Model};
-//! use bulge::sim::{mesh, scene::DiscPredictor, solve, springs::{Membrane, SpringModel}};
+//! The bubble-test disc in a few lines ([`DiscSolver`]):
 //!
-//! let m = mesh::disc(mesh::DiscOptions { radius_m: 0.0375, rings: 6, sector: true }).unwrap();
-//! let mat = Material { model: Model::Linear { young_pa: 1.0e6 }, poisson: 0.45, fit: None };
-//! let mut membrane = Membrane::new(&m, SpringModel::Tp, &mat, 0.35e-3, 1100.0).unwrap();
-//! // a flat membrane has no stiffness out of its plane: start from Hencky's profile
-//! let guess = DiscPredictor { radius_m: 0.0375, young_pa: 1.0e6, thickness_m: 0.35e-3, poisson: 0.45 };
-//! let mut x = m.nodes.clone();
-//! let mut workspace = None;
-//! let stats = solve::continuation(
-//!     &mut membrane, &m.nodes, &mut x, 0.0, 5000.0,
-//!     solve::Solver::Newton, &solve::Options::default(), &guess, &mut workspace,
-//! ).unwrap();
-//! assert!(x[0].z > 0.015 && x[0].z < 0.03 && stats.residual < 1e-8);
+//! ```
+//! use bulge::{DiscSolver, Material, Specimen, SpringModel};
+//!
+//! let latex = Specimen { radius_m: 0.0375, thickness_m: 0.35e-3, poisson: 0.45, prebulge_height_m: 0.0 };
+//! let mut disc = DiscSolver::new(&latex, &Material::linear(1.0e6, 0.45), SpringModel::Tp)?;
+//! let stats = disc.solve_to(5000.0)?;
+//! assert!(disc.apex_height_m() > 0.015 && disc.apex_height_m() < 0.03 && stats.residual < 1e-8);
+//! # Ok::<(), bulge::sim::SimError>(())
 //! ```
 
+pub mod disc;
 pub mod dynamics;
 pub mod hard;
 pub mod mesh;
-pub mod paper003;
 pub mod par;
 pub mod scene;
 pub mod solve;
 pub mod springs;
-pub mod validation;
 pub mod vtk;
 
+pub use disc::DiscSolver;
 pub use mesh::{Constraint, Mesh};
 pub use springs::{Membrane, SpringModel};
 

@@ -42,7 +42,8 @@ use crate::material::Material;
 pub const DEFAULT_DENSITY_KG_M3: f64 = 1100.0;
 
 /// Hencky's coefficient `K(nu)` of the clamped disc's centre deflection
-/// `w0 = K a (p a / (E t))^(1/3)`, from the table in NOTES section 3,
+/// `w0 = K a (p a / (E t))^(1/3)`, from the tabulated series solution of
+/// Hencky (1915),
 /// linearly interpolated (used for the first guess only).
 pub fn hencky_k(nu: f64) -> f64 {
     const T: [(f64, f64); 8] = [

@@ -248,7 +248,9 @@ pub struct Setup {
 }
 
 /// How the apex position is refined.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum Refine {
     /// The integer-pixel peak of the match score (OpenCV's minMaxLoc alone).
     Integer,
@@ -257,6 +259,17 @@ pub enum Refine {
     /// Template match, then the edge fit: the row from a parabola through the
     /// top edge near the apex, the column from the edge's mirror symmetry.
     Edge,
+}
+
+impl Refine {
+    /// The name as settings files and the command line spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Refine::Integer => "integer",
+            Refine::Quadratic => "quadratic",
+            Refine::Edge => "edge",
+        }
+    }
 }
 
 /// Settings of a tracking run.

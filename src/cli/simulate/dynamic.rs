@@ -9,12 +9,11 @@ use nalgebra::{Point3, Vector3};
 
 use super::super::{Classify, Failure};
 use super::{Args, describe, finish, parse_list};
-use crate::io::{CsvOut, fmt_num, write_atomic};
-use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
-use crate::sim::paper003::in_plane;
-use crate::sim::scene::{DiscPredictor, Scene, SceneKind};
-use crate::sim::solve::{self, Options, Predictor, Solver, Stay};
-use crate::sim::springs::SpringModel;
+use bulge::io::{CsvOut, fmt_num, write_atomic};
+use bulge::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
+use bulge::sim::scene::{DiscPredictor, Scene, SceneKind};
+use bulge::sim::solve::{self, Options, Predictor, Solver, Stay};
+use bulge::sim::springs::SpringModel;
 
 /// Largest mesh for which `--dynamic` also solves the static equilibrium to
 /// compare with (a 1e5-node Newton solve took 6 min and 3.3 GB).
@@ -44,7 +43,7 @@ pub struct DynArgs {
     pub t_end: Option<f64>,
     /// Damping as a fraction of each spring's critical damping
     /// 2 sqrt(k m_red). Default 0.1.
-    #[arg(long, default_value_t = crate::sim::dynamics::DEFAULT_DAMPING)]
+    #[arg(long, default_value_t = bulge::sim::dynamics::DEFAULT_DAMPING)]
     pub damping: f64,
     /// Damping law: critical (a fraction of critical, default) or paper003
     /// (003's d = sqrt(k (m_i + m_j)) / l0, which has an extra 1/length and
@@ -129,19 +128,19 @@ pub fn run(args: Args) -> Result<(), Failure> {
         && pressures.iter().all(|&p| p == 0.0)
         && scene.loads.iter().all(|l| l.force_n[2] == 0.0)
     {
-        in_plane(&mut mesh);
+        mesh.hold_in_plane();
         eprintln!(
             "note: every load lies in the sheet's plane: the nodes are held in z = 0 (a flat membrane has no stiffness out of its plane)"
         );
     }
     eprintln!("{}", describe(&mesh, &scene));
     for &model in &models {
-        for w in crate::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+        for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
             eprintln!("warning ({}): {w}", model.name());
         }
     }
 
-    let mut header = crate::report::pipeline::SIMULATED_COLUMNS.to_vec();
+    let mut header = bulge::pipeline::SIMULATED_COLUMNS.to_vec();
     header.extend([
         "peak_m",
         "static_height_m",

@@ -13,16 +13,18 @@ use std::time::Instant;
 use anyhow::{Context, anyhow};
 use nalgebra::Vector3;
 
-use super::{Classify, Failure};
-use crate::experiment::Specimen;
-use crate::io::{CsvOut, fmt_num, write_atomic};
-use crate::report::plot::{Figure, Panel, Series};
-use crate::sim::dynamics::{DampingLaw, DynOptions, Dynamics, Integrator};
-use crate::sim::mesh::Mesh;
-use crate::sim::paper003::{self, SheetSetup};
-use crate::sim::scene::DiscPredictor;
-use crate::sim::solve::{self, Options, Solver};
-use crate::sim::springs::{Membrane, SpringModel};
+mod paper003;
+
+use crate::cli::{Classify, Failure};
+use bulge::experiment::Specimen;
+use bulge::io::{CsvOut, fmt_num, write_atomic};
+use bulge::report::plot::{Figure, Panel, Series};
+use bulge::sim::dynamics::{DampingLaw, DynOptions, Dynamics, Integrator};
+use bulge::sim::mesh::Mesh;
+use bulge::sim::scene::DiscPredictor;
+use bulge::sim::solve::{self, Options, Solver};
+use bulge::sim::springs::{Membrane, SpringModel};
+use paper003::SheetSetup;
 
 /// Flags of `bulge bench`.
 #[derive(Debug, clap::Args)]
@@ -70,7 +72,7 @@ fn disc_reference() -> anyhow::Result<f64> {
         prebulge_height_m: 0.0,
     };
     let sol =
-        crate::axisym::solve_pressure(&mat, &spec, DISC_P, &crate::axisym::Options::default())
+        bulge::axisym::solve_pressure(&mat, &spec, DISC_P, &bulge::axisym::Options::default())
             .map_err(|e| anyhow!("axisymmetric reference: {e}"))?;
     Ok(sol.height_m)
 }

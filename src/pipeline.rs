@@ -17,16 +17,20 @@
 //!   solved by continuation over the pressures, and the exact axisymmetric
 //!   solution [`crate::axisym::solve_pressure`] of the same material.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+#[cfg(feature = "opencv")]
+use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::axisym::{self, AxisymError};
-use crate::experiment::{Experiment, Specimen};
+#[cfg(feature = "opencv")]
+use crate::experiment::Experiment;
+use crate::experiment::Specimen;
 use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
 use crate::fit::quartic::{self, PolyFit};
 use crate::fit::{FitError, StressMeasure, inverse};
 use crate::io::{CsvOut, fmt_num};
-use crate::material::{Material, Model, StrainMeasure as MatStrain};
+use crate::material::{Material, Model};
 use crate::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
     StressError, TrueStress,
@@ -35,6 +39,7 @@ use crate::sim::SimError;
 use crate::sim::scene::{DiscPredictor, MeshSize, Scene};
 use crate::sim::solve::{self, Solver};
 use crate::sim::springs::SpringModel;
+#[cfg(feature = "opencv")]
 use crate::track::{self, Setup, TemplateSource, TrackError, Tracked};
 
 /// The five stages, in order.
@@ -78,6 +83,7 @@ impl Stage {
 #[derive(Debug, thiserror::Error)]
 pub enum PipelineError {
     /// The tracking stage.
+    #[cfg(feature = "opencv")]
     #[error(transparent)]
     Track(#[from] TrackError),
     /// The stress stage.
@@ -105,6 +111,7 @@ impl PipelineError {
     /// failed (exit 1).
     pub fn is_bad_input(&self) -> bool {
         match self {
+            #[cfg(feature = "opencv")]
             PipelineError::Track(e) => e.is_bad_input(),
             PipelineError::Stress(_) | PipelineError::Input(_) => true,
             PipelineError::Fit(e) => !matches!(e, FitError::Solver(_)),
@@ -165,6 +172,7 @@ impl FitChoice {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
     /// Tracking options.
+    #[cfg(feature = "opencv")]
     pub track: track::Options,
     /// Stress and strain conventions.
     pub stress: mechanics::Options,
@@ -191,6 +199,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
+            #[cfg(feature = "opencv")]
             track: track::Options::default(),
             stress: mechanics::Options::default(),
             fit: FitChoice::Quartic(4),
@@ -206,6 +215,7 @@ impl Default for Settings {
 }
 
 /// Output of the tracking stage.
+#[cfg(feature = "opencv")]
 #[derive(Debug, Clone)]
 pub struct Tracking {
     /// What was tracked.
@@ -218,6 +228,7 @@ pub struct Tracking {
     pub apex_in_template: [f64; 2],
 }
 
+#[cfg(feature = "opencv")]
 impl Tracking {
     /// `heights.csv` as `bulge track` writes it.
     pub fn csv(&self) -> CsvOut {
@@ -261,6 +272,7 @@ impl Tracking {
     }
 }
 
+#[cfg(feature = "opencv")]
 /// Stage 1: the photos of `exp` -> heights. `tick` is called per frame.
 pub fn track_stage(
     exp: &Experiment,
@@ -374,7 +386,7 @@ pub struct FitOut {
     /// `1 - nu` (biaxial) or 1 (uniaxial): `E = k S / eps`.
     pub modulus_factor: f64,
     /// Strain measure of the law.
-    pub strain_measure: MatStrain,
+    pub strain_measure: StrainMeasure,
     /// Warnings about the law (unphysical regions, ill conditioning).
     pub warnings: Vec<String>,
     /// The law as the stress/strain points gave it, before the correction
@@ -404,10 +416,7 @@ pub fn fit_stage(
         Modulus::Biaxial => 1.0 - nu,
         Modulus::Uniaxial => 1.0,
     };
-    let strain_measure = match settings.stress.strain {
-        StrainMeasure::Engineering => MatStrain::Engineering,
-        StrainMeasure::Log => MatStrain::Log,
-    };
+    let strain_measure = settings.stress.strain;
     let mut warnings = Vec::new();
     let modulus_points: Vec<(f64, (f64, Option<f64>))> = sorted_unique(
         s.rows
@@ -451,11 +460,11 @@ pub fn fit_stage(
             fit_table.insert("degree".into(), (degree as i64).into());
             fit_table.insert(
                 "modulus_convention".into(),
-                name(&settings.stress.modulus).into(),
+                settings.stress.modulus.name().into(),
             );
             fit_table.insert(
                 "modulus_stress".into(),
-                name(&settings.stress.modulus_stress).into(),
+                settings.stress.modulus_stress.name().into(),
             );
             fit_table.insert("rmse_pa".into(), f.stats.rmse.into());
             fit_table.insert("r2".into(), f.stats.r2.into());
@@ -849,19 +858,12 @@ pub fn compare(points: &[Point], runs: &[ModelRun], pressures: &[f64]) -> Vec<Co
         .collect()
 }
 
-/// The command-line name of an option value.
-pub fn name<T: clap::ValueEnum>(v: &T) -> String {
-    v.to_possible_value()
-        .map(|p| p.get_name().to_string())
-        .unwrap_or_default()
-}
-
 /// A one-line description of the stress conventions.
 pub fn describe_stress(o: &mechanics::Options) -> String {
     format!(
         "strain {}, modulus {} = {}{} / strain, true stress {}",
-        name(&o.strain),
-        name(&o.modulus),
+        o.strain.name(),
+        o.modulus.name(),
         if o.modulus == Modulus::Biaxial {
             "(1 - nu) "
         } else {
@@ -875,7 +877,7 @@ pub fn describe_stress(o: &mechanics::Options) -> String {
                 TrueStress::Incompressible => "lambda^2 pR/2t (incompressible)".to_string(),
             },
         },
-        name(&o.true_stress)
+        o.true_stress.name()
     )
 }
 

@@ -1,0 +1,3 @@
+#[cfg(feature = "opencv")]
+pub mod closed_loop;
+pub mod validation;
