@@ -149,7 +149,8 @@ pub struct Experiment {
 
 impl Experiment {
     /// Reads and validates an experiment file.
-    pub fn read(path: &Path) -> Result<Self, InputError> {
+    pub fn read(path: impl AsRef<Path>) -> Result<Self, InputError> {
+        let path = path.as_ref();
         let mut e: Experiment = read_toml(path)?;
         e.specimen
             .validate()

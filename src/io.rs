@@ -75,7 +75,8 @@ pub struct Table {
 impl Table {
     /// Reads a CSV file with a header line. Empty files and files with a header
     /// but no data are refused with a message saying so.
-    pub fn read(path: &Path) -> Result<Self, InputError> {
+    pub fn read(path: impl AsRef<Path>) -> Result<Self, InputError> {
+        let path = path.as_ref();
         let bytes = fs::read(path)
             .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
         Self::parse(path, &bytes)

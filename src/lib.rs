@@ -1,17 +1,55 @@
 //! # bulge
 //!
 //! Bubble-inflation (pressure-bulge) tests of thin elastic membranes, from
-//! photos to a verdict on the material model:
+//! photos to a verdict on the material model. Each stage is a library entry
+//! from its input to its output in memory; the `bulge` command line and
+//! [`pipeline::run`] only chain them and write files.
 //!
-//! 1. [`track`]: a folder of photos -> apex height per photo;
-//! 2. [`mechanics`]: heights -> stress and strain (spherical-cap formulas);
-//! 3. [`fit`]: stress/strain -> material (quartic secant modulus, hyperelastic models);
-//! 4. [`sim`]: material -> simulated heights (TP MSS, Van Gelder, Lloyd springs);
-//!    [`axisym`]: the exact axisymmetric reference;
-//! 5. [`report`]: simulated against measured heights.
+//! | stage | entry | in -> out |
+//! |---|---|---|
+//! | track | [`track::track`] (feature `opencv`) | photos -> apex height per photo |
+//! | stress | [`mechanics::stress_strain`] | heights -> stress and strain (spherical cap) |
+//! | fit | [`fit::quartic::fit`], [`fit::hyperelastic::fit`], [`fit::inverse::refine`] | stress/strain -> [`Material`] |
+//! | simulate | [`DiscSolver`] (mass-spring), [`axisym::solve_pressure`] (exact) | material -> heights |
+//! | all of them | [`pipeline::run`] (feature `opencv`) | [`Experiment`] -> [`pipeline::RunOutput`] |
 //!
-//! Each stage is a pure function from its input table to its output table, so
-//! that `bulge run` only chains them and a test can enter at any stage.
+//! The whole pipeline on the bundled demo experiment (16 photos):
+//!
+//! ```
+//! # #[cfg(feature = "opencv")] {
+//! use bulge::{Experiment, Settings};
+//!
+//! let exp = Experiment::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/demo/experiment.toml"))?;
+//! let out = bulge::pipeline::run(&exp, &Settings::default())?;
+//! for row in &out.comparison {
+//!     let errors: Vec<String> = row.rel_errors().iter()
+//!         .map(|e| e.map_or("-".into(), |e| format!("{:+.2} %", 100.0 * e))).collect();
+//!     println!("{:7.1} Pa: {}", row.pressure_pa, errors.join("  "));
+//! }
+//! // TP MSS (first run) within 3 % of every measured height
+//! assert!(out.comparison.iter().all(|r| r.rel_errors()[0].is_some_and(|e| e.abs() < 0.03)));
+//! # }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! A disc of a given material, simulated without any photo:
+//!
+//! ```
+//! use bulge::{DiscSolver, Material, Specimen, SpringModel};
+//!
+//! let latex = Specimen { radius_m: 0.0375, thickness_m: 0.35e-3, poisson: 0.45, prebulge_height_m: 0.0 };
+//! let mut disc = DiscSolver::new(&latex, &Material::linear(1.0e6, 0.45), SpringModel::Tp)?;
+//! disc.solve_to(5000.0)?;
+//! println!("apex {:.2} mm", 1e3 * disc.apex_height_m());
+//! # Ok::<(), bulge::sim::SimError>(())
+//! ```
+//!
+//! ## Cargo features
+//!
+//! `opencv` (tracking, synthetic photos, annotated frames), `plots` (figures)
+//! and `cli` (the `bulge` binary) are on by default. Without them
+//! (`--no-default-features`) the library builds the stress, fit, simulate
+//! and axisymmetric stages with neither OpenCV, libclang, plotters nor clap.
 
 pub mod axisym;
 pub mod experiment;
@@ -24,3 +62,11 @@ pub mod report;
 pub mod sim;
 #[cfg(feature = "opencv")]
 pub mod track;
+
+pub use experiment::{Experiment, Specimen};
+pub use material::{Material, Model, StrainMeasure};
+pub use mechanics::{Modulus, ModulusStress, TrueStress};
+pub use pipeline::{PipelineError, Settings, Stage};
+#[cfg(feature = "opencv")]
+pub use pipeline::{RunError, RunOutput};
+pub use sim::{DiscSolver, SimError, SpringModel};

@@ -35,8 +35,9 @@ use crate::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
     StressError, TrueStress,
 };
+use crate::sim::DiscSolver;
 use crate::sim::SimError;
-use crate::sim::scene::{DiscPredictor, MeshSize, Scene};
+use crate::sim::scene::{MeshSize, Scene};
 use crate::sim::solve::{self, Solver};
 use crate::sim::springs::SpringModel;
 #[cfg(feature = "opencv")]
@@ -279,8 +280,25 @@ pub fn track_stage(
     settings: &Settings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Tracking, PipelineError> {
+    struct Tick<'a>(&'a (dyn Fn() + Sync));
+    impl Observer for Tick<'_> {
+        fn tick(&self) {
+            (self.0)()
+        }
+    }
+    track_stage_observed(exp, settings, &Tick(tick))
+}
+
+/// Stage 1, telling `obs` of the number of frames and each frame done.
+#[cfg(feature = "opencv")]
+fn track_stage_observed(
+    exp: &Experiment,
+    settings: &Settings,
+    obs: &dyn Observer,
+) -> Result<Tracking, PipelineError> {
     let setup = track::setup_from_experiment(exp)?;
-    let tracked = track::track(&setup, &settings.track, tick)?;
+    obs.start(Stage::Track, setup.frames.len() as u64);
+    let tracked = track::track(&setup, &settings.track, &|| obs.tick())?;
     if tracked.rows.is_empty() {
         return Err(PipelineError::Input(format!(
             "every one of the {} frames scored below the minimum score {}: nothing to measure; check the template and the region",
@@ -557,6 +575,45 @@ pub fn fit_stage(
     })
 }
 
+impl FitOut {
+    /// One line on the fit: the model, points, R^2, RMSE, and the correction
+    /// to the heights when made.
+    pub fn summary(&self, choice: &FitChoice) -> String {
+        let what = match &self.detail {
+            FitDetail::Quartic(q) => format!(
+                "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
+                choice.label(),
+                q.stats.n,
+                q.stats.r2,
+                q.stats.rmse
+            ),
+            FitDetail::Hyper(h) => format!(
+                "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
+                h.kind.label(),
+                h.stats.n,
+                h.stats.r2,
+                h.stats.rmse
+            ),
+        };
+        match &self.refined {
+            Some(r) => {
+                let pct = |e: &[Option<f64>]| {
+                    inverse::Refined::rms(e)
+                        .map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v))
+                };
+                format!(
+                    "{what}; corrected to the heights: rms height error {} -> {} ({} iterations, {} axisymmetric solves)",
+                    pct(&r.before),
+                    pct(&r.after),
+                    r.iterations,
+                    r.solves
+                )
+            }
+            None => what,
+        }
+    }
+}
+
 /// One simulated pressure.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimPoint {
@@ -635,16 +692,8 @@ pub fn simulate_stage(
     let mut runs = Vec::new();
     for &model in &settings.models {
         let t_model = Instant::now();
-        let mut membrane = scene.membrane(&mesh, model)?;
-        let predictor = DiscPredictor {
-            radius_m: spec.radius_m,
-            young_pa: membrane.law.young(1.0).1,
-            thickness_m: spec.thickness_m,
-            poisson: material.poisson,
-        };
-        let mut x = mesh.nodes.clone();
-        let mut ws = None;
-        let mut p_prev = 0.0;
+        let mut disc =
+            DiscSolver::on_mesh(&scene, mesh.clone(), model)?.with_solver(settings.solver, opts)?;
         let mut points = Vec::new();
         let mut stopped: Option<String> = None;
         for &p in pressures {
@@ -661,31 +710,17 @@ pub fn simulate_stage(
                 continue;
             }
             let t0 = Instant::now();
-            let out = solve::continuation(
-                &mut membrane,
-                &mesh.nodes,
-                &mut x,
-                p_prev,
-                p,
-                settings.solver,
-                &opts,
-                &predictor,
-                &mut ws,
-            );
+            let out = disc.solve_to(p);
             let wall = t0.elapsed().as_secs_f64();
             match out {
-                Ok(st) => {
-                    let (h, _) = scene.measure(&mesh, &x);
-                    points.push(SimPoint {
-                        pressure_pa: p,
-                        height_m: Some(h),
-                        iterations: st.iterations,
-                        residual: st.residual,
-                        wall_s: wall,
-                        note: None,
-                    });
-                    p_prev = p;
-                }
+                Ok(st) => points.push(SimPoint {
+                    pressure_pa: p,
+                    height_m: Some(disc.apex_height_m()),
+                    iterations: st.iterations,
+                    residual: st.residual,
+                    wall_s: wall,
+                    note: None,
+                }),
                 Err(e) => {
                     let why = format!("{} at {p} Pa: {e}", model.name());
                     points.push(SimPoint {
@@ -884,4 +919,238 @@ pub fn describe_stress(o: &mechanics::Options) -> String {
 /// File name for messages.
 pub fn display(p: &Path) -> String {
     p.display().to_string()
+}
+
+/// Time spent in one stage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Timing {
+    /// The stage.
+    pub stage: Stage,
+    /// Wall time, s.
+    pub seconds: f64,
+    /// What it did, e.g. `12 photos, 41.3 photos/s`.
+    pub what: String,
+}
+
+/// What a run tells its caller while it works (progress bars, logs). Every
+/// method does nothing by default; `()` is the observer that ignores all.
+pub trait Observer: Sync {
+    /// `stage` starts; it will call [`Observer::tick`] about `steps` times.
+    fn start(&self, _stage: Stage, _steps: u64) {}
+    /// One step of the current stage is done (may be called from worker
+    /// threads).
+    fn tick(&self) {}
+    /// A remark on the current stage (a frame left out, a degree lowered).
+    fn note(&self, _stage: Stage, _message: &str) {}
+    /// `stage` is done.
+    fn done(&self, _timing: &Timing) {}
+}
+
+impl Observer for () {}
+
+/// Every stage's output of a whole run ([`run`]).
+#[cfg(feature = "opencv")]
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// Photos -> heights.
+    pub tracking: Tracking,
+    /// Heights -> stress and strain.
+    pub stress: StressOut,
+    /// Stress/strain -> material.
+    pub fit: FitOut,
+    /// The pressures simulated, Pa.
+    pub pressures_pa: Vec<f64>,
+    /// Simulated heights, one run per model (the axisymmetric reference last).
+    pub runs: Vec<ModelRun>,
+    /// Measured against simulated heights, one row per simulated pressure.
+    pub comparison: Vec<Comparison>,
+    /// Time per stage (track, stress, fit, simulate).
+    pub timings: Vec<Timing>,
+    /// Remarks made along the way (frames left out, a lowered degree, the
+    /// simulator's notes), each prefixed with its stage.
+    pub notes: Vec<String>,
+}
+
+/// The outputs of the stages that finished before a run stopped.
+#[cfg(feature = "opencv")]
+#[derive(Debug, Clone, Default)]
+pub struct Partial {
+    /// The tracking stage's output, when it finished.
+    pub tracking: Option<Tracking>,
+    /// The stress stage's output, when it finished.
+    pub stress: Option<StressOut>,
+    /// The fit stage's output, when it finished.
+    pub fit: Option<FitOut>,
+}
+
+/// A run that stopped: the stage, why, and what the earlier stages made.
+#[cfg(feature = "opencv")]
+#[derive(Debug, thiserror::Error)]
+#[error("stage `{}` {}: {error}", .stage.name(), if .error.is_bad_input() { "refused its input" } else { "failed" })]
+pub struct RunError {
+    /// The stage that stopped.
+    pub stage: Stage,
+    /// Why.
+    pub error: PipelineError,
+    /// The outputs of the stages before it.
+    pub partial: Box<Partial>,
+}
+
+/// The whole pipeline on an experiment: photos -> heights -> stress/strain
+/// -> material -> simulated heights -> comparison, in memory (nothing is
+/// written). See [`run_observed`] for progress and remarks.
+#[cfg(feature = "opencv")]
+pub fn run(exp: &Experiment, settings: &Settings) -> Result<RunOutput, RunError> {
+    run_observed(exp, settings, &())
+}
+
+/// [`run`], telling `obs` of each stage's start, steps, remarks and end.
+#[cfg(feature = "opencv")]
+pub fn run_observed(
+    exp: &Experiment,
+    settings: &Settings,
+    obs: &dyn Observer,
+) -> Result<RunOutput, RunError> {
+    let mut partial = Partial::default();
+    let fail = |stage: Stage, error: PipelineError, partial: &Partial| RunError {
+        stage,
+        error,
+        partial: Box::new(partial.clone()),
+    };
+    let spec = &exp.specimen;
+    let mut timings = Vec::new();
+    let mut notes = Vec::new();
+    let mut note = |stage: Stage, m: String| {
+        obs.note(stage, &m);
+        notes.push(format!("{}: {m}", stage.name()));
+    };
+    let mut finish = |stage: Stage, t: Instant, what: String| {
+        let timing = Timing {
+            stage,
+            seconds: t.elapsed().as_secs_f64(),
+            what,
+        };
+        obs.done(&timing);
+        timings.push(timing);
+    };
+
+    // 1. track
+    let t = Instant::now();
+    let tracking =
+        track_stage_observed(exp, settings, obs).map_err(|e| fail(Stage::Track, e, &partial))?;
+    let secs = t.elapsed().as_secs_f64();
+    let n = tracking.tracked.rows.len();
+    for sk in &tracking.tracked.skipped {
+        note(
+            Stage::Track,
+            format!(
+                "skipped frame {} ({}): score {:.3}",
+                sk.frame, sk.file, sk.score
+            ),
+        );
+    }
+    finish(
+        Stage::Track,
+        t,
+        format!(
+            "{n} of {} photos ({}x{} px), {:.1} photos/s",
+            tracking.setup.frames.len(),
+            tracking.tracked.image_size[0],
+            tracking.tracked.image_size[1],
+            n as f64 / secs.max(1e-9)
+        ),
+    );
+    partial.tracking = Some(tracking.clone());
+
+    // 2. stress
+    let t = Instant::now();
+    obs.start(Stage::Stress, 0);
+    let stress = stress_stage(spec, settings, tracking.points())
+        .map_err(|e| fail(Stage::Stress, e, &partial))?;
+    finish(
+        Stage::Stress,
+        t,
+        format!(
+            "{} points, {}",
+            stress.rows.len(),
+            describe_stress(&settings.stress)
+        ),
+    );
+    partial.stress = Some(stress.clone());
+
+    // 3. fit
+    let t = Instant::now();
+    obs.start(Stage::Fit, 0);
+    let mut fit_settings = settings.clone();
+    if let FitChoice::Quartic(d) = settings.fit {
+        let n_points = stress
+            .rows
+            .iter()
+            .filter(|r| r.value.secant_modulus_pa.is_some())
+            .count();
+        if n_points >= 2 && n_points <= d {
+            fit_settings.fit = FitChoice::Quartic(n_points - 1);
+            note(
+                Stage::Fit,
+                format!(
+                    "only {n_points} points with a secant modulus: degree lowered from {d} to {}",
+                    n_points - 1
+                ),
+            );
+        }
+    }
+    let fit = fit_stage(spec, &fit_settings, &stress).map_err(|e| fail(Stage::Fit, e, &partial))?;
+    let what = fit.summary(&fit_settings.fit);
+    finish(Stage::Fit, t, what);
+    partial.fit = Some(fit.clone());
+
+    // 4. simulate
+    let t = Instant::now();
+    let pressures_pa = pressures(settings, &stress.points);
+    let n_runs = settings.models.len() + usize::from(settings.axisym);
+    obs.start(Stage::Simulate, (n_runs * pressures_pa.len()) as u64);
+    let runs = simulate_stage(spec, settings, &fit.material, &pressures_pa, &|| obs.tick())
+        .map_err(|e| fail(Stage::Simulate, e, &partial))?;
+    let what = runs
+        .iter()
+        .map(|r| {
+            let solved = r.points.iter().filter(|p| p.height_m.is_some()).count();
+            let nodes = if r.nodes > 0 {
+                format!(", {} nodes", r.nodes)
+            } else {
+                String::new()
+            };
+            format!(
+                "{} {}/{} in {:.3} s{nodes}",
+                r.model,
+                solved,
+                r.points.len(),
+                r.wall_s
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    finish(
+        Stage::Simulate,
+        t,
+        format!("{} pressures: {what}", pressures_pa.len()),
+    );
+    for n in runs
+        .iter()
+        .flat_map(|r| r.points.iter().filter_map(|p| p.note.clone()))
+        .filter(|n| !n.starts_with("not solved"))
+    {
+        note(Stage::Simulate, n);
+    }
+    let comparison = compare(&stress.points, &runs, &pressures_pa);
+    Ok(RunOutput {
+        tracking,
+        stress,
+        fit,
+        pressures_pa,
+        runs,
+        comparison,
+        timings,
+        notes,
+    })
 }

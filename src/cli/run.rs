@@ -5,9 +5,11 @@
 //! a message naming the stage.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::anyhow;
+use indicatif::ProgressBar;
 use serde::Deserialize;
 
 use super::Failure;
@@ -15,12 +17,13 @@ use bulge::experiment::Experiment;
 use bulge::io::write_atomic;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
 use bulge::pipeline::{
-    self, FitChoice, FitDetail, PipelineError, Settings, Stage, describe_stress,
+    self, FitChoice, FitOut, Observer, PipelineError, Settings, Stage, StressOut, Timing, Tracking,
+    describe_stress,
 };
 use bulge::report::figures;
 use bulge::report::html::{Picture, Report};
 use bulge::report::plot::Figure;
-use bulge::report::table::{self, Timing};
+use bulge::report::table;
 use bulge::sim::scene::{MeshSize, parse_pressures};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
@@ -430,8 +433,102 @@ fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-fn say(step: usize, stage: Stage, msg: &str) {
-    eprintln!("[{step}/5] {:<8} {msg}", stage.name());
+/// Progress bars and one line per stage on stderr.
+struct Console {
+    out: PathBuf,
+    bar: Mutex<Option<ProgressBar>>,
+}
+
+impl Observer for Console {
+    fn start(&self, stage: Stage, steps: u64) {
+        let mut bar = self.bar.lock().expect("progress bar");
+        if let Some(b) = bar.take() {
+            b.finish_and_clear();
+        }
+        if steps > 0 {
+            *bar = Some(super::progress(steps, stage.name()));
+        }
+    }
+
+    fn tick(&self) {
+        if let Some(b) = self.bar.lock().expect("progress bar").as_ref() {
+            b.inc(1);
+        }
+    }
+
+    fn note(&self, stage: Stage, message: &str) {
+        if stage == Stage::Track || stage == Stage::Fit && message.starts_with("only ") {
+            eprintln!("         {message}");
+        }
+    }
+
+    fn done(&self, t: &Timing) {
+        if let Some(b) = self.bar.lock().expect("progress bar").take() {
+            b.finish_and_clear();
+        }
+        let files = match t.stage {
+            Stage::Track => "heights.csv",
+            Stage::Stress => "stress_strain.csv",
+            Stage::Fit => "material.toml, fit.svg, fit.png",
+            Stage::Simulate => "simulated.csv",
+            Stage::Report => "heights.svg, heights.png, report.html, summary.md",
+        };
+        let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
+        eprintln!("[{step}/5] {:<8} {} -> {files}", t.stage.name(), t.what);
+        let _ = &self.out;
+    }
+}
+
+/// The files of the stages that finished, written whole.
+struct StageFiles {
+    heights: Option<Vec<u8>>,
+    stress: Option<Vec<u8>>,
+    fit: Option<(String, Figure)>,
+}
+
+impl StageFiles {
+    fn of(tracking: Option<&Tracking>, stress: Option<&StressOut>, fit: Option<&FitOut>) -> Self {
+        let labels: Option<Vec<(usize, String)>> = tracking.map(|t| {
+            t.tracked
+                .rows
+                .iter()
+                .map(|r| (r.frame, r.file.clone()))
+                .collect()
+        });
+        StageFiles {
+            heights: tracking.map(|t| t.csv().into_bytes()),
+            stress: stress.map(|s| s.csv(labels.as_deref()).into_bytes()),
+            fit: fit.and_then(|f| Some((toml::to_string(&f.material).ok()?, figures::fit(f)))),
+        }
+    }
+
+    /// Writes what there is; returns the PNG of the fit.
+    fn write(self, out: &Path) -> Result<Vec<u8>, Failure> {
+        if let Some(h) = self.heights {
+            write(Stage::Track, out, "heights.csv", &h)?;
+        }
+        if let Some(s) = self.stress {
+            write(Stage::Stress, out, "stress_strain.csv", &s)?;
+        }
+        let mut png = Vec::new();
+        if let Some((toml_text, fig)) = self.fit {
+            let svg = fig.to_svg().map_err(|e| {
+                stage_failure(
+                    Stage::Fit,
+                    out,
+                    PipelineError::Output(format!("fit.svg: {e}")),
+                )
+            })?;
+            write(Stage::Fit, out, "material.toml", toml_text.as_bytes())?;
+            write(Stage::Fit, out, "fit.svg", svg.as_bytes())?;
+            let p = out.join("fit.png");
+            fig.write_png(&p).map_err(|e| {
+                stage_failure(Stage::Fit, out, PipelineError::Output(e.to_string()))
+            })?;
+            png = std::fs::read(&p).unwrap_or_default();
+        }
+        Ok(png)
+    }
 }
 
 /// Runs `bulge run`.
@@ -443,228 +540,59 @@ pub fn run(args: Args) -> Result<(), Failure> {
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::Failed(anyhow!("cannot create {}: {e}", out.display())))?;
     let spec = exp.specimen;
-    let mut timings: Vec<Timing> = Vec::new();
-
-    // 1. track
-    let t = Instant::now();
-    let n_photos = exp
-        .photos
-        .as_ref()
-        .and_then(|p| bulge::track::list_photos(&exp.resolve(&p.dir), &p.glob).ok())
-        .map_or(0, |v| v.len());
-    let pb = super::progress(n_photos as u64, "track");
-    let tracking = pipeline::track_stage(&exp, &s, &|| pb.inc(1)).map_err(|e| {
-        pb.finish_and_clear();
-        stage_failure(Stage::Track, out, e)
-    })?;
-    pb.finish_and_clear();
-    write(
-        Stage::Track,
-        out,
-        "heights.csv",
-        &tracking.csv().into_bytes(),
-    )?;
-    let secs = t.elapsed().as_secs_f64();
-    let n = tracking.tracked.rows.len();
-    let what = format!(
-        "{n} of {} photos ({}x{} px), {:.1} photos/s",
-        tracking.setup.frames.len(),
-        tracking.tracked.image_size[0],
-        tracking.tracked.image_size[1],
-        n as f64 / secs.max(1e-9)
-    );
-    say(1, Stage::Track, &format!("{what} -> heights.csv"));
-    for sk in &tracking.tracked.skipped {
-        eprintln!(
-            "         skipped frame {} ({}): score {:.3}",
-            sk.frame, sk.file, sk.score
-        );
-    }
-    timings.push(Timing {
-        stage: Stage::Track,
-        seconds: secs,
-        what,
-    });
-
-    // 2. stress
-    let t = Instant::now();
-    let stress = pipeline::stress_stage(&spec, &s, tracking.points())
-        .map_err(|e| stage_failure(Stage::Stress, out, e))?;
-    let labels: Vec<(usize, String)> = tracking
-        .tracked
-        .rows
-        .iter()
-        .map(|r| (r.frame, r.file.clone()))
-        .collect();
-    write(
-        Stage::Stress,
-        out,
-        "stress_strain.csv",
-        &stress.csv(Some(&labels)).into_bytes(),
-    )?;
-    let secs = t.elapsed().as_secs_f64();
-    let what = format!(
-        "{} points, {}",
-        stress.rows.len(),
-        describe_stress(&s.stress)
-    );
-    say(2, Stage::Stress, &format!("{what} -> stress_strain.csv"));
-    timings.push(Timing {
-        stage: Stage::Stress,
-        seconds: secs,
-        what,
-    });
-
-    // 3. fit
-    let t = Instant::now();
-    let mut fit_settings = s.clone();
-    if let FitChoice::Quartic(d) = s.fit {
-        let n_points = stress
-            .rows
-            .iter()
-            .filter(|r| r.value.secant_modulus_pa.is_some())
-            .count();
-        if n_points >= 2 && n_points <= d {
-            fit_settings.fit = FitChoice::Quartic(n_points - 1);
-            eprintln!(
-                "         only {n_points} points with a secant modulus: degree lowered from {d} to {}",
-                n_points - 1
-            );
+    let console = Console {
+        out: out.to_path_buf(),
+        bar: Mutex::new(None),
+    };
+    let o = match pipeline::run_observed(&exp, &s, &console) {
+        Ok(o) => o,
+        Err(e) => {
+            if let Some(b) = console.bar.lock().expect("progress bar").take() {
+                b.finish_and_clear();
+            }
+            let p = &e.partial;
+            StageFiles::of(p.tracking.as_ref(), p.stress.as_ref(), p.fit.as_ref()).write(out)?;
+            return Err(stage_failure(e.stage, out, e.error));
         }
+    };
+    let fit_png = StageFiles::of(Some(&o.tracking), Some(&o.stress), Some(&o.fit)).write(out)?;
+    write(
+        Stage::Simulate,
+        out,
+        "simulated.csv",
+        &pipeline::simulated_csv(&o.runs).into_bytes(),
+    )?;
+    for w in &o.fit.warnings {
+        eprintln!("         warning: {w}");
     }
-    let fit = pipeline::fit_stage(&spec, &fit_settings, &stress)
-        .map_err(|e| stage_failure(Stage::Fit, out, e))?;
-    let material_toml = toml::to_string(&fit.material).map_err(|e| {
+    let notes: Vec<String> = o
+        .notes
+        .iter()
+        .filter_map(|n| n.strip_prefix("simulate: ").map(str::to_string))
+        .collect();
+    for n in &notes {
+        eprintln!("         note: {n}");
+    }
+    let material_toml = toml::to_string(&o.fit.material).map_err(|e| {
         stage_failure(
             Stage::Fit,
             out,
             PipelineError::Output(format!("material.toml: {e}")),
         )
     })?;
-    let fit_fig = figures::fit(&fit);
-    // Draw before writing anything of this stage.
-    let fit_svg = fit_fig.to_svg().map_err(|e| {
-        stage_failure(
-            Stage::Fit,
-            out,
-            PipelineError::Output(format!("fit.svg: {e}")),
-        )
-    })?;
-    write(Stage::Fit, out, "material.toml", material_toml.as_bytes())?;
-    write(Stage::Fit, out, "fit.svg", fit_svg.as_bytes())?;
-    let fit_png = {
-        let p = out.join("fit.png");
-        fit_fig
-            .write_png(&p)
-            .map_err(|e| stage_failure(Stage::Fit, out, PipelineError::Output(e.to_string())))?;
-        std::fs::read(&p).unwrap_or_default()
-    };
-    let secs = t.elapsed().as_secs_f64();
-    let what = match &fit.detail {
-        FitDetail::Quartic(q) => format!(
-            "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
-            fit_settings.fit.label(),
-            q.stats.n,
-            q.stats.r2,
-            q.stats.rmse
-        ),
-        FitDetail::Hyper(h) => format!(
-            "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
-            h.kind.label(),
-            h.stats.n,
-            h.stats.r2,
-            h.stats.rmse
-        ),
-    };
-    let what = match &fit.refined {
-        Some(r) => {
-            let pct = |e: &[Option<f64>]| {
-                bulge::fit::inverse::Refined::rms(e)
-                    .map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v))
-            };
-            format!(
-                "{what}; corrected to the heights: rms height error {} -> {} ({} iterations, {} axisymmetric solves)",
-                pct(&r.before),
-                pct(&r.after),
-                r.iterations,
-                r.solves
-            )
-        }
-        None => what,
-    };
-    say(
-        3,
-        Stage::Fit,
-        &format!("{what} -> material.toml, fit.svg, fit.png"),
+    let (tracking, stress, fit, runs, rows, pressures) = (
+        &o.tracking,
+        &o.stress,
+        &o.fit,
+        &o.runs,
+        &o.comparison,
+        &o.pressures_pa,
     );
-    for w in &fit.warnings {
-        eprintln!("         warning: {w}");
-    }
-    timings.push(Timing {
-        stage: Stage::Fit,
-        seconds: secs,
-        what,
-    });
-
-    // 4. simulate
-    let t = Instant::now();
-    let pressures = pipeline::pressures(&s, &stress.points);
-    let n_runs = s.models.len() + usize::from(s.axisym);
-    let pb = super::progress((n_runs * pressures.len()) as u64, "simulate");
-    let runs = pipeline::simulate_stage(&spec, &s, &fit.material, &pressures, &|| pb.inc(1))
-        .map_err(|e| {
-            pb.finish_and_clear();
-            stage_failure(Stage::Simulate, out, e)
-        })?;
-    pb.finish_and_clear();
-    write(
-        Stage::Simulate,
-        out,
-        "simulated.csv",
-        &pipeline::simulated_csv(&runs).into_bytes(),
-    )?;
-    let secs = t.elapsed().as_secs_f64();
-    let what = runs
-        .iter()
-        .map(|r| {
-            let solved = r.points.iter().filter(|p| p.height_m.is_some()).count();
-            let nodes = if r.nodes > 0 {
-                format!(", {} nodes", r.nodes)
-            } else {
-                String::new()
-            };
-            format!(
-                "{} {}/{} in {:.3} s{nodes}",
-                r.model,
-                solved,
-                r.points.len(),
-                r.wall_s
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("; ");
-    say(
-        4,
-        Stage::Simulate,
-        &format!("{} pressures: {what} -> simulated.csv", pressures.len()),
-    );
-    let notes: Vec<String> = runs
-        .iter()
-        .flat_map(|r| r.points.iter().filter_map(|p| p.note.clone()))
-        .collect();
-    for n in notes.iter().filter(|n| !n.starts_with("not solved")) {
-        eprintln!("         note: {n}");
-    }
-    timings.push(Timing {
-        stage: Stage::Simulate,
-        seconds: secs,
-        what,
-    });
+    let mut timings = o.timings.clone();
 
     // 5. report
     let t = Instant::now();
-    let rows = pipeline::compare(&stress.points, &runs, &pressures);
-    let hfig = figures::heights(&stress.points, &runs, &rows);
+    let hfig = figures::heights(&stress.points, runs, rows);
     let heights_png = write_figure(Stage::Report, out, "heights", &hfig)?;
     let nrows = tracking.tracked.rows.len();
     let mut picks = vec![0, nrows / 2, nrows - 1];
@@ -747,7 +675,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         material_toml: material_toml.clone(),
         rows: rows.clone(),
         runs: runs.clone(),
-        settings: settings_table(&s, &exp, &pressures),
+        settings: settings_table(&s, &exp, pressures),
         timings: timings.clone(),
         notes: all_notes.clone(),
     };
@@ -756,11 +684,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
         "# bulge run: {}\n\n## Measured against simulated apex heights\n\n",
         exp.path.display()
     );
-    md.push_str(&table::markdown(&rows, &runs));
+    md.push_str(&table::markdown(rows, runs));
     md.push_str("\nRelative error = simulated / measured - 1.\n\n## Material\n\n```toml\n");
     md.push_str(&material_toml);
     md.push_str("```\n\n## Settings\n\n");
-    for (k, v) in settings_table(&s, &exp, &pressures) {
+    for (k, v) in settings_table(&s, &exp, pressures) {
         md.push_str(&format!("- {k}: {v}\n"));
     }
     md.push_str("\n## Time per stage\n\n");
@@ -773,14 +701,13 @@ pub fn run(args: Args) -> Result<(), Failure> {
     }
     write(Stage::Report, out, "report.html", html.as_bytes())?;
     write(Stage::Report, out, "summary.md", md.as_bytes())?;
-    say(
-        5,
-        Stage::Report,
-        "heights.svg, heights.png, report.html, summary.md",
+    eprintln!(
+        "[5/5] {:<8} heights.svg, heights.png, report.html, summary.md",
+        Stage::Report.name()
     );
 
     println!("\nMeasured against simulated apex heights (error = simulated / measured - 1):\n");
-    print!("{}", table::terminal(&rows, &runs));
+    print!("{}", table::terminal(rows, runs));
     println!("\nTime per stage:");
     print!("{}", table::timings_terminal(&timings));
     println!("\nwrote {}", out.join("report.html").display());

@@ -2,18 +2,9 @@
 //! height, simulated height per model, relative error), as terminal text,
 //! Markdown and HTML, and the stage-timing table.
 
-use crate::pipeline::{Comparison, ModelRun, Stage};
+use crate::pipeline::{Comparison, ModelRun};
 
-/// Time spent in one stage.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Timing {
-    /// The stage.
-    pub stage: Stage,
-    /// Wall time, s.
-    pub seconds: f64,
-    /// What it did, e.g. `12 photos, 41.3 photos/s`.
-    pub what: String,
-}
+pub use crate::pipeline::Timing;
 
 fn mm(v: Option<f64>) -> String {
     v.map(|h| format!("{:.3}", h * 1e3))

@@ -294,7 +294,8 @@ impl MeshSettings {
 
 impl Scene {
     /// Reads a scene file; paths in it are relative to its folder.
-    pub fn read(path: &Path) -> Result<Scene, InputError> {
+    pub fn read(path: impl AsRef<Path>) -> Result<Scene, InputError> {
+        let path = path.as_ref();
         let f: SceneFile = crate::io::read_toml(path)?;
         let err = |m: String| InputError::file(path, m);
         let base = path
