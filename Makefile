@@ -1,6 +1,7 @@
 # bulge: two commands do everything on a fresh Debian/Ubuntu (or macOS) machine.
 #   make demo   install what is missing, build, run the pipeline on data/demo, write out/
-#   make test   install what is missing, run the whole test suite
+#   make test   install what is missing, run the whole test suite (with the
+#               default features, then the library without them)
 SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
@@ -32,6 +33,8 @@ demo: build
 test: deps
 	$(CARGO) test --locked --lib --bins --tests
 	$(CARGO) test --locked --doc
+	@echo "== the library alone: stress, fit, simulate, axisym (no OpenCV, plotters or clap)"
+	$(CARGO) test --locked --no-default-features
 
 lint: deps
 	$(CARGO) fmt --all -- --check

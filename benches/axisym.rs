@@ -10,7 +10,7 @@ use bulge::material::{Material, Model, StrainMeasure};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn specimen() -> Specimen {
-    // The paper's latex disc (NOTES section 3).
+    // The latex disc of Tudruj et al. (2023): a = 37.5 mm, t = 0.35 mm.
     Specimen {
         radius_m: 0.0375,
         thickness_m: 3.5e-4,

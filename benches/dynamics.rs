@@ -1,4 +1,4 @@
-//! Spring-force throughput (issue 7): one nodal-force evaluation of the full
+//! Spring-force throughput: one nodal-force evaluation of the full
 //! bubble disc at 5 kPa-like deformation, serial (`Membrane::forces`) and
 //! parallel (`sim::par::ParForces` in rayon pools of 1 and 2 threads), for
 //! Van Gelder (throughput in spring updates: edges) and TP MSS (triangle

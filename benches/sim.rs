@@ -1,9 +1,9 @@
-//! Benchmarks of the membrane solver (issue 4).
+//! Benchmarks of the membrane solver.
 //!
 //! * `forces/*`: one force evaluation on discs of about 1e4 and 1e5 nodes;
 //!   throughput in spring updates (Van Gelder, Lloyd: edges) or triangle
 //!   updates (TP MSS) per second.
-//! * `disc3/*`: the latex disc of paper 000 (a = 37.5 mm, t = 0.35 mm,
+//! * `disc3/*`: the latex disc of Tudruj et al. (2023) (a = 37.5 mm, t = 0.35 mm,
 //!   nu = 0.45, linear E = 1 MPa) solved at 5000, 7300 and 8940 Pa from rest,
 //!   per spring model, solver and mesh size.
 //!

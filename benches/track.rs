@@ -42,7 +42,7 @@ fn spec(w: usize, h: usize, seed: u64, blur: f64, noise: f64, enc: Encoding) -> 
 fn write(dir: &std::path::Path, s: &SequenceSpec, n: usize) -> (track::Setup, synth::Written) {
     let frames = synth::cap_frames(s.specimen.radius_m, 0.6 * s.specimen.radius_m, n);
     let w = synth::write_sequence(dir, s, &frames).expect("sequence");
-    let e = Experiment::read(&dir.join("experiment.toml")).expect("experiment");
+    let e = Experiment::read(dir.join("experiment.toml")).expect("experiment");
     (track::setup_from_experiment(&e).expect("setup"), w)
 }
 

@@ -91,7 +91,7 @@ pub enum Model {
         /// Young's modulus, Pa.
         young_pa: f64,
     },
-    /// Paper 000's secant modulus law `E(eps) = sum_k c_k eps^k`.
+    /// Tudruj et al.'s (2023) secant modulus law `E(eps) = sum_k c_k eps^k`.
     Quartic {
         /// `c_0 .. c_n`, Pa.
         coefficients_pa: Vec<f64>,

@@ -1,4 +1,4 @@
-//! Heights -> stress and strain (paper 000, eqs 18-25), corrected where the
+//! Heights -> stress and strain (Tudruj et al. (2023), eqs 18-25), corrected where the
 //! paper is wrong.
 //!
 //! A clamped disc of free radius `a` and initial thickness `t` bulges under the
@@ -6,7 +6,7 @@
 //! clamp plane (`H = h + h0`, the paper's rise `h` plus the pre-bulge height
 //! `h0`). The bubble is taken to be a spherical cap. With `x = H / a`:
 //!
-//! | quantity | formula | paper 000 |
+//! | quantity | formula | Tudruj et al. (2023) |
 //! |---|---|---|
 //! | cap radius | $R = (a^2 + H^2) / (2H) = \tfrac a2 (x + 1/x)$ | eqs 19, 20 |
 //! | cap half-angle | $\theta = 2 \arctan(H/a)$ | eqs 21, 22 (corrected) |
@@ -82,7 +82,7 @@ use serde::{Deserialize, Serialize};
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum TrueStress {
-    /// `lambda * p R / (2t)`: paper 000 eq 25 (thickness `t / lambda`).
+    /// `lambda * p R / (2t)`: Tudruj et al. (2023) eq 25 (thickness `t / lambda`).
     #[default]
     Paper,
     /// `lambda^2 * p R / (2t)`: incompressible equibiaxial thinning `t / lambda^2`.
@@ -835,7 +835,7 @@ mod tests {
         assert_eq!(r.std.unwrap().secant_modulus_pa, None);
     }
 
-    /// NOTES.md section 1: for a neo-Hookean membrane at h/a = 0.53098 (pole
+    /// The exact inflation (Adkins & Rivlin 1952): for a neo-Hookean membrane at h/a = 0.53098 (pole
     /// stretch 1.20) the mean stretch s1/s0 is 1.179.
     #[test]
     fn mean_stretch_understates_pole_stretch() {

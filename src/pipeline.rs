@@ -135,7 +135,7 @@ impl PipelineError {
 /// The model fitted by the fit stage.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FitChoice {
-    /// Paper 000's polynomial secant modulus `E(eps)` of this degree.
+    /// Tudruj et al.'s (2023) polynomial secant modulus `E(eps)` of this degree.
     Quartic(usize),
     /// An incompressible hyperelastic model fitted to the pole's Cauchy stress.
     Hyper(Kind),
@@ -838,7 +838,7 @@ pub fn simulated_csv(runs: &[ModelRun]) -> CsvOut {
     out
 }
 
-/// One row of the comparison table (paper 000, Table 3 layout).
+/// One row of the comparison table (Tudruj et al. (2023), Table 3 layout).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Comparison {
     /// Pressure, Pa.

@@ -20,7 +20,7 @@ mod tests {
         (60e6, 1.5e-3, 1.04294, -0.27, -0.08),
     ];
 
-    /// Paper 000 section 4: Table 2 radii within 0.003 m and Table 1 errors
+    /// Tudruj et al. (2023) section 4: Table 2 radii within 0.003 m and Table 1 errors
     /// within 0.2 percentage points, for Van Gelder and TP MSS, with the
     /// paper's constitutive assumption (linear springs, constant E: the
     /// `linear` material). Corner radii are printed (the spread of Table 2).

@@ -17,7 +17,7 @@
 //!   extensions. It is hyperelastic with
 //!   `W = E/(2(1 - nu^2)) (e1^2 + e2^2 + 2 nu e1 e2)`; compressible: the
 //!   thickness is not tracked, it is inside the tensions.
-//! * `quartic`: the same with the secant modulus `E(eps)` of paper 000,
+//! * `quartic`: the same with the secant modulus `E(eps)` of Tudruj et al. (2023),
 //!   `P_i = E(eps_m)/(1 - nu^2) (e_i + nu e_j)`. The modulus is taken exactly
 //!   as the mass-spring solver takes it per triangle (`crate::sim`), so that
 //!   the two compare like for like: at the **equibiaxial-equivalent stretch**

@@ -37,7 +37,7 @@
 //! let material = Material { model: Model::NeoHookean { c1_pa: 1.0e5 }, poisson: 0.45, fit: None };
 //! let specimen = Specimen { radius_m: 0.0375, thickness_m: 3.5e-4, poisson: 0.45, prebulge_height_m: 0.0 };
 //! let sol = solve_pole_stretch(&material, &specimen, 1.2, &Options::default()).unwrap();
-//! // NOTES section 3: P = p a / (C1 t) = 1.99850, h/a = 0.53098.
+//! // Adkins & Rivlin (1952), Yang & Feng (1970): P = p a / (C1 t) = 1.99850, h/a = 0.53098.
 //! let p_dimless = sol.pressure_pa * 0.0375 / (1.0e5 * 3.5e-4);
 //! assert!((p_dimless - 1.99850).abs() < 1e-4 * 1.99850);
 //! assert!((sol.height_m / 0.0375 - 0.53098).abs() < 1e-4 * 0.53098);
@@ -415,7 +415,7 @@ impl<'a> Ctx<'a> {
                 h: shot.height(),
             })
         };
-        // First pole strain: Hencky's small-deflection pole strain (NOTES 3)
+        // First pole strain: Hencky's small-deflection pole strain (Hencky 1915)
         // `e0 = s0 (E p^2 a^2 / t^2)^(1/3) / M`, M the biaxial modulus, a
         // little below so that the walk starts on the rising branch.
         let m = self.mem.law.biaxial_modulus();

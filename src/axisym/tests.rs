@@ -1,4 +1,4 @@
-//! Checks against independent references: NOTES section 3 (Adkins & Rivlin /
+//! Checks against independent references (Adkins & Rivlin 1952 /
 //! Yang & Feng values for neo-Hookean and Mooney-Rivlin discs, the
 //! neo-Hookean pressure maximum, Hencky's K(nu) for the linear membrane).
 
@@ -48,7 +48,7 @@ fn rel(got: f64, want: f64) -> f64 {
     (got - want).abs() / want.abs()
 }
 
-/// NOTES section 3 table: P = p a / (C1 t) and h/a at three pole stretches.
+/// Published check table (Adkins & Rivlin 1952; Yang & Feng 1970): P = p a / (C1 t) and h/a at three pole stretches.
 #[test]
 fn notes_check_values() {
     let table = [
@@ -76,7 +76,7 @@ fn notes_check_values() {
     }
 }
 
-/// NOTES section 3: the neo-Hookean pressure maximum, P = 3.7583 at pole
+/// The neo-Hookean pressure maximum (Adkins & Rivlin 1952), P = 3.7583 at pole
 /// stretch 2.196 and h/a = 1.174, to the digits given.
 #[test]
 fn neo_hookean_limit_point() {
@@ -148,7 +148,7 @@ fn solve_pressure_inverts_solve_pole_stretch() {
     }
 }
 
-/// Hencky (1915), NOTES section 3: `w0 = K(nu) a (p a / (E t))^(1/3)` for the
+/// Hencky (1915): `w0 = K(nu) a (p a / (E t))^(1/3)` for the
 /// linear membrane at w0/a = 0.05, to 0.5 %.
 #[test]
 fn linear_membrane_matches_hencky() {

@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 /// Which model to fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ModelArg {
-    /// Paper 000's secant modulus law E(eps) = c0 + c1 eps + ... (degree `--degree`).
+    /// Tudruj et al.'s (2023) secant modulus law E(eps) = c0 + c1 eps + ... (degree `--degree`).
     Quartic,
     /// W = C1 (I1 - 3).
     NeoHookean,
@@ -72,7 +72,7 @@ pub struct Args {
     /// Poisson ratio written to material.toml (used by the mass-spring
     /// models) and, for raw data, in the biaxial secant modulus
     /// E = (1 - nu) sigma / eps. Must be in [0, 0.5). Default 0.45, the latex
-    /// of paper 000; use the value given to `bulge stress`.
+    /// of Tudruj et al. (2023); use the value given to `bulge stress`.
     #[arg(long, default_value_t = 0.45)]
     pub poisson: f64,
 

@@ -56,7 +56,7 @@ pub struct Args {
     pub out: PathBuf,
 
     /// Spring models to simulate, comma-separated: tp, tp-paper,
-    /// van-gelder, lloyd. Default tp,van-gelder (paper 000's comparison).
+    /// van-gelder, lloyd. Default tp,van-gelder (Tudruj et al.'s (2023) comparison).
     #[arg(long)]
     pub models: Option<String>,
 
@@ -91,7 +91,7 @@ pub struct Args {
     #[arg(long)]
     pub nodes: Option<usize>,
 
-    /// Material model to fit: quartic (paper 000's secant modulus E(eps),
+    /// Material model to fit: quartic (Tudruj et al.'s (2023) secant modulus E(eps),
     /// default: what the mass-spring models were designed for),
     /// neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent.
     #[arg(long)]

@@ -84,7 +84,7 @@ pub struct Args {
     )]
     pub prebulge_height_m: Option<f64>,
 
-    /// Strain measure: `engineering` = lambda - 1 (paper 000 eq 24 with its
+    /// Strain measure: `engineering` = lambda - 1 (Tudruj et al. (2023) eq 24 with its
     /// sign corrected) or `log` = ln lambda. Default engineering: it is what
     /// the paper's secant-modulus procedure (section 7) uses.
     #[arg(long, value_enum, default_value_t = StrainMeasure::Engineering)]

@@ -45,7 +45,7 @@ pub struct Args {
     #[arg(long)]
     pub pressure_min_pa: Option<f64>,
 
-    /// Free radius a of the disc, m (default 0.0375, paper 000's specimen).
+    /// Free radius a of the disc, m (default 0.0375, Tudruj et al.'s (2023) specimen).
     #[arg(long, default_value_t = 0.0375)]
     pub radius_m: f64,
 
@@ -53,7 +53,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.00035)]
     pub thickness_m: f64,
 
-    /// Poisson ratio written into [specimen] (default 0.45, paper 000).
+    /// Poisson ratio written into [specimen] (default 0.45, Tudruj et al. (2023)).
     #[arg(long, default_value_t = 0.45)]
     pub poisson: f64,
 

@@ -24,7 +24,7 @@
 //!
 //!     The stretch of `stress_strain.csv` is the mean meridional stretch of
 //!     the cap (eq 23), which understates the pole stretch that the
-//!     equibiaxial formulas assume (NOTES section 1: 1.179 against 1.20 at
+//!     equibiaxial formulas assume (the exact neo-Hookean inflation gives 1.179 against 1.20 at
 //!     h/a = 0.53): hyperelastic parameters from bubble data carry that bias.
 //! * **raw equibiaxial data** `stretch` plus one stress column: `nominal_stress_pa`
 //!   or `cauchy_stress_pa` (the measure follows from the name), or

@@ -908,13 +908,13 @@ mod tests {
     fn treloar() -> (Equibiaxial, std::collections::HashMap<String, f64>) {
         use crate::io::Table;
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let t = Table::read(&root.join("data/treloar_equibiaxial.csv")).unwrap();
+        let t = Table::read(root.join("data/treloar_equibiaxial.csv")).unwrap();
         let data = Equibiaxial {
             stretch: t.numbers("stretch").unwrap(),
             stress_pa: t.numbers("nominal_stress_pa").unwrap(),
             measure: StressMeasure::Nominal,
         };
-        let r = Table::read(&root.join("fixtures/fit/treloar_reference.csv")).unwrap();
+        let r = Table::read(root.join("fixtures/fit/treloar_reference.csv")).unwrap();
         let q = r.require("quantity").unwrap();
         let v = r.numbers("value").unwrap();
         let refs = (0..r.len())
@@ -956,7 +956,7 @@ mod tests {
     }
 
     /// The three-term Ogden fit is no worse on Treloar's equibiaxial points
-    /// than Ogden's published parameters (NOTES section 3), whose RMSE is
+    /// than Ogden's published parameters (Ogden 1972), whose RMSE is
     /// computed independently by the fixture script and checked here against
     /// material.rs.
     #[test]

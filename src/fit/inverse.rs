@@ -2,7 +2,7 @@
 //! corrected until the exact axisymmetric inflation of the specimen
 //! reproduces the measured apex heights.
 //!
-//! The cap method (paper 000, section 7) turns each height into a stress and
+//! The cap method (Tudruj et al. (2023), section 7) turns each height into a stress and
 //! a strain as if the bubble were a sphere of uniform, equibiaxial strain. A
 //! real bubble is not: its strain falls from the pole to the clamp, where it
 //! is planar. A law fitted to those points is therefore biased, and the

@@ -1,4 +1,4 @@
-//! Stress/strain -> material: the quartic secant modulus of paper 000
+//! Stress/strain -> material: the quartic secant modulus of Tudruj et al. (2023)
 //! (section 7) and the incompressible hyperelastic models that rubber users
 //! fit in practice.
 //!

@@ -1,4 +1,4 @@
-//! Paper 000, section 7: the secant Young's modulus over the measured strain
+//! Tudruj et al. (2023), section 7: the secant Young's modulus over the measured strain
 //! range, approximated by a polynomial (a quartic by default),
 //!
 //! $$E(\varepsilon) = c_0 + c_1 \varepsilon + \dots + c_N \varepsilon^N,$$
@@ -271,10 +271,10 @@ mod tests {
     fn noisy_quartic_matches_independent_solution() {
         use crate::io::Table;
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/fit");
-        let data = Table::read(&dir.join("noisy_quartic.csv")).unwrap();
+        let data = Table::read(dir.join("noisy_quartic.csv")).unwrap();
         let strain = data.numbers("strain").unwrap();
         let modulus = data.numbers("secant_modulus_pa").unwrap();
-        let want = Table::read(&dir.join("noisy_quartic_expected.csv")).unwrap();
+        let want = Table::read(dir.join("noisy_quartic_expected.csv")).unwrap();
         let deg = want.numbers("degree").unwrap();
         let k = want.numbers("k").unwrap();
         let c = want.numbers("coefficient_pa").unwrap();

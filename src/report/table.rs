@@ -1,4 +1,4 @@
-//! The comparison table in paper 000's Table 3 layout (pressure, measured
+//! The comparison table in Tudruj et al.'s (2023) Table 3 layout (pressure, measured
 //! height, simulated height per model, relative error), as terminal text,
 //! Markdown and HTML, and the stage-timing table.
 

@@ -1,4 +1,4 @@
-//! Time integration of a [`Membrane`] (paper 003): explicit Euler, symplectic
+//! Time integration of a [`Membrane`] (Sudhamani & Merriliance (2019)): explicit Euler, symplectic
 //! Euler, position Verlet as 003 writes it, implicit Euler with Newton-Raphson
 //! and a sparse LU, and position-based dynamics with compliance (XPBD).
 //!
@@ -13,7 +13,7 @@
 //!   `m_red = m_i m_j / (m_i + m_j)`, a fraction `zeta` of the spring's
 //!   critical value. `k` is the spring's small-strain stiffness
 //!   ([`reference_edge_stiffness`]).
-//! * [`DampingLaw::Paper003`]: 003's eq 5, `d = sqrt(k (m_i + m_j)) / l0`.
+//! * [`DampingLaw::Paper003`]: Sudhamani & Merriliance's eq 5, `d = sqrt(k (m_i + m_j)) / l0`.
 //!   It is **not** a damping coefficient: `sqrt(k m)` is already N s/m, and
 //!   the extra `1/l0` makes it N s/m^2, so the damping it gives depends on the
 //!   unit of length and on the mesh size (a finer mesh is damped more). It is
@@ -28,7 +28,7 @@
 //! * explicit Euler: `|1 + h lambda| < 1`, i.e. `h < 2 zeta / w` for
 //!   `zeta < 1` (no stable step at all without damping), `h < 2 / (w (zeta +
 //!   sqrt(zeta^2 - 1)))` above;
-//! * symplectic Euler and 003's position Verlet (drift-kick-drift with the
+//! * symplectic Euler and Sudhamani & Merriliance's position Verlet (drift-kick-drift with the
 //!   damping evaluated at the step's start velocity) have the same
 //!   characteristic polynomial, `det = 1 - 2 zeta w h`,
 //!   `trace = 2 - (w h)^2 - 2 zeta w h`, stable for
@@ -65,7 +65,7 @@ pub enum Integrator {
     ExplicitEuler,
     /// `v += h a(x, v); x += h v` (semi-implicit, symplectic when undamped).
     SymplecticEuler,
-    /// 003's position Verlet: `q += v h/2; F = f(q); v += F/m h; q += v h/2`.
+    /// Sudhamani & Merriliance's position Verlet: `q += v h/2; F = f(q); v += F/m h; q += v h/2`.
     Verlet,
     /// Backward Euler, Newton-Raphson on the positions with a sparse LU.
     ImplicitEuler,

@@ -1,7 +1,7 @@
 //! Triangle meshes of the scenes: the clamped disc (full, or the 60 degree
-//! sector with mirror planes on its cut edges), the sphere segment of paper
-//! 000 section 4 (an octant with three symmetry planes, corner topologies of
-//! its Fig. 7) and the sheet clamped on one edge (paper 003's experiments).
+//! sector with mirror planes on its cut edges), the sphere segment of
+//! Tudruj et al. (2023) section 4 (an octant with three symmetry planes, corner topologies of
+//! its Fig. 7) and the sheet clamped on one edge (Sudhamani & Merriliance's (2019) experiments).
 //!
 //! A [`Mesh`] is plain data: reference node positions, triangles (counter-
 //! clockwise seen from the side the pressure pushes towards), the unique
@@ -23,7 +23,7 @@
 //! The octant `x, y, z >= 0` of a sphere, meshed by subdividing the flat
 //! octahedron face into `n^2` triangles and projecting the nodes onto the
 //! sphere; nodes on the planes `x = 0`, `y = 0`, `z = 0` slide on them. Corner
-//! topologies (paper 000 Fig. 7, whose picture is not in the text; bulge's
+//! topologies (Tudruj et al. (2023) Fig. 7, whose picture is not in the text; bulge's
 //! reading): type I, one triangle holds the 90 degree corner; type II, the edge
 //! facing the corner is flipped so that two triangles share the corner
 //! (45 + 45 degrees). Corner a is the pole (0, 0, R), b is (R, 0, 0), c is
@@ -409,7 +409,7 @@ fn sectors_copies(sector: bool) -> usize {
     if sector { 6 } else { 1 }
 }
 
-/// Corner topology of the sphere segment (paper 000 Fig. 7).
+/// Corner topology of the sphere segment (Tudruj et al. (2023) Fig. 7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Corner {
     /// One triangle holds the 90 degree corner.

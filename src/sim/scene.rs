@@ -74,7 +74,7 @@ pub enum SceneKind {
         /// Free radius a, m.
         radius_m: f64,
     },
-    /// Paper 000's sphere octant.
+    /// Tudruj et al.'s (2023) sphere octant.
     SphereSegment {
         /// Rest radius R0, m.
         radius_m: f64,

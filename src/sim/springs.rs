@@ -6,7 +6,7 @@
 //! a spring along the current edge; its tension is summed over the one or two
 //! triangles that hold it.
 //!
-//! * **TP MSS, division-free** (`tp`, the default; paper 000 eqs 9-13 times
+//! * **TP MSS, division-free** (`tp`, the default; Tudruj et al. (2023) eqs 9-13 times
 //!   the extension): with `Q = E t / (8 (1 - nu^2) |T0|)` (eq 12),
 //!   `eps_t_x = x / x0 - 1`, `eps_n_x = h_x / h_x0 - 1 = |T| x0 / (|T0| x) - 1`
 //!   and `q_x = eps_n_x + nu eps_t_x` (eq 9), the tension of side `b` is
@@ -43,14 +43,15 @@
 //!   bounded). `E <= 0` met inside the range stops the solve with the strain.
 //! * hyperelastic models: the equibiaxial secant modulus
 //!   `E = (1 - nu) P(lambda) / (lambda - 1)` with `P = dW/dlambda` the nominal
-//!   equibiaxial stress (NOTES section 1, "for the 2D case"); with it the TP
+//!   equibiaxial stress (Tudruj et al. 2023, section 7, "for the 2D case"); with it the TP
 //!   springs carry exactly the material's equibiaxial tension per current
 //!   length, `P t / lambda`. At `lambda -> 1` the limit `(1 - nu) dP/dlambda`.
 //!
 //! ## Loads
 //! Follower pressure on the current triangles: each vertex gets one third of
 //! `p |T| n`. Nodal loads are constant vectors. Lumped masses: one third of
-//! `rho t |T0|` per vertex (NOTES section 4).
+//! `rho t |T0|` per vertex (the membrane analogue of the quarter-tetrahedron
+//! lumping of Sudhamani & Merriliance 2019).
 
 use nalgebra::{Point3, Vector3};
 

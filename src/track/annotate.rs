@@ -1,6 +1,5 @@
 //! A tracked photo with what was found drawn on it, as PNG bytes, for the
-//! report of `bulge run` (written by the `run` session; kept here because
-//! only `src/track/` uses OpenCV).
+//! report of `bulge run` (here because only `src/track/` uses OpenCV).
 //!
 //! Drawn in colour over the photo: the search region `roi_px` (blue), the
 //! matched template rectangle (green) and the apex (red cross). Photos wider

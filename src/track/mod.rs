@@ -1,6 +1,6 @@
 //! Photos -> apex heights (the only module that uses OpenCV).
 //!
-//! Paper 000, section 7 (Fig. 13): a template showing the border between the
+//! Tudruj et al. (2023), section 7 (Fig. 13): a template showing the border between the
 //! bubble's top and the background is found in every photo inside an
 //! elongated region where the apex moves; its position in pixels becomes a
 //! height in metres. Here:
@@ -318,7 +318,7 @@ pub struct FrameResult {
     pub apex_y_px: f64,
     /// TM_CCOEFF_NORMED at the best match.
     pub score: f64,
-    /// Apex height above the clamp plane, m (`h + h0` in NOTES.md).
+    /// Apex height above the clamp plane, m (`h + h0`, with `h0` the pre-bulge height).
     pub height_m: f64,
     /// 1-sigma uncertainty of `height_m` from the image measurement alone, m.
     pub height_std_m: f64,
@@ -1288,7 +1288,7 @@ mod tests {
     fn region_and_template_are_checked_against_the_image() {
         let d = tempfile::tempdir().unwrap();
         write_tiny_experiment(d.path());
-        let exp = Experiment::read(&d.path().join("experiment.toml")).unwrap();
+        let exp = Experiment::read(d.path().join("experiment.toml")).unwrap();
         let mut setup = setup_from_experiment(&exp).unwrap();
         setup.roi = [100, 50, 100, 20];
         let e = track(&setup, &Options::default(), &|| {}).unwrap_err();
@@ -1319,7 +1319,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let frames = synth::cap_frames(spec.specimen.radius_m, 0.6 * spec.specimen.radius_m, n);
         let w = synth::write_sequence(dir.path(), spec, &frames).unwrap();
-        let e = Experiment::read(&dir.path().join("experiment.toml")).unwrap();
+        let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
         let setup = setup_from_experiment(&e).unwrap();
         let opts = Options {
             refine,

@@ -123,7 +123,7 @@ fn refusals_are_clear() {
     assert!(!dir.path().join("dyn.csv").exists());
 }
 
-/// 003's sheet with an in-plane load: held in its plane, a larger step is
+/// Sudhamani & Merriliance's sheet with an in-plane load: held in its plane, a larger step is
 /// sub-stepped, the loaded node moves along -y.
 #[test]
 fn sheet_in_plane_load_substeps() {

@@ -90,7 +90,7 @@ fn treloar_all_models_writes_every_output() {
     }
 }
 
-/// The Done-when of issue 3: Ogden 3-term RMSE no worse than Ogden's 1972
+/// Ogden 3-term RMSE no worse than Ogden's 1972
 /// parameters on the same points, through the binary.
 #[test]
 fn treloar_ogden3_beats_published_parameters() {

@@ -336,7 +336,7 @@ fn stress_demo_data_runs() {
     .ok();
     let o = Csv::read(&out);
     assert_eq!(o.header.join(","), format!("frame,{COLUMNS}"));
-    // NOTES.md: the mean stretch at h/a = 0.53098 is 1.179 (pole: 1.20)
+    // The exact inflation (Adkins & Rivlin 1952): the mean stretch at h/a = 0.53098 is 1.179 (pole: 1.20)
     close(o.num(2, "stretch"), 1.179, 1e-3);
 }
 

@@ -85,7 +85,7 @@ pub fn draw(case: &Case, dir: &Path, settings: &Settings) -> Result<Drawn, Pipel
         specimen: case.specimen,
     };
     let written = synth::write_sequence(dir, &spec, &frames)?;
-    let experiment = Experiment::read(&dir.join("experiment.toml"))
+    let experiment = Experiment::read(dir.join("experiment.toml"))
         .map_err(|e| PipelineError::Input(e.to_string()))?;
     let tracking = pipeline::track_stage(&experiment, settings, &|| {})?;
     Ok(Drawn {

@@ -20,7 +20,7 @@ pub fn linear(e: f64, nu: f64) -> Material {
     }
 }
 
-/// Radii (mean, corner a, b, c) of paper 000's sphere octant (R0 = 1 m,
+/// Radii (mean, corner a, b, c) of Tudruj et al.'s (2023) sphere octant (R0 = 1 m,
 /// nu = 0.3, corners II, I, I) at 10 kPa, for modulus `e` and thickness `t`
 /// on `n` divisions.
 pub fn sphere_radii(model: SpringModel, e: f64, t: f64, n: usize, solver: Solver) -> [f64; 4] {

@@ -1,9 +1,9 @@
 //! `bulge bench`: speed against error of every solver and integrator, on the
 //! disc bubble (error against the exact axisymmetric solution) and on paper
-//! 003's sheet (error against a converged static solution of the same mesh).
+//! Sudhamani & Merriliance's sheet (error against a converged static solution of the same mesh).
 //! Writes `bench.csv`, `bench.md` and `bench.png` (log wall time against log
 //! error, with each case's Pareto front); with `--paper003` also
-//! `paper003.md`, paper 003's three experiments and the disc's pressure step
+//! `paper003.md`, Sudhamani & Merriliance's (2019) three experiments and the disc's pressure step
 //! (see `docs/dynamics.md`).
 
 use std::fmt::Write as _;
@@ -38,7 +38,7 @@ pub struct Args {
     /// build on one core.
     #[arg(long)]
     pub quick: bool,
-    /// Also reproduce paper 003's experiments (time against points, largest
+    /// Also reproduce Sudhamani & Merriliance's (2019) experiments (time against points, largest
     /// stable step per integrator, deformation against load) and the disc's
     /// pressure step into paper003.md. Several minutes (less with --quick).
     #[arg(long)]
@@ -269,7 +269,7 @@ fn run_bench(quick: bool) -> anyhow::Result<Vec<Entry>> {
             }
         }
     }
-    // --- paper 003's sheet, loaded at the middle with 10 N/m ---
+    // --- Sudhamani & Merriliance's (2019) sheet, loaded at the middle with 10 N/m ---
     let setup = SheetSetup::default();
     let points: &[usize] = if quick { &[60] } else { &[200, 1000] };
     let dyn_points: usize = if quick { 60 } else { 200 };
@@ -365,7 +365,7 @@ fn markdown(entries: &[Entry]) -> String {
             if case == "disc" {
                 "Disc bubble (a = 37.5 mm, t = 0.35 mm, E = 1 MPa, nu = 0.45, 5 kPa): error of the apex height against the axisymmetric solution"
             } else {
-                "003 sheet (0.1 m, E = 50 kPa, 10 N/m at the middle): error of the loaded node's displacement against Newton at 1e-10 on the same mesh"
+                "the Sudhamani & Merriliance sheet (0.1 m, E = 50 kPa, 10 N/m at the middle): error of the loaded node's displacement against Newton at 1e-10 on the same mesh"
             }
         );
         for (i, e) in entries.iter().enumerate().filter(|(_, e)| e.case == case) {
@@ -405,7 +405,7 @@ fn plot(entries: &[Entry]) -> Figure {
             Panel::new("log10 wall time (s)", "log10 relative error").titled(if case == "disc" {
                 "disc bubble against the axisymmetric solution"
             } else {
-                "003 sheet against the converged static solution"
+                "the Sudhamani & Merriliance sheet against the converged static solution"
             });
         for (k, m) in methods.iter().enumerate() {
             let pts: Vec<(f64, f64)> = entries
@@ -513,8 +513,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Paper 003's three experiments and the disc pressure step, as Markdown.
-#[allow(clippy::approx_constant)] // 003 Table 2.2.1 reports 3.14 s
+/// Sudhamani & Merriliance's (2019) three experiments and the disc pressure step, as Markdown.
+#[allow(clippy::approx_constant)] // Sudhamani & Merriliance (2019) Table 2.2.1 reports 3.14 s
 fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     let setup = SheetSetup::default();
     let mut s = String::new();
@@ -535,7 +535,7 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     } else {
         &[200, 500, 1000, 2000, 4000]
     };
-    // 003 Table 2.2.1 as published (3.14 s is a time, not pi).
+    // Sudhamani & Merriliance (2019) Table 2.2.1 as published (3.14 s is a time, not pi).
     #[allow(clippy::approx_constant)]
     let paper_time = [
         (200, 0.5, 0.3),
@@ -558,12 +558,12 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     )?;
     let _ = writeln!(
         s,
-        "#### Computation time against points (003 Table 2.2.1)\n\n{t_end} s simulated, 10 N/m at the middle, from rest; step 0.9 of Verlet's estimated limit for every integrator (explicit Euler sub-steps to 0.9 of its own). One core.\n\n| points (003) | 003 Euler s | 003 Verlet s | points | dt_s | explicit Euler s (sub-steps) | Verlet s | implicit Euler s | u(t_end) / u_static, Verlet |\n|---|---|---|---|---|---|---|---|---|"
+        "#### Computation time against points (Sudhamani & Merriliance 2019, Table 2.2.1)\n\n{t_end} s simulated, 10 N/m at the middle, from rest; step 0.9 of Verlet's estimated limit for every integrator (explicit Euler sub-steps to 0.9 of its own). One core.\n\n| points (published) | published Euler s | published Verlet s | points | dt_s | explicit Euler s (sub-steps) | Verlet s | implicit Euler s | u(t_end) / u_static, Verlet |\n|---|---|---|---|---|---|---|---|---|"
     );
     let mut pts: Vec<usize> = rows.iter().map(|r| r.points).collect();
     pts.dedup();
     for (k, &np) in pts.iter().enumerate() {
-        // 003's sizes only beside the full set (the quick one is smaller).
+        // Sudhamani & Merriliance's sizes only beside the full set (the quick one is smaller).
         let paper = if quick {
             None
         } else {
@@ -608,7 +608,7 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     };
     let _ = writeln!(
         s,
-        "\n#### Largest stable step (003 Table 2.2.2)\n\n{} points, at the static equilibrium under 10 N/m; stiffest mode {:.1} rad/s (power iteration; Gershgorin bound {:.1}), its damping ratio {:.3}. Measured: bisection to 1 %, a velocity along the stiffest mode integrated for the stated steps, stable when the kinetic energy has not grown.\n\n| integrator | 003 step ms | estimate ms | measured ms | measured / estimate |\n|---|---|---|---|---|",
+        "\n#### Largest stable step (Sudhamani & Merriliance 2019, Table 2.2.2)\n\n{} points, at the static equilibrium under 10 N/m; stiffest mode {:.1} rad/s (power iteration; Gershgorin bound {:.1}), its damping ratio {:.3}. Measured: bisection to 1 %, a velocity along the stiffest mode integrated for the stated steps, stable when the kinetic energy has not grown.\n\n| integrator | published step ms | estimate ms | measured ms | measured / estimate |\n|---|---|---|---|---|",
         np, rows[0].omega[0], rows[0].omega[2], rows[0].omega[1]
     );
     for r in &rows {
@@ -649,7 +649,7 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
     let t3 = 2.0;
     let _ = writeln!(
         s,
-        "\n#### Deformation against load (003 Table 2.2.3)\n\n{np} points; displacement of the loaded node; \"error\" = |u(t = {t3} s) - u_static| after {t3} s from rest at 0.9 of Verlet's step limit.\n"
+        "\n#### Deformation against load (Sudhamani & Merriliance 2019, Table 2.2.3)\n\n{np} points; displacement of the loaded node; \"error\" = |u(t = {t3} s) - u_static| after {t3} s from rest at 0.9 of Verlet's step limit.\n"
     );
     for at in ["middle", "corner"] {
         let rows = paper003::load_table(
@@ -666,7 +666,7 @@ fn paper003_tables(quick: bool) -> anyhow::Result<String> {
         )?;
         let _ = writeln!(
             s,
-            "Load at the {at}:\n\n| N/m | 003 Euler mm | 003 Verlet mm | static u mm | explicit Euler error mm | Verlet error mm | implicit Euler error mm |\n|---|---|---|---|---|---|---|"
+            "Load at the {at}:\n\n| N/m | published Euler mm | published Verlet mm | static u mm | explicit Euler error mm | Verlet error mm | implicit Euler error mm |\n|---|---|---|---|---|---|---|"
         );
         for (r, p) in rows.iter().zip(paper_def) {
             let err = |k: usize| (r.dynamic_m[k].1 - r.static_m).abs() * 1e3;

@@ -1,4 +1,4 @@
-//! Paper 003's experiments, with every parameter it leaves out stated, and
+//! Sudhamani & Merriliance's (2019) experiments, with every parameter it leaves out stated, and
 //! the sudden pressure step on the disc.
 //!
 //! 003 fixes a square mesh on its left edge and loads it "at the middle" or
@@ -9,8 +9,8 @@
 //! simulated time or tolerance. bulge's choices ([`SheetSetup::default`]):
 //!
 //! * a square of 0.1 m, thickness 1 mm, E = 50 kPa, nu = 0.45, density
-//!   1060 kg/m^3 (soft tissue), Van Gelder springs (003's springs are linear;
-//!   Van Gelder's eq 1 sets their stiffness from E and nu). 003's liver
+//!   1060 kg/m^3 (soft tissue), Van Gelder springs (Sudhamani & Merriliance's springs are linear;
+//!   Van Gelder's eq 1 sets their stiffness from E and nu). Sudhamani & Merriliance's liver
 //!   modulus, 3.5 kPa, moves the loaded node 21-24 mm under 10 N/m at 200
 //!   points (more than three mesh spacings): the point load then inverts
 //!   triangles on fine meshes and the spring lattice has several equilibria
@@ -20,7 +20,7 @@
 //!   middle (or the corner) of the free edge x = L. Its N/m is read as the 2D
 //!   convention of a plane model: force per unit thickness, so the nodal force
 //!   is `q t` and the displacement scales as `q / E` (10 N/m / 3.5 kPa =
-//!   2.9 mm at 3.5 kPa, the size of 003's "errors"). The nodes are held in the plane
+//!   2.9 mm at 3.5 kPa, the size of Sudhamani & Merriliance's "errors"). The nodes are held in the plane
 //!   z = 0 (a flat membrane has no stiffness out of its plane);
 //! * damping: 0.1 of each spring's critical value;
 //! * the static reference: Newton (sparse LU) to a residual of 1e-10 of the
@@ -38,7 +38,7 @@ use bulge::sim::mesh::{self, DiscOptions, Mesh, SheetOptions};
 use bulge::sim::solve::{self, Options};
 use bulge::sim::springs::{Membrane, SpringModel};
 
-/// The sheet of 003's experiments.
+/// The sheet of Sudhamani & Merriliance's experiments.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SheetSetup {
     /// Side of the square, m.
@@ -351,7 +351,7 @@ pub fn load_table(
     Ok(rows)
 }
 
-/// The disc of paper 000's bubble test (a = 37.5 mm, t = 0.35 mm, linear
+/// The disc of Tudruj et al.'s (2023) bubble test (a = 37.5 mm, t = 0.35 mm, linear
 /// E = 1 MPa, nu = 0.45, rho = 1100 kg/m^3), 60 degree sector of `rings`.
 pub fn bubble_disc(rings: usize) -> (Mesh, Material) {
     let m = mesh::disc(DiscOptions {

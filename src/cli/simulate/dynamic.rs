@@ -28,7 +28,7 @@ pub struct DynArgs {
     #[arg(long)]
     pub dynamic: bool,
     /// Integrators (with --dynamic), comma-separated: explicit-euler,
-    /// symplectic-euler, verlet (003's position Verlet, default),
+    /// symplectic-euler, verlet (Sudhamani & Merriliance's position Verlet, default),
     /// implicit-euler (Newton + sparse LU), xpbd (needs van-gelder or lloyd
     /// and a linear material).
     #[arg(long, default_value = "verlet")]
@@ -46,7 +46,7 @@ pub struct DynArgs {
     #[arg(long, default_value_t = bulge::sim::dynamics::DEFAULT_DAMPING)]
     pub damping: f64,
     /// Damping law: critical (a fraction of critical, default) or paper003
-    /// (003's d = sqrt(k (m_i + m_j)) / l0, which has an extra 1/length and
+    /// (Sudhamani & Merriliance's d = sqrt(k (m_i + m_j)) / l0, which has an extra 1/length and
     /// depends on the mesh; --damping is then ignored).
     #[arg(long, default_value = "critical")]
     pub damping_law: String,
