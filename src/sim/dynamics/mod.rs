@@ -46,6 +46,9 @@ mod symplectic_euler;
 mod verlet;
 mod xpbd;
 
+#[cfg(test)]
+mod tests;
+
 pub use damping::{DEFAULT_DAMPING, DampingLaw, edge_damping, reference_edge_stiffness};
 pub use implicit_euler::IMPLICIT_HALVINGS;
 pub use step_limit::{StepEstimate, measure_step_limit};
