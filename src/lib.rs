@@ -51,6 +51,8 @@
 //! (`--no-default-features`) the library builds the stress, fit, simulate
 //! and axisymmetric stages with neither OpenCV, libclang, plotters nor clap.
 
+#![warn(missing_docs)]
+
 pub mod axisym;
 pub mod experiment;
 pub mod fit;

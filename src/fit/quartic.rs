@@ -144,7 +144,7 @@ impl std::fmt::Display for LawWarning {
 const CHECK_SAMPLES: usize = 2000;
 
 /// Intervals of `range` where `E <= 0` or `d(E eps)/d eps <= 0`, sampled on
-/// a uniform grid of [`CHECK_SAMPLES`] intervals (a quartic has at most four
+/// a uniform grid of `CHECK_SAMPLES` intervals (a quartic has at most four
 /// sign changes, so the grid resolves each one to `range / 2000`).
 pub fn check_law(coefficients: &[f64], range: [f64; 2]) -> Vec<LawWarning> {
     let [lo, hi] = range;

@@ -7,7 +7,7 @@
 //!   [`Constraint`]) and the scene meshes (disc, sphere segment, sheet);
 //! * [`springs`]: [`Membrane`], the spring model (TP MSS, Van Gelder, Lloyd)
 //!   with the modulus law of the material, follower pressure and nodal loads:
-//!   [`Membrane::forces`] and [`Membrane::tangent`];
+//!   [`Membrane::forces`] and its tangent stiffness for Newton;
 //! * [`solve`]: quasi-static solution per pressure (Newton with a sparse LU,
 //!   dynamic relaxation with kinetic damping), continued from one pressure to
 //!   the next;

@@ -216,7 +216,7 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
 
 /// The edge rows found so far in the columns of one image, so that the
 /// passes of [`edge_fit`] and the wider [`axis_fit`] locate each column once:
-/// [`column_edge`] iterates to a fixed point, so a column already converged
+/// `column_edge` iterates to a fixed point, so a column already converged
 /// within a pixel of a new start would converge to the same row again.
 pub struct Columns<'a> {
     img: &'a Gray,
@@ -250,7 +250,7 @@ impl<'a> Columns<'a> {
 }
 
 /// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
-/// the edge row of each column of `x0 +- half_span` ([`column_edge`]), then
+/// the edge row of each column of `x0 +- half_span` (`column_edge`), then
 /// a least-squares parabola `y = A + B u + C u^2` (u = x - x0) through them;
 /// the apex is its vertex. Passes: the second centres each column's window
 /// on the first parabola, the third re-centres the span on the vertex when
