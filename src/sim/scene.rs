@@ -795,7 +795,7 @@ nodes = 153
     #[test]
     fn reads_a_disc_scene() {
         let dir = tempfile::tempdir().unwrap();
-        let s = Scene::read(&write(dir.path(), "scene.toml", DISC)).unwrap();
+        let s = Scene::read(write(dir.path(), "scene.toml", DISC)).unwrap();
         assert_eq!(s.kind, SceneKind::Disc { radius_m: 0.0375 });
         assert_eq!(s.thickness_m, 0.00035);
         assert_eq!(s.pressures_pa, vec![5000.0, 7300.5]);
@@ -823,7 +823,7 @@ nodes = 153
             "model = \"linear\"\nyoung_pa = 2.0e6\npoisson = 0.49\n",
         );
         let text = "kind = \"sphere-segment\"\nradius_m = 1.0\nthickness_m = 0.001\npressure_pa = [100]\nmaterial = \"rubber.toml\"\ndensity_kg_m3 = 960\n[mesh]\ncorners = [\"I\", \"II\", \"I\"]\n";
-        let s = Scene::read(&write(dir.path(), "s.toml", text)).unwrap();
+        let s = Scene::read(write(dir.path(), "s.toml", text)).unwrap();
         assert_eq!(s.material.model, Model::Linear { young_pa: 2.0e6 });
         assert_eq!(s.density_kg_m3, 960.0);
         assert_eq!(
@@ -873,7 +873,7 @@ nodes = 153
             ),
         ];
         for (k, (text, needle)) in cases.iter().enumerate() {
-            let e = Scene::read(&write(dir.path(), &format!("bad{k}.toml"), text))
+            let e = Scene::read(write(dir.path(), &format!("bad{k}.toml"), text))
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(needle), "case {k}: `{needle}` not in: {e}");
@@ -886,7 +886,7 @@ nodes = 153
     fn empty_pressures_read_but_do_not_validate() {
         let dir = tempfile::tempdir().unwrap();
         let text = DISC.replace("[5000, 7300.5]", "[]");
-        let s = Scene::read(&write(dir.path(), "s.toml", &text)).unwrap();
+        let s = Scene::read(write(dir.path(), "s.toml", &text)).unwrap();
         assert!(s.pressures_pa.is_empty());
         assert!(s.validate(false).is_ok());
         assert!(s.validate(true).unwrap_err().contains("empty"));
