@@ -124,6 +124,19 @@ pub enum TrackError {
         /// The folder.
         dir: PathBuf,
     },
+    /// The glob is not a valid pattern.
+    #[error(
+        "{}: glob = \"{glob}\" is not a valid pattern ({reason}); fix `glob` in [photos] (`*`, `?`, `[a-z]`, `[!a-z]`)",
+        dir.display()
+    )]
+    BadGlob {
+        /// The folder.
+        dir: PathBuf,
+        /// The pattern.
+        glob: String,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The glob matches no file.
     #[error(
         "{}: no file matches glob = \"{glob}\" (the folder holds {count} files, e.g. {examples}); fix `glob` in [photos]",
@@ -388,6 +401,7 @@ impl Tracked {
 }
 
 /// Compares names the way people count: `img2` < `img10`.
+// Kept by hand: natord orders `img02` before `img1`, alphanumeric-sort `img2` before `img02`, lexical-sort `img002` after `img10`.
 pub fn natural_cmp(a: &str, b: &str) -> Ordering {
     let (ab, bb) = (a.as_bytes(), b.as_bytes());
     let (mut i, mut j) = (0, 0);
@@ -420,46 +434,10 @@ pub fn natural_cmp(a: &str, b: &str) -> Ordering {
 }
 
 /// Shell-style match of a file name: `*` any run, `?` one character,
-/// `[abc]` / `[a-z]` / `[!abc]` one character of a set.
+/// `[abc]` / `[a-z]` / `[!abc]` one character of a set. An invalid pattern
+/// (e.g. an unclosed `[`) matches nothing.
 pub fn glob_match(pattern: &str, name: &str) -> bool {
-    let p: Vec<char> = pattern.chars().collect();
-    let n: Vec<char> = name.chars().collect();
-    fn set_len(p: &[char]) -> Option<usize> {
-        p.iter().skip(2).position(|&c| c == ']').map(|k| k + 3)
-    }
-    fn in_set(set: &[char], c: char) -> bool {
-        let (neg, body) = match set.first() {
-            Some('!') | Some('^') => (true, &set[1..]),
-            _ => (false, set),
-        };
-        let mut hit = false;
-        let mut k = 0;
-        while k < body.len() {
-            if k + 2 < body.len() && body[k + 1] == '-' {
-                hit |= body[k] <= c && c <= body[k + 2];
-                k += 3;
-            } else {
-                hit |= body[k] == c;
-                k += 1;
-            }
-        }
-        hit != neg
-    }
-    fn rec(p: &[char], n: &[char]) -> bool {
-        match p.first() {
-            None => n.is_empty(),
-            Some('*') => (0..=n.len()).any(|k| rec(&p[1..], &n[k..])),
-            Some('?') => !n.is_empty() && rec(&p[1..], &n[1..]),
-            Some('[') => match set_len(p) {
-                Some(len) => {
-                    !n.is_empty() && in_set(&p[1..len - 1], n[0]) && rec(&p[len..], &n[1..])
-                }
-                None => n.first() == Some(&'[') && rec(&p[1..], &n[1..]),
-            },
-            Some(&c) => n.first() == Some(&c) && rec(&p[1..], &n[1..]),
-        }
-    }
-    rec(&p, &n)
+    glob::Pattern::new(pattern).is_ok_and(|p| p.matches(name))
 }
 
 /// The photos of a folder matching a glob, in natural order of their names.
@@ -488,10 +466,15 @@ pub fn list_photos(dir: &Path, glob: &str) -> Result<Vec<PathBuf>, TrackError> {
             dir: dir.to_path_buf(),
         });
     }
+    let pattern = glob::Pattern::new(glob).map_err(|e| TrackError::BadGlob {
+        dir: dir.to_path_buf(),
+        glob: glob.to_string(),
+        reason: e.to_string(),
+    })?;
     names.sort_by(|a, b| natural_cmp(a, b));
     let matched: Vec<PathBuf> = names
         .iter()
-        .filter(|n| glob_match(glob, n))
+        .filter(|n| pattern.matches(n))
         .map(|n| dir.join(n))
         .collect();
     if matched.is_empty() {
@@ -1254,6 +1237,8 @@ mod tests {
         let e = list_photos(d.path(), "*.png").unwrap_err();
         assert!(e.to_string().contains("`a1.jpg`"), "{e}");
         assert_eq!(list_photos(d.path(), "a?.jpg").unwrap().len(), 1);
+        let e = list_photos(d.path(), "a[1.jpg").unwrap_err();
+        assert!(matches!(e, TrackError::BadGlob { .. }), "{e}");
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Integration test of `bulge bench --quick`.
 use std::fs;
 
-use crate::util::{bulge_in, tempdir};
+use crate::util::{bulge_in, read_csv, tempdir};
 
 /// The quick bench writes its CSV, Markdown and PNG; every row is either an
 /// error figure or a status saying why not; the Newton disc row is within
@@ -12,10 +12,8 @@ fn quick_bench_writes_table_and_plot() {
     bulge_in(dir.path(), &["bench", "--quick", "--out", "b"]).ok();
     let csv = fs::read_to_string(dir.path().join("b/bench.csv")).unwrap();
     assert!(!csv.contains("NaN") && !csv.contains("inf"));
-    let mut lines = csv.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (head, rows) = read_csv(&dir.path().join("b/bench.csv"));
     let at = |n: &str| head.iter().position(|h| *h == n).unwrap();
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.len() >= 15, "{}", rows.len());
     for r in &rows {
         assert!(

@@ -20,13 +20,9 @@ fn read_material(p: &Path) -> Material {
 
 /// quantity -> value from fixtures/fit/treloar_reference.csv (numpy/scipy).
 fn reference() -> HashMap<String, f64> {
-    let text = fs::read_to_string(fixture("fit/treloar_reference.csv")).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let (q, v) = l.split_once(',').unwrap();
-            (q.to_string(), v.parse().unwrap())
-        })
+    let (_, rows) = read_csv(&fixture("fit/treloar_reference.csv"));
+    rows.into_iter()
+        .map(|r| (r[0].clone(), r[1].parse().unwrap()))
         .collect()
 }
 

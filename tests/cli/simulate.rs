@@ -1,7 +1,7 @@
 //! Integration tests of `bulge simulate`.
 use std::fs;
 
-use crate::util::{bulge_in, tempdir};
+use crate::util::{bulge_in, read_csv, tempdir};
 
 const DISC: &str = r#"
 kind = "disc"
@@ -18,11 +18,11 @@ poisson = 0.45
 nodes = 60
 "#;
 
+/// The header then the records.
 fn rows(path: &std::path::Path) -> Vec<Vec<String>> {
-    let text = fs::read_to_string(path).unwrap();
-    text.lines()
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
+    let (head, mut rows) = read_csv(path);
+    rows.insert(0, head);
+    rows
 }
 
 #[test]

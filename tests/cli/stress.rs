@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 use std::fs;
 use std::path::Path;
 
-use crate::util::{Run, bulge_in, repo, tempdir};
+use crate::util::{Run, bulge_in, read_csv, repo, tempdir};
 
 const A: f64 = 0.0375;
 const T: f64 = 0.00035;
@@ -27,17 +27,10 @@ struct Csv {
 
 impl Csv {
     fn read(p: &Path) -> Self {
-        let text = fs::read_to_string(p).expect("output written");
-        let mut lines = text.lines();
-        let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-        let rows = lines
-            .map(|l| {
-                header
-                    .iter()
-                    .cloned()
-                    .zip(l.split(',').map(String::from))
-                    .collect()
-            })
+        let (header, rows) = read_csv(p);
+        let rows = rows
+            .into_iter()
+            .map(|r| header.iter().cloned().zip(r).collect())
             .collect();
         Csv { header, rows }
     }

@@ -9,7 +9,7 @@ use bulge::experiment::Specimen;
 use bulge::track::image::{Encoding, Gray, encode};
 use bulge::track::synth::{self, SequenceSpec};
 
-use crate::util::{bulge_in, tempdir};
+use crate::util::{bulge_in, read_csv, tempdir};
 
 const N: usize = 6;
 
@@ -52,11 +52,11 @@ fn edit(path: &Path, from: &str, to: &str) {
     fs::write(path, out.join("\n") + "\n").unwrap();
 }
 
+/// The header then the records.
 fn read_heights(path: &Path) -> Vec<Vec<String>> {
-    let s = fs::read_to_string(path).unwrap();
-    s.lines()
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
+    let (head, mut rows) = read_csv(path);
+    rows.insert(0, head);
+    rows
 }
 
 #[test]
