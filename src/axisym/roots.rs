@@ -1,6 +1,12 @@
 //! Brent's bracketing root finder and minimiser (Brent 1973, *Algorithms for
-//! minimization without derivatives*, chapters 4 and 5), with a fallible
-//! function so that an evaluation error ends the search.
+//! minimization without derivatives*, chapters 4 and 5), argmin's
+//! `BrentRoot` and `BrentOpt`, with a fallible function so that an
+//! evaluation error ends the search and comes back as it was.
+
+use std::cell::{Cell, RefCell};
+
+use argmin::core::{CostFunction, Executor, State, TerminationReason};
+use argmin::solver::brent::{BrentOpt, BrentRoot};
 
 /// A converged root: where, the function there, and evaluations spent.
 #[derive(Debug, Clone, Copy)]
@@ -15,12 +21,66 @@ pub struct Root {
     pub converged: bool,
 }
 
+/// `f` as an argmin cost function: every value is kept (those the caller
+/// passes in are not recomputed), evaluations past the budget are refused,
+/// and the first error of `f` is kept to be returned as is (argmin's own
+/// error type is `anyhow::Error`).
+struct Fallible<F, E> {
+    f: RefCell<F>,
+    seen: RefCell<Vec<(f64, f64)>>,
+    budget: usize,
+    evals: Cell<usize>,
+    error: RefCell<Option<E>>,
+}
+
+impl<F: FnMut(f64) -> Result<f64, E>, E> Fallible<F, E> {
+    fn new(f: F, known: &[(f64, f64)], budget: usize) -> Self {
+        Self {
+            f: RefCell::new(f),
+            seen: RefCell::new(known.to_vec()),
+            budget,
+            evals: Cell::new(0),
+            error: RefCell::new(None),
+        }
+    }
+
+    /// The value at an abscissa already evaluated.
+    fn at(&self, x: f64) -> Option<f64> {
+        self.seen.borrow().iter().find(|p| p.0 == x).map(|p| p.1)
+    }
+}
+
+impl<F: FnMut(f64) -> Result<f64, E>, E> CostFunction for &Fallible<F, E> {
+    type Param = f64;
+    type Output = f64;
+
+    fn cost(&self, x: &f64) -> Result<f64, argmin::core::Error> {
+        if let Some(fx) = self.at(*x) {
+            return Ok(fx);
+        }
+        if self.evals.get() >= self.budget {
+            return Err(argmin::core::Error::msg("evaluation budget spent"));
+        }
+        self.evals.set(self.evals.get() + 1);
+        match (self.f.borrow_mut())(*x) {
+            Ok(fx) => {
+                self.seen.borrow_mut().push((*x, fx));
+                Ok(fx)
+            }
+            Err(e) => {
+                *self.error.borrow_mut() = Some(e);
+                Err(argmin::core::Error::msg("evaluation failed"))
+            }
+        }
+    }
+}
+
 /// Finds a root of `f` in `[a, b]` with `f(a)`, `f(b)` of opposite signs
 /// (values passed in). Stops when `|f| <= ftol` or the bracket is narrower
 /// than `2 xtol`.
 #[allow(clippy::too_many_arguments)]
 pub fn brent_zero<E>(
-    mut f: impl FnMut(f64) -> Result<f64, E>,
+    f: impl FnMut(f64) -> Result<f64, E>,
     a: f64,
     fa: f64,
     b: f64,
@@ -29,80 +89,52 @@ pub fn brent_zero<E>(
     ftol: f64,
     max_evals: usize,
 ) -> Result<Root, E> {
-    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
     debug_assert!(fa * fb <= 0.0);
-    let (mut c, mut fc) = (a, fa);
-    let mut d = b - a;
-    let mut e = d;
-    let mut evals = 0;
-    loop {
-        if fb * fc > 0.0 {
-            c = a;
-            fc = fa;
-            d = b - a;
-            e = d;
-        }
-        if fc.abs() < fb.abs() {
-            a = b;
-            b = c;
-            c = a;
-            fa = fb;
-            fb = fc;
-            fc = fa;
-        }
-        let tol = 2.0 * f64::EPSILON * b.abs() + 0.5 * xtol;
-        let m = 0.5 * (c - b);
-        if fb == 0.0 || fb.abs() <= ftol || m.abs() <= tol {
-            return Ok(Root {
-                x: b,
-                fx: fb,
-                evals,
-                converged: true,
-            });
-        }
-        if evals >= max_evals {
-            return Ok(Root {
-                x: b,
-                fx: fb,
-                evals,
-                converged: false,
-            });
-        }
-        if e.abs() >= tol && fa.abs() > fb.abs() {
-            // Secant or inverse quadratic interpolation.
-            let s = fb / fa;
-            let (mut p, mut q);
-            if a == c {
-                p = 2.0 * m * s;
-                q = 1.0 - s;
-            } else {
-                let qq = fa / fc;
-                let r = fb / fc;
-                p = s * (2.0 * m * qq * (qq - r) - (b - a) * (r - 1.0));
-                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
-            }
-            if p > 0.0 {
-                q = -q;
-            } else {
-                p = -p;
-            }
-            if 2.0 * p < (3.0 * m * q - (tol * q).abs()).min((e * q).abs()) {
-                e = d;
-                d = p / q;
-            } else {
-                d = m;
-                e = m;
-            }
-        } else {
-            d = m;
-            e = m;
-        }
-        a = b;
-        fa = fb;
-        b += if d.abs() > tol { d } else { tol.copysign(m) };
-        fb = f(b)?;
-        evals += 1;
+    // An end that already meets the value test is the root (argmin's
+    // target-cost test sees only `f(b)` before its first step).
+    let (x, fx) = if fb.abs() <= fa.abs() {
+        (b, fb)
+    } else {
+        (a, fa)
+    };
+    if fx == 0.0 || fx.abs() <= ftol {
+        return Ok(Root {
+            x,
+            fx,
+            evals: 0,
+            converged: true,
+        });
     }
+    let problem = Fallible::new(f, &[(a, fa), (b, fb)], max_evals);
+    let run = Executor::new(&problem, BrentRoot::new(a, b, xtol.max(0.0)))
+        .configure(|s| s.target_cost(ftol))
+        .run();
+    if let Some(e) = problem.error.take() {
+        return Err(e);
+    }
+    let evals = problem.evals.get();
+    let (x, converged) = match run {
+        Ok(res) => (
+            *res.state.get_param().expect("Brent has an iterate"),
+            matches!(
+                res.state.get_termination_reason(),
+                Some(TerminationReason::SolverConverged | TerminationReason::TargetCostReached)
+            ),
+        ),
+        // The budget ran out (or the ends did not bracket a root): the
+        // smallest value seen.
+        Err(_) => {
+            let seen = problem.seen.borrow();
+            let best = seen.iter().min_by(|p, q| p.1.abs().total_cmp(&q.1.abs()));
+            (best.expect("the ends are seen").0, false)
+        }
+    };
+    Ok(Root {
+        x,
+        fx: problem.at(x).expect("Brent returns an evaluated point"),
+        evals,
+        converged,
+    })
 }
 
 /// A converged minimum.
@@ -115,90 +147,28 @@ pub struct Min {
 /// Minimises `f` on `[a, b]` (golden section with parabolic steps), to an
 /// abscissa tolerance `rel * |x| + abs`.
 pub fn brent_min<E>(
-    mut f: impl FnMut(f64) -> Result<f64, E>,
+    f: impl FnMut(f64) -> Result<f64, E>,
     a: f64,
     b: f64,
     rel: f64,
     abs: f64,
     max_evals: usize,
 ) -> Result<Min, E> {
-    const CGOLD: f64 = 0.381_966_011_250_105_1;
-    let (mut a, mut b) = (a.min(b), a.max(b));
-    let mut x = a + CGOLD * (b - a);
-    let (mut w, mut v) = (x, x);
-    let mut fx = f(x)?;
-    let (mut fw, mut fv) = (fx, fx);
-    let mut evals = 1;
-    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
-    while evals < max_evals {
-        let xm = 0.5 * (a + b);
-        let tol1 = rel * x.abs() + abs;
-        let tol2 = 2.0 * tol1;
-        if (x - xm).abs() <= tol2 - 0.5 * (b - a) {
-            break;
-        }
-        let mut golden = true;
-        if e.abs() > tol1 {
-            let r = (x - w) * (fx - fv);
-            let mut q = (x - v) * (fx - fw);
-            let mut p = (x - v) * q - (x - w) * r;
-            q = 2.0 * (q - r);
-            if q > 0.0 {
-                p = -p;
-            }
-            q = q.abs();
-            let etemp = e;
-            e = d;
-            if p.abs() < (0.5 * q * etemp).abs() && p > q * (a - x) && p < q * (b - x) {
-                d = p / q;
-                let u = x + d;
-                if u - a < tol2 || b - u < tol2 {
-                    d = tol1.copysign(xm - x);
-                }
-                golden = false;
-            }
-        }
-        if golden {
-            e = if x >= xm { a - x } else { b - x };
-            d = CGOLD * e;
-        }
-        let u = if d.abs() >= tol1 {
-            x + d
-        } else {
-            x + tol1.copysign(d)
-        };
-        let fu = f(u)?;
-        evals += 1;
-        if fu <= fx {
-            if u >= x {
-                a = x;
-            } else {
-                b = x;
-            }
-            v = w;
-            fv = fw;
-            w = x;
-            fw = fx;
-            x = u;
-            fx = fu;
-        } else {
-            if u < x {
-                a = u;
-            } else {
-                b = u;
-            }
-            if fu <= fw || w == x {
-                v = w;
-                fv = fw;
-                w = u;
-                fw = fu;
-            } else if fu <= fv || v == x || v == w {
-                v = u;
-                fv = fu;
-            }
-        }
+    let problem = Fallible::new(f, &[], usize::MAX);
+    // One evaluation to start, then one per iteration.
+    let run = Executor::new(
+        &problem,
+        BrentOpt::new(a.min(b), a.max(b)).set_tolerance(rel, abs),
+    )
+    .configure(|s| s.max_iters(max_evals.saturating_sub(1) as u64))
+    .run();
+    if let Some(e) = problem.error.take() {
+        return Err(e);
     }
-    Ok(Min { x })
+    let res = run.expect("BrentOpt raises no error of its own");
+    Ok(Min {
+        x: *res.state.get_param().expect("Brent has an iterate"),
+    })
 }
 
 #[cfg(test)]

@@ -120,6 +120,7 @@ pub fn solve(a: &DMatrix<f64>, y: &DVector<f64>) -> Result<LinearFit, LinearErro
 #[cfg(test)]
 mod tests {
     use super::*;
+    use approx::assert_abs_diff_eq;
 
     /// y = 1 + 2 x on three points with residuals (0.1, -0.2, 0.1): the
     /// residuals are orthogonal to both columns, so the solution is exact and
@@ -129,12 +130,12 @@ mod tests {
         let a = DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 1.0, 1.0, 1.0, 2.0]);
         let y = DVector::from_vec(vec![1.1, 2.8, 5.1]);
         let f = solve(&a, &y).unwrap();
-        assert!((f.coefficients[0] - 1.0).abs() < 1e-14);
-        assert!((f.coefficients[1] - 2.0).abs() < 1e-14);
+        assert_abs_diff_eq!(f.coefficients[0], 1.0, epsilon = 1e-14);
+        assert_abs_diff_eq!(f.coefficients[1], 2.0, epsilon = 1e-14);
         // s^2 = 0.06 / 1; (X^T X)^-1 = [[5/6, -1/2], [-1/2, 1/2]].
         let se = f.std_errors.unwrap();
-        assert!((se[0] - (0.06f64 * 5.0 / 6.0).sqrt()).abs() < 1e-14);
-        assert!((se[1] - (0.06f64 * 0.5).sqrt()).abs() < 1e-14);
+        assert_abs_diff_eq!(se[0], (0.06f64 * 5.0 / 6.0).sqrt(), epsilon = 1e-14);
+        assert_abs_diff_eq!(se[1], (0.06f64 * 0.5).sqrt(), epsilon = 1e-14);
     }
 
     #[test]

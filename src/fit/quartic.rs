@@ -182,13 +182,22 @@ pub fn check_law(coefficients: &[f64], range: [f64; 2]) -> Vec<LawWarning> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use approx::assert_abs_diff_eq;
 
     #[test]
     fn horner_and_derivative() {
         let c = [1.0, -2.0, 0.5, 3.0];
         let x: f64 = 0.7;
-        assert!((eval(&c, x) - (1.0 - 2.0 * x + 0.5 * x * x + 3.0 * x.powi(3))).abs() < 1e-15);
-        assert!((eval_derivative(&c, x) - (-2.0 + x + 9.0 * x * x)).abs() < 1e-14);
+        assert_abs_diff_eq!(
+            eval(&c, x),
+            1.0 - 2.0 * x + 0.5 * x * x + 3.0 * x.powi(3),
+            epsilon = 1e-15
+        );
+        assert_abs_diff_eq!(
+            eval_derivative(&c, x),
+            -2.0 + x + 9.0 * x * x,
+            epsilon = 1e-14
+        );
     }
 
     /// Exact quartic data (latex-like: 1.2 MPa at rest, softening then

@@ -62,16 +62,17 @@ impl Stats {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use approx::assert_abs_diff_eq;
 
     #[test]
     fn figures_by_hand() {
         // y = 1, 2, 3; residuals 0.1, -0.2, 0.1; mean 2, TSS 2, RSS 0.06.
         let s = Stats::new(&[1.0, 2.0, 3.0], &[0.1, -0.2, 0.1], 1);
-        assert!((s.rss - 0.06).abs() < 1e-15);
-        assert!((s.rmse - (0.02f64).sqrt()).abs() < 1e-15);
-        assert!((s.r2 - 0.97).abs() < 1e-14);
-        assert!((s.aic - (3.0 * (0.02f64).ln() + 2.0)).abs() < 1e-12);
-        assert!((s.aicc.unwrap() - (s.aic + 4.0)).abs() < 1e-12);
+        assert_abs_diff_eq!(s.rss, 0.06, epsilon = 1e-15);
+        assert_abs_diff_eq!(s.rmse, (0.02f64).sqrt(), epsilon = 1e-15);
+        assert_abs_diff_eq!(s.r2, 0.97, epsilon = 1e-14);
+        assert_abs_diff_eq!(s.aic, 3.0 * (0.02f64).ln() + 2.0, epsilon = 1e-12);
+        assert_abs_diff_eq!(s.aicc.unwrap(), s.aic + 4.0, epsilon = 1e-12);
         assert!(Stats::new(&[1.0, 2.0], &[0.0, 0.0], 1).aicc.is_none());
     }
 }

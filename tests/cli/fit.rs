@@ -2,6 +2,7 @@
 //! noisy-quartic fixture and every kind of bad input.
 
 use crate::util::{bulge_in, fixture, read_csv, repo, tempdir};
+use approx::assert_abs_diff_eq;
 use bulge::material::{Material, Model};
 use std::collections::HashMap;
 use std::fs;
@@ -181,9 +182,10 @@ fn quartic_from_stress_strain_file_matches_fixture() {
     assert_eq!(want.len(), 5);
     let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for (g, w) in coefficients_pa.iter().zip(&want) {
-        assert!((g - w).abs() <= 1e-9 * scale, "{g} vs {w}");
+        assert_abs_diff_eq!(g, w, epsilon = 1e-9 * scale);
     }
-    assert!((strain_range[0] - 0.02).abs() < 1e-12 && (strain_range[1] - 1.2).abs() < 1e-12);
+    assert_abs_diff_eq!(strain_range[0], 0.02, epsilon = 1e-12);
+    assert_abs_diff_eq!(strain_range[1], 1.2, epsilon = 1e-12);
     assert_eq!(m.poisson, 0.45);
     let curve = fs::read_to_string(dir.path().join("material_curve.csv")).unwrap();
     assert!(curve.starts_with("stretch,strain,modulus_pa,implied_stress_pa"));
