@@ -18,7 +18,8 @@ use bulge::mechanics::{Modulus, ModulusStress, Options, StrainMeasure, TrueStres
 #[path = "../tests/support/closed_loop.rs"]
 mod closed_loop;
 
-use bulge::pipeline::{FitChoice, Settings, describe_stress};
+use bulge::fit::FitModel;
+use bulge::pipeline::{Settings, describe_stress};
 use bulge::sim::springs::SpringModel;
 use closed_loop::{Case, Drawn};
 
@@ -216,7 +217,7 @@ fn main() {
         .flat_map(|f| [(f, false), (f, true)])
     {
         let s = Settings {
-            fit: FitChoice::parse(fit, 4).expect("fit name"),
+            fit: fit.parse::<FitModel>().expect("fit name"),
             refine,
             ..base.clone()
         };

@@ -36,9 +36,9 @@ pub struct Material {
     pub model: Model,
     /// Poisson ratio used by the plane-stress (mass-spring) models, [0, 0.5).
     pub poisson: f64,
-    /// Statistics of the fit that produced this material (free-form table).
+    /// Where the material came from: the fit that produced it, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fit: Option<toml::Table>,
+    pub fit: Option<crate::fit::Provenance>,
 }
 
 impl Material {

@@ -26,11 +26,10 @@ use crate::axisym::{self, AxisymError};
 #[cfg(feature = "opencv")]
 use crate::experiment::Experiment;
 use crate::experiment::Specimen;
-use crate::fit::hyperelastic::{self, Equibiaxial, HyperFit, Kind};
-use crate::fit::quartic::{self, PolyFit};
-use crate::fit::{FitError, StressMeasure, inverse};
+use crate::fit::data::Loaded;
+use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
 use crate::io::{CsvOut, fmt_num};
-use crate::material::{Material, Model};
+use crate::material::Material;
 use crate::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
     StressError, TrueStress,
@@ -132,43 +131,6 @@ impl PipelineError {
     }
 }
 
-/// The model fitted by the fit stage.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FitChoice {
-    /// Tudruj et al.'s (2023) polynomial secant modulus `E(eps)` of this degree.
-    Quartic(usize),
-    /// An incompressible hyperelastic model fitted to the pole's Cauchy stress.
-    Hyper(Kind),
-}
-
-impl FitChoice {
-    /// Parses `quartic`, `neo-hookean`, `mooney-rivlin`, `yeoh`, `ogden-N`,
-    /// `gent` (the quartic with `degree`).
-    pub fn parse(s: &str, degree: usize) -> Option<FitChoice> {
-        let s = s.trim();
-        if s == "quartic" {
-            return Some(FitChoice::Quartic(degree));
-        }
-        Kind::all()
-            .into_iter()
-            .find(|k| k.label() == s)
-            .map(FitChoice::Hyper)
-            .or(match s {
-                "ogden" => Some(FitChoice::Hyper(Kind::Ogden(3))),
-                _ => None,
-            })
-    }
-
-    /// Display name.
-    pub fn label(&self) -> String {
-        match self {
-            FitChoice::Quartic(4) => "quartic".into(),
-            FitChoice::Quartic(d) => format!("polynomial E(eps) of degree {d}"),
-            FitChoice::Hyper(k) => k.label(),
-        }
-    }
-}
-
 /// Everything `bulge run` can be told.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settings {
@@ -178,7 +140,7 @@ pub struct Settings {
     /// Stress and strain conventions.
     pub stress: mechanics::Options,
     /// The material model to fit.
-    pub fit: FitChoice,
+    pub fit: FitModel,
     /// Spring models to simulate (default TP MSS and Van Gelder).
     pub models: Vec<SpringModel>,
     /// Also solve the exact axisymmetric reference of the same material.
@@ -203,7 +165,7 @@ impl Default for Settings {
             #[cfg(feature = "opencv")]
             track: track::Options::default(),
             stress: mechanics::Options::default(),
-            fit: FitChoice::Quartic(4),
+            fit: FitModel::default(),
             models: vec![SpringModel::Tp, SpringModel::VanGelder],
             axisym: true,
             pressures_pa: None,
@@ -212,6 +174,155 @@ impl Default for Settings {
             tolerance: 1e-8,
             refine: true,
         }
+    }
+}
+
+/// The settings of a run as a `[run]` (or `[simulate]`) table of an
+/// experiment file or as command-line flags: every field optional, the
+/// defaults of [`Settings`] standing in for what is not given. The values
+/// are the real enums, by name (`models = ["tp", "van-gelder"]`,
+/// `fit = "mooney-rivlin"`, `strain = "log"`, `solver = "dr"`).
+#[derive(Debug, Clone, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunOptions {
+    /// Spring models to simulate.
+    pub models: Option<Vec<SpringModel>>,
+    /// Solve the exact axisymmetric reference too.
+    pub axisym: Option<bool>,
+    /// Correct the fitted law to the measured heights.
+    pub refine: Option<bool>,
+    /// Pressures to simulate, Pa (default: the measured ones).
+    pub pressures_pa: Option<Vec<f64>>,
+    /// Wanted relative height error of the disc mesh, in (0, 0.5).
+    pub accuracy: Option<f64>,
+    /// About this many solved nodes (instead of `accuracy`).
+    pub nodes: Option<usize>,
+    /// The material model to fit.
+    pub fit: Option<FitModel>,
+    /// Degree of the polynomial modulus law, 1 to 8.
+    pub degree: Option<usize>,
+    /// Strain measure of the stress stage.
+    pub strain: Option<StrainMeasure>,
+    /// True-stress convention of the stress stage.
+    pub true_stress: Option<TrueStress>,
+    /// Secant modulus convention of the stress stage.
+    pub modulus: Option<Modulus>,
+    /// Stress in the secant modulus.
+    pub modulus_stress: Option<ModulusStress>,
+    /// Quasi-static solver of the spring models.
+    pub solver: Option<Solver>,
+    /// Minimum template-match score of a frame, in [-1, 1].
+    pub min_score: Option<f64>,
+    /// Leave frames below `min_score` out instead of failing the track stage.
+    pub skip_bad_frames: Option<bool>,
+}
+
+impl RunOptions {
+    /// These options, falling back to `base` for what they leave out.
+    pub fn or(self, base: RunOptions) -> RunOptions {
+        RunOptions {
+            models: self.models.or(base.models),
+            axisym: self.axisym.or(base.axisym),
+            refine: self.refine.or(base.refine),
+            pressures_pa: self.pressures_pa.or(base.pressures_pa),
+            accuracy: self.accuracy.or(base.accuracy),
+            nodes: self.nodes.or(base.nodes),
+            fit: self.fit.or(base.fit),
+            degree: self.degree.or(base.degree),
+            strain: self.strain.or(base.strain),
+            true_stress: self.true_stress.or(base.true_stress),
+            modulus: self.modulus.or(base.modulus),
+            modulus_stress: self.modulus_stress.or(base.modulus_stress),
+            solver: self.solver.or(base.solver),
+            min_score: self.min_score.or(base.min_score),
+            skip_bad_frames: self.skip_bad_frames.or(base.skip_bad_frames),
+        }
+    }
+
+    /// The `[simulate]` and `[run]` tables of an experiment file (`[run]`
+    /// wins where both give a setting).
+    pub fn from_experiment(
+        exp: &crate::experiment::Experiment,
+    ) -> Result<RunOptions, PipelineError> {
+        let mut out = RunOptions::default();
+        for table in ["simulate", "run"] {
+            if let Some(v) = exp.other.get(table) {
+                let f: RunOptions = v.clone().try_into().map_err(|e: toml::de::Error| {
+                    PipelineError::Input(format!(
+                        "{}: [{table}]: {}",
+                        exp.path.display(),
+                        e.message()
+                    ))
+                })?;
+                out = f.or(out);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The settings: each given value checked, the defaults for the rest.
+    pub fn settings(&self) -> Result<Settings, PipelineError> {
+        let bad = |m: String| Err(PipelineError::Input(m));
+        let mut s = Settings::default();
+        if let Some(m) = &self.models {
+            s.models = m.clone();
+        }
+        s.axisym = self.axisym.unwrap_or(true);
+        s.refine = self.refine.unwrap_or(true);
+        if s.models.is_empty() && !s.axisym {
+            return bad(
+                "nothing to simulate: give at least one model or keep the axisymmetric reference"
+                    .into(),
+            );
+        }
+        if let Some(p) = &self.pressures_pa {
+            crate::sim::scene::validate_pressures(p)
+                .map_err(|m| PipelineError::Input(format!("pressures_pa: {m}")))?;
+            s.pressures_pa = Some(p.clone());
+        }
+        if let Some(a) = self.accuracy {
+            if !(a.is_finite() && a > 0.0 && a < 0.5) {
+                return bad(format!(
+                    "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
+                ));
+            }
+            s.mesh = Some(MeshSize::Accuracy(a));
+        } else if let Some(n) = self.nodes {
+            if n < 3 {
+                return bad(format!("nodes = {n}: ask for at least 3 nodes"));
+            }
+            s.mesh = Some(MeshSize::Nodes(n));
+        }
+        let degree = self.degree.unwrap_or(4);
+        if !(1..=8).contains(&degree) {
+            return bad(format!(
+                "degree = {degree}: use 1 to 8 (4 is the quartic of Tudruj et al. 2023)"
+            ));
+        }
+        s.fit = self.fit.unwrap_or_default().with_degree(degree);
+        if s.fit == FitModel::AllHyperelastic {
+            return bad(
+                "fit = \"all\" compares models in bulge fit; a run fits one model: name it".into(),
+            );
+        }
+        s.stress.strain = self.strain.unwrap_or(s.stress.strain);
+        s.stress.true_stress = self.true_stress.unwrap_or(s.stress.true_stress);
+        s.stress.modulus = self.modulus.unwrap_or(s.stress.modulus);
+        s.stress.modulus_stress = self.modulus_stress.unwrap_or(s.stress.modulus_stress);
+        s.solver = self.solver.unwrap_or(s.solver);
+        #[cfg(feature = "opencv")]
+        {
+            if let Some(m) = self.min_score {
+                if !(-1.0..=1.0).contains(&m) {
+                    return bad(format!(
+                        "min_score = {m} is outside [-1, 1], the range of TM_CCOEFF_NORMED scores"
+                    ));
+                }
+                s.track.min_score = m;
+            }
+            s.track.skip_bad_frames = self.skip_bad_frames.unwrap_or(false);
+        }
+        Ok(s)
     }
 }
 
@@ -380,23 +491,16 @@ impl StressOut {
     }
 }
 
-/// The fitted law in the form the report draws.
-#[derive(Debug, Clone)]
-pub enum FitDetail {
-    /// The polynomial modulus law.
-    Quartic(PolyFit),
-    /// A hyperelastic fit.
-    Hyper(HyperFit),
-}
-
 /// Output of the fit stage.
 #[derive(Debug, Clone)]
 pub struct FitOut {
-    /// The material for the simulators (`material.toml`).
+    /// The material for the simulators (`material.toml`), with its provenance.
     pub material: Material,
     /// The fit.
     pub detail: FitDetail,
-    /// `(strain, secant modulus, its std)` of the points the quartic saw,
+    /// The model fitted (the degree lowered when there were few points).
+    pub model: FitModel,
+    /// `(strain, secant modulus, its std)` of the points the modulus law saw,
     /// sorted by strain.
     pub modulus_points: Vec<(f64, f64, Option<f64>)>,
     /// `(stretch, Cauchy stress)` of the points the hyperelastic models saw.
@@ -414,186 +518,95 @@ pub struct FitOut {
     pub refined: Option<inverse::Refined>,
 }
 
-/// Sorts points by their abscissa and merges exact repeats (noise can put
-/// two frames at the same height or out of order; a least-squares fit does
-/// not care about order, but the fit functions ask for increasing abscissae).
-fn sorted_unique<T: Copy>(mut v: Vec<(f64, T)>) -> Vec<(f64, T)> {
-    v.sort_by(|a, b| a.0.total_cmp(&b.0));
-    v.dedup_by(|a, b| a.0 == b.0);
-    v
-}
-
-/// Stage 3: stress/strain -> material.
+/// Stage 3: stress/strain -> material ([`crate::fit::fit_material`] on the
+/// stress stage's rows, then, with `settings.refine`, the correction of the
+/// law to the measured heights; a correction that fails leaves the
+/// points' law with a warning).
 pub fn fit_stage(
     spec: &Specimen,
     settings: &Settings,
     s: &StressOut,
 ) -> Result<FitOut, PipelineError> {
-    let nu = spec.poisson;
-    let k = match settings.stress.modulus {
-        Modulus::Biaxial => 1.0 - nu,
-        Modulus::Uniaxial => 1.0,
+    let data = Loaded::from_stress_rows(&s.rows, settings.stress.strain);
+    let fit_settings = FitSettings {
+        model: settings.fit,
+        poisson: spec.poisson,
+        modulus: settings.stress.modulus,
+        modulus_stress: Some(settings.stress.modulus_stress),
+        lower_degree: true,
     };
-    let strain_measure = settings.stress.strain;
-    let mut warnings = Vec::new();
-    let modulus_points: Vec<(f64, (f64, Option<f64>))> = sorted_unique(
-        s.rows
-            .iter()
-            .filter_map(|r| {
-                let e = r.value.strain?;
-                let m = r.value.secant_modulus_pa?;
-                (e > 0.0).then(|| (e, (m, r.std.and_then(|d| d.secant_modulus_pa))))
-            })
-            .collect(),
-    );
-    let modulus_points: Vec<(f64, f64, Option<f64>)> = modulus_points
-        .into_iter()
-        .map(|(e, (m, sd))| (e, m, sd))
-        .collect();
-    let stress_points: Vec<(f64, f64)> = sorted_unique(
-        s.rows
-            .iter()
-            .filter_map(|r| {
-                let l = r.value.stretch?;
-                let st = r.value.stress_pa?;
-                (l > 1.0).then_some((l, l * l * st))
-            })
-            .collect(),
-    );
-    let mut fit_table = toml::Table::new();
-    fit_table.insert("source".into(), "stress_strain.csv of bulge run".into());
-    let (model, detail) = match settings.fit {
-        FitChoice::Quartic(degree) => {
-            let (x, y): (Vec<f64>, Vec<f64>) = modulus_points.iter().map(|p| (p.0, p.1)).unzip();
-            let f = quartic::fit(&x, &y, degree)?;
-            warnings.extend(f.warnings.iter().map(|w| w.to_string()));
-            if f.condition_scaled > 1e8 {
-                warnings.push(format!(
-                    "the scaled Vandermonde matrix has condition number {:.2e}: the coefficients are poorly determined; lower the degree",
-                    f.condition_scaled
-                ));
-            }
-            fit_table.insert("data".into(), "strain, secant_modulus_pa".into());
-            fit_table.insert("points".into(), (f.stats.n as i64).into());
-            fit_table.insert("degree".into(), (degree as i64).into());
-            fit_table.insert(
-                "modulus_convention".into(),
-                settings.stress.modulus.name().into(),
-            );
-            fit_table.insert(
-                "modulus_stress".into(),
-                settings.stress.modulus_stress.name().into(),
-            );
-            fit_table.insert("rmse_pa".into(), f.stats.rmse.into());
-            fit_table.insert("r2".into(), f.stats.r2.into());
-            fit_table.insert("condition_number".into(), f.condition_scaled.into());
-            let model = Model::Quartic {
-                coefficients_pa: f.coefficients_pa.clone(),
-                strain_range: f.strain_range,
-                strain_measure,
-            };
-            (model, FitDetail::Quartic(f))
-        }
-        FitChoice::Hyper(kind) => {
-            let data = Equibiaxial {
-                stretch: stress_points.iter().map(|p| p.0).collect(),
-                stress_pa: stress_points.iter().map(|p| p.1).collect(),
-                measure: StressMeasure::Cauchy,
-            };
-            let f = hyperelastic::fit(kind, &data)?;
-            if !f.drucker.stable {
-                warnings.push(format!(
-                    "{}: not Drucker-stable inside the fitted range",
-                    kind.label()
-                ));
-            }
-            fit_table.insert("data".into(), "stretch, cauchy stress l^2 p R / 2t".into());
-            fit_table.insert("fitted".into(), kind.label().into());
-            fit_table.insert("points".into(), (f.stats.n as i64).into());
-            fit_table.insert("rmse_pa".into(), f.stats.rmse.into());
-            fit_table.insert("r2".into(), f.stats.r2.into());
-            fit_table.insert("drucker_stable".into(), f.drucker.stable.into());
-            (f.model.clone(), FitDetail::Hyper(f))
-        }
-    };
-    let cap_material = Material {
-        model,
-        poisson: nu,
-        fit: None,
-    };
-    let mut material = cap_material.clone();
-    let mut refined = None;
+    let mut fitted = fit_material(&data, &fit_settings, "stress_strain.csv of bulge run")?;
     if settings.refine {
-        let measured: Vec<inverse::Measured> = s
-            .points
-            .iter()
-            .filter(|p| p.pressure_pa > 0.0 && p.height_m > 0.0)
-            .map(|p| inverse::Measured {
-                pressure_pa: p.pressure_pa,
-                height_m: p.height_m,
-            })
-            .collect();
-        match inverse::refine(&cap_material, spec, &measured, &inverse::Options::default()) {
-            Ok(r) => {
-                let t = r.toml_table(&cap_material.model);
-                fit_table.insert("refined".into(), t.into());
-                if let Model::Quartic {
-                    coefficients_pa,
-                    strain_range,
-                    ..
-                } = &r.material.model
-                {
-                    warnings.extend(
-                        quartic::check_law(coefficients_pa, *strain_range)
-                            .iter()
-                            .map(|w| format!("corrected law: {w}")),
-                    );
-                }
-                material = r.material.clone();
-                refined = Some(r);
-            }
-            Err(e) => warnings.push(format!(
+        let measured = measured_heights(&s.points);
+        if let Err(e) = fitted.refine_to_heights(spec, &measured, &inverse::Options::default()) {
+            fitted.warn(format!(
                 "the law was not corrected to the heights ({e}); the cap-method law is used"
-            )),
+            ));
         }
     }
-    fit_table.insert(
-        "warnings".into(),
-        toml::Value::Array(warnings.iter().map(|w| w.clone().into()).collect()),
-    );
-    material.fit = Some(fit_table);
+    let modulus_points = data
+        .strain
+        .iter()
+        .zip(&data.modulus_pa)
+        .zip(&data.modulus_std_pa)
+        .filter_map(|((&e, m), sd)| m.map(|m| (e, m, *sd)))
+        .collect();
+    let stress_points = data
+        .equibiaxial
+        .stretch
+        .iter()
+        .zip(&data.equibiaxial.stress_pa)
+        .map(|(&l, &st)| (l, st))
+        .collect();
     Ok(FitOut {
-        material,
-        detail,
+        material: fitted.material,
+        detail: fitted.detail,
+        model: fitted.model,
         modulus_points,
         stress_points,
-        modulus_factor: k,
-        strain_measure,
-        warnings,
-        cap_material,
-        refined,
+        modulus_factor: settings.stress.modulus.factor(spec.poisson),
+        strain_measure: settings.stress.strain,
+        warnings: fitted.warnings,
+        cap_material: fitted.cap_material,
+        refined: fitted.refined,
     })
+}
+
+/// The measured heights that the correction to the heights matches: the
+/// points with a positive pressure and height.
+pub fn measured_heights(points: &[Point]) -> Vec<inverse::Measured> {
+    points
+        .iter()
+        .filter(|p| p.pressure_pa > 0.0 && p.height_m > 0.0)
+        .map(|p| inverse::Measured {
+            pressure_pa: p.pressure_pa,
+            height_m: p.height_m,
+        })
+        .collect()
 }
 
 impl FitOut {
     /// One line on the fit: the model, points, R^2, RMSE, and the correction
     /// to the heights when made.
-    pub fn summary(&self, choice: &FitChoice) -> String {
+    pub fn summary(&self) -> String {
         let what = match &self.detail {
             FitDetail::Quartic(q) => format!(
                 "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
-                choice.label(),
+                self.model.label(),
                 q.stats.n,
                 q.stats.r2,
                 q.stats.rmse
             ),
-            FitDetail::Hyper(h) => format!(
-                "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
-                h.kind.label(),
-                h.stats.n,
-                h.stats.r2,
-                h.stats.rmse
-            ),
+            FitDetail::Hyper { fits, best } => {
+                let h = &fits[*best];
+                format!(
+                    "{} on {} points: R^2 {:.5}, RMSE {:.3e} Pa",
+                    h.kind.label(),
+                    h.stats.n,
+                    h.stats.r2,
+                    h.stats.rmse
+                )
+            }
         };
         match &self.refined {
             Some(r) => {
@@ -1081,26 +1094,11 @@ pub fn run_observed(
     // 3. fit
     let t = Instant::now();
     obs.start(Stage::Fit, 0);
-    let mut fit_settings = settings.clone();
-    if let FitChoice::Quartic(d) = settings.fit {
-        let n_points = stress
-            .rows
-            .iter()
-            .filter(|r| r.value.secant_modulus_pa.is_some())
-            .count();
-        if n_points >= 2 && n_points <= d {
-            fit_settings.fit = FitChoice::Quartic(n_points - 1);
-            note(
-                Stage::Fit,
-                format!(
-                    "only {n_points} points with a secant modulus: degree lowered from {d} to {}",
-                    n_points - 1
-                ),
-            );
-        }
+    let fit = fit_stage(spec, settings, &stress).map_err(|e| fail(Stage::Fit, e, &partial))?;
+    for w in fit.warnings.iter().filter(|w| w.starts_with("only ")) {
+        note(Stage::Fit, w.clone());
     }
-    let fit = fit_stage(spec, &fit_settings, &stress).map_err(|e| fail(Stage::Fit, e, &partial))?;
-    let what = fit.summary(&fit_settings.fit);
+    let what = fit.summary();
     finish(Stage::Fit, t, what);
     partial.fit = Some(fit.clone());
 

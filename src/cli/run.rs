@@ -10,21 +10,21 @@ use std::time::Instant;
 
 use anyhow::anyhow;
 use indicatif::ProgressBar;
-use serde::Deserialize;
 
 use super::Failure;
 use bulge::experiment::Experiment;
+use bulge::fit::FitModel;
 use bulge::io::write_atomic;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
 use bulge::pipeline::{
-    self, FitChoice, FitOut, Observer, PipelineError, Settings, Stage, StressOut, Timing, Tracking,
-    describe_stress,
+    self, FitOut, Observer, PipelineError, RunOptions, Settings, Stage, StressOut, Timing,
+    Tracking, describe_stress,
 };
 use bulge::report::figures;
 use bulge::report::html::{Picture, Report};
 use bulge::report::plot::Figure;
 use bulge::report::table;
-use bulge::sim::scene::{MeshSize, parse_pressures};
+use bulge::sim::scene::MeshSize;
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
 use bulge::track::annotate;
@@ -56,9 +56,10 @@ pub struct Args {
     pub out: PathBuf,
 
     /// Spring models to simulate, comma-separated: tp, tp-paper,
-    /// van-gelder, lloyd. Default tp,van-gelder (Tudruj et al.'s (2023) comparison).
-    #[arg(long)]
-    pub models: Option<String>,
+    /// van-gelder, lloyd. Default tp,van-gelder (the comparison of Tudruj et
+    /// al. 2023).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub models: Option<Vec<SpringModel>>,
 
     /// Leave out the exact axisymmetric reference of the fitted material
     /// (solved by default beside the spring models: it tells the mesh and
@@ -77,8 +78,8 @@ pub struct Args {
 
     /// Pressures to simulate, Pa, comma-separated, increasing. Default: the
     /// measured pressures (so that every measured height gets a simulated one).
-    #[arg(long)]
-    pub pressures: Option<String>,
+    #[arg(long, value_delimiter = ',')]
+    pub pressures: Option<Vec<f64>>,
 
     /// Mesh: wanted relative height error of the disc against the
     /// mesh-converged spring model, e.g. 0.005. Default: the simulate stage's
@@ -94,8 +95,8 @@ pub struct Args {
     /// Material model to fit: quartic (Tudruj et al.'s (2023) secant modulus E(eps),
     /// default: what the mass-spring models were designed for),
     /// neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent.
-    #[arg(long)]
-    pub fit: Option<String>,
+    #[arg(long, value_parser = parse_fit)]
+    pub fit: Option<FitModel>,
 
     /// Degree of the polynomial E(eps) law (quartic only). Default 4; lowered
     /// automatically to (points - 1) when there are fewer points.
@@ -124,8 +125,8 @@ pub struct Args {
     pub modulus_stress: Option<ModulusStress>,
 
     /// Quasi-static solver of the spring models: newton (default) or dr.
-    #[arg(long)]
-    pub solver: Option<String>,
+    #[arg(long, value_enum)]
+    pub solver: Option<Solver>,
 
     /// Minimum template-match score of a frame (`bulge track --min-score`),
     /// in [-1, 1]. Default 0.5.
@@ -137,171 +138,34 @@ pub struct Args {
     pub skip_bad_frames: bool,
 }
 
-/// `[run]` / `[simulate]` table of the experiment file.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FileSettings {
-    models: Option<Vec<String>>,
-    axisym: Option<bool>,
-    refine: Option<bool>,
-    pressures_pa: Option<Vec<f64>>,
-    accuracy: Option<f64>,
-    nodes: Option<usize>,
-    fit: Option<String>,
-    degree: Option<usize>,
-    strain: Option<String>,
-    true_stress: Option<String>,
-    modulus: Option<String>,
-    modulus_stress: Option<String>,
-    solver: Option<String>,
-    min_score: Option<f64>,
-    skip_bad_frames: Option<bool>,
-}
-
-impl FileSettings {
-    fn merge(self, over: FileSettings) -> FileSettings {
-        FileSettings {
-            models: over.models.or(self.models),
-            axisym: over.axisym.or(self.axisym),
-            refine: over.refine.or(self.refine),
-            pressures_pa: over.pressures_pa.or(self.pressures_pa),
-            accuracy: over.accuracy.or(self.accuracy),
-            nodes: over.nodes.or(self.nodes),
-            fit: over.fit.or(self.fit),
-            degree: over.degree.or(self.degree),
-            strain: over.strain.or(self.strain),
-            true_stress: over.true_stress.or(self.true_stress),
-            modulus: over.modulus.or(self.modulus),
-            modulus_stress: over.modulus_stress.or(self.modulus_stress),
-            solver: over.solver.or(self.solver),
-            min_score: over.min_score.or(self.min_score),
-            skip_bad_frames: over.skip_bad_frames.or(self.skip_bad_frames),
-        }
-    }
-}
-
-fn file_settings(exp: &Experiment) -> anyhow::Result<FileSettings> {
-    let mut out = FileSettings::default();
-    for table in ["simulate", "run"] {
-        if let Some(v) = exp.other.get(table) {
-            let f: FileSettings = v.clone().try_into().map_err(|e: toml::de::Error| {
-                anyhow!("{}: [{table}]: {}", exp.path.display(), e.message())
-            })?;
-            out = out.merge(f);
-        }
-    }
-    Ok(out)
-}
-
-fn enum_value<T: clap::ValueEnum>(s: &str, key: &str, origin: &str) -> anyhow::Result<T> {
-    T::from_str(s, true).map_err(|_| {
-        let names: Vec<String> = T::value_variants()
-            .iter()
-            .filter_map(|v| v.to_possible_value().map(|p| p.get_name().to_string()))
-            .collect();
-        anyhow!(
-            "{origin}: {key} = \"{s}\" is not one of {}",
-            names.join(", ")
-        )
-    })
+fn parse_fit(s: &str) -> Result<FitModel, String> {
+    s.parse()
 }
 
 /// Flags over the experiment file's `[run]`/`[simulate]` tables over the defaults.
-fn settings(args: &Args, exp: &Experiment) -> anyhow::Result<Settings> {
-    let f = file_settings(exp)?;
-    let origin = format!("{} [run]", exp.path.display());
-    let mut s = Settings::default();
-    let models: Option<Vec<String>> = match &args.models {
-        Some(m) => Some(m.split(',').map(|x| x.trim().to_string()).collect()),
-        None => f.models.clone(),
+fn settings(args: &Args, exp: &Experiment) -> Result<Settings, Failure> {
+    let file = RunOptions::from_experiment(exp).map_err(|e| Failure::BadInput(e.into()))?;
+    let flags = RunOptions {
+        models: args.models.clone(),
+        axisym: args.no_axisym.then_some(false),
+        refine: args.no_refine.then_some(false),
+        pressures_pa: args.pressures.clone(),
+        accuracy: args.accuracy,
+        nodes: args.nodes,
+        fit: args.fit,
+        degree: args.degree,
+        strain: args.strain,
+        true_stress: args.true_stress,
+        modulus: args.modulus,
+        modulus_stress: args.modulus_stress,
+        solver: args.solver,
+        min_score: args.min_score,
+        skip_bad_frames: args.skip_bad_frames.then_some(true),
     };
-    if let Some(m) = models {
-        s.models = m
-            .iter()
-            .map(|x| {
-                SpringModel::parse(x).ok_or_else(|| {
-                    anyhow!("models: `{x}` is not one of tp, tp-paper, van-gelder, lloyd")
-                })
-            })
-            .collect::<anyhow::Result<_>>()?;
-    }
-    s.axisym = !args.no_axisym && f.axisym.unwrap_or(true);
-    s.refine = !args.no_refine && f.refine.unwrap_or(true);
-    if s.models.is_empty() && !s.axisym {
-        return Err(anyhow!(
-            "nothing to simulate: give at least one model or keep the axisymmetric reference"
-        ));
-    }
-    s.pressures_pa = match &args.pressures {
-        Some(p) => Some(parse_pressures(p).map_err(|m| anyhow!("--pressures: {m}"))?),
-        None => f.pressures_pa.clone(),
-    };
-    if let Some(p) = &s.pressures_pa
-        && let Err(m) = bulge::sim::scene::validate_pressures(p)
-    {
-        return Err(anyhow!("{origin}: pressures_pa: {m}"));
-    }
-    if let Some(a) = args.accuracy.or(f.accuracy) {
-        if !(a.is_finite() && a > 0.0 && a < 0.5) {
-            return Err(anyhow!(
-                "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
-            ));
-        }
-        s.mesh = Some(MeshSize::Accuracy(a));
-    } else if let Some(n) = args.nodes.or(f.nodes) {
-        if n < 3 {
-            return Err(anyhow!("nodes = {n}: ask for at least 3 nodes"));
-        }
-        s.mesh = Some(MeshSize::Nodes(n));
-    }
-    let degree = args.degree.or(f.degree).unwrap_or(4);
-    if !(1..=8).contains(&degree) {
-        return Err(anyhow!(
-            "degree = {degree}: use 1 to 8 (4 is the paper's quartic)"
-        ));
-    }
-    let fit = args
-        .fit
-        .clone()
-        .or(f.fit.clone())
-        .unwrap_or_else(|| "quartic".into());
-    s.fit = FitChoice::parse(&fit, degree).ok_or_else(|| {
-        anyhow!("fit = \"{fit}\" is not one of quartic, neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent")
-    })?;
-    s.stress.strain = match (args.strain, &f.strain) {
-        (Some(v), _) => v,
-        (None, Some(v)) => enum_value(v, "strain", &origin)?,
-        _ => s.stress.strain,
-    };
-    s.stress.true_stress = match (args.true_stress, &f.true_stress) {
-        (Some(v), _) => v,
-        (None, Some(v)) => enum_value(v, "true_stress", &origin)?,
-        _ => s.stress.true_stress,
-    };
-    s.stress.modulus = match (args.modulus, &f.modulus) {
-        (Some(v), _) => v,
-        (None, Some(v)) => enum_value(v, "modulus", &origin)?,
-        _ => s.stress.modulus,
-    };
-    s.stress.modulus_stress = match (args.modulus_stress, &f.modulus_stress) {
-        (Some(v), _) => v,
-        (None, Some(v)) => enum_value(v, "modulus_stress", &origin)?,
-        _ => s.stress.modulus_stress,
-    };
-    if let Some(v) = args.solver.clone().or(f.solver.clone()) {
-        s.solver = Solver::parse(&v)
-            .ok_or_else(|| anyhow!("solver = \"{v}\" is not one of newton, dr"))?;
-    }
-    if let Some(m) = args.min_score.or(f.min_score) {
-        if !(-1.0..=1.0).contains(&m) {
-            return Err(anyhow!(
-                "min_score = {m} is outside [-1, 1], the range of TM_CCOEFF_NORMED scores"
-            ));
-        }
-        s.track.min_score = m;
-    }
-    s.track.skip_bad_frames = args.skip_bad_frames || f.skip_bad_frames.unwrap_or(false);
-    Ok(s)
+    flags
+        .or(file)
+        .settings()
+        .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", exp.path.display())))
 }
 
 /// The settings as key/value pairs for the report.
@@ -534,7 +398,7 @@ impl StageFiles {
 /// Runs `bulge run`.
 pub fn run(args: Args) -> Result<(), Failure> {
     let exp = Experiment::read(&args.experiment)?;
-    let s = settings(&args, &exp).map_err(Failure::BadInput)?;
+    let s = settings(&args, &exp)?;
     refuse_input_folder(&exp, &args.out)?;
     let out = args.out.as_path();
     std::fs::create_dir_all(out)

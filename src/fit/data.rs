@@ -37,7 +37,7 @@ use super::StressMeasure;
 use super::hyperelastic::Equibiaxial;
 use crate::io::{InputError, Table};
 use crate::material::StrainMeasure;
-use crate::mechanics::Modulus;
+use crate::mechanics::{Modulus, Row};
 
 /// What the input file was.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,6 +75,8 @@ pub struct Loaded {
     pub strain: Vec<f64>,
     /// Secant modulus of every row (None at zero strain), Pa.
     pub modulus_pa: Vec<Option<f64>>,
+    /// Its standard deviation where the input gives one, Pa.
+    pub modulus_std_pa: Vec<Option<f64>>,
     /// The strain measure of `strain`.
     pub strain_measure: StrainMeasure,
     /// 1-based file line of every row.
@@ -89,6 +91,44 @@ impl Loaded {
             .zip(&self.modulus_pa)
             .filter_map(|(&e, m)| m.map(|m| (e, m)))
             .unzip()
+    }
+}
+
+impl Loaded {
+    /// The stress stage's rows as fit data, as `bulge fit` reads the
+    /// `stress_strain.csv` that `bulge stress` writes: the rows with a
+    /// stretch above 1, a stress and a secant modulus, sorted by stretch
+    /// with exact repeats merged (noise can put two frames at one height).
+    /// The hyperelastic models see the Cauchy stress `lambda^2 p R / 2t` of
+    /// an incompressible membrane. `lines` are the rows' lines in
+    /// `stress_strain.csv` (header on line 1, in the stage's order).
+    pub fn from_stress_rows(rows: &[Row], strain_measure: StrainMeasure) -> Loaded {
+        let mut v: Vec<(f64, f64, f64, f64, Option<f64>, u64)> = rows
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| {
+                let d = &r.value;
+                let (l, e, st, m) = (d.stretch?, d.strain?, d.stress_pa?, d.secant_modulus_pa?);
+                let sd = r.std.and_then(|s| s.secant_modulus_pa);
+                (l > 1.0).then_some((l, e, st, m, sd, i as u64 + 2))
+            })
+            .collect();
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+        v.dedup_by(|a, b| a.0 == b.0);
+        Loaded {
+            source: Source::StressStage,
+            equibiaxial: Equibiaxial {
+                stretch: v.iter().map(|r| r.0).collect(),
+                stress_pa: v.iter().map(|r| r.0 * r.0 * r.2).collect(),
+                measure: StressMeasure::Cauchy,
+            },
+            stress_column: "stretch^2 * stress_pa (Cauchy, incompressible)".into(),
+            strain: v.iter().map(|r| r.1).collect(),
+            modulus_pa: v.iter().map(|r| Some(r.3)).collect(),
+            modulus_std_pa: v.iter().map(|r| r.4).collect(),
+            strain_measure,
+            lines: v.iter().map(|r| r.5).collect(),
+        }
     }
 }
 
@@ -204,6 +244,14 @@ fn load_stress_stage(
         StressMeasure::Cauchy => "stretch^2 * stress_pa (Cauchy, incompressible)",
         StressMeasure::Nominal => "stretch * stress_pa (nominal, incompressible)",
     };
+    // `bulge stress` writes the uncertainty of `secant_modulus_pa` as
+    // `secant_modulus_std_pa` (unit last).
+    let modulus_std_pa = match t.optional_numbers("secant_modulus_std_pa")? {
+        Some(v) => v,
+        None => t
+            .optional_numbers("secant_modulus_pa_std")?
+            .unwrap_or_else(|| vec![None; strain.len()]),
+    };
     Ok(Loaded {
         source: Source::StressStage,
         equibiaxial: Equibiaxial {
@@ -214,6 +262,7 @@ fn load_stress_stage(
         stress_column: stress_column.into(),
         strain,
         modulus_pa,
+        modulus_std_pa,
         strain_measure,
         lines: t.lines.clone(),
     })
@@ -287,6 +336,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
             (e != 0.0).then(|| k * cauchy / e)
         })
         .collect();
+    let modulus_std_pa = vec![None; strain.len()];
     Ok(Loaded {
         source: Source::Raw,
         equibiaxial: Equibiaxial {
@@ -297,6 +347,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
         stress_column: column,
         strain,
         modulus_pa,
+        modulus_std_pa,
         strain_measure,
         lines: t.lines.clone(),
     })

@@ -23,8 +23,13 @@ pub mod hyperelastic;
 pub mod inverse;
 pub mod linear;
 pub mod lm;
+pub mod material_fit;
 pub mod quartic;
 pub mod stats;
+
+pub use material_fit::{
+    FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, fit_material,
+};
 
 use serde::{Deserialize, Serialize};
 

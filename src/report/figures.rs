@@ -5,10 +5,11 @@
 //! with the correction to the heights, both laws.
 
 use super::plot::{Figure, LegendPosition, Panel, Series};
+use crate::fit::FitDetail;
 use crate::fit::quartic;
 use crate::material::{Model, StrainMeasure};
 use crate::mechanics::Point;
-use crate::pipeline::{Comparison, FitDetail, FitOut, ModelRun};
+use crate::pipeline::{Comparison, FitOut, ModelRun};
 
 /// Height against pressure (kPa, mm), and the relative error per model.
 pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figure {
@@ -85,7 +86,7 @@ pub fn fit(f: &FitOut) -> Figure {
     let xlabel = format!("{sname} strain (-)");
     let (lo, hi) = match &f.detail {
         FitDetail::Quartic(q) => (q.strain_range[0].min(0.0), q.strain_range[1]),
-        FitDetail::Hyper(_) => {
+        FitDetail::Hyper { .. } => {
             let hi = f
                 .stress_points
                 .last()
@@ -171,7 +172,8 @@ pub fn fit(f: &FitOut) -> Figure {
                 .with(Series::scatter("", res).color(2))
                 .zero_line()
         }
-        FitDetail::Hyper(h) => {
+        FitDetail::Hyper { fits, best } => {
+            let h = &fits[*best];
             let res: Vec<(f64, f64)> = f
                 .stress_points
                 .iter()

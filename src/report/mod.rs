@@ -2,6 +2,7 @@
 
 #[cfg(feature = "plots")]
 pub mod figures;
+pub mod fit_outputs;
 pub mod html;
 #[cfg(feature = "plots")]
 pub mod plot;

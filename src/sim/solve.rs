@@ -79,7 +79,9 @@ impl Options {
 }
 
 /// The quasi-static solver.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum Solver {
     /// Newton-Raphson with a sparse LU.
     Newton,

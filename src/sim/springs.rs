@@ -60,7 +60,9 @@ use super::mesh::{Constraint, Mesh};
 use crate::material::{Material, Model, StrainMeasure};
 
 /// The spring-stiffness model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
 pub enum SpringModel {
     /// TP MSS in the division-free force form (default).
     Tp,

@@ -28,7 +28,7 @@ fn reference() -> HashMap<String, f64> {
 }
 
 fn fit_rmse(m: &Material) -> f64 {
-    m.fit.as_ref().unwrap()["rmse_pa"].as_float().unwrap()
+    m.fit.as_ref().unwrap().rmse_pa
 }
 
 #[test]
@@ -60,7 +60,7 @@ fn treloar_all_models_writes_every_output() {
     let m = read_material(&dir.path().join("out/treloar.toml"));
     assert!(m.model.hyperelastic().is_some());
     let fit = m.fit.as_ref().unwrap();
-    assert_eq!(fit["drucker_stable"].as_bool(), Some(true));
+    assert_eq!(fit.drucker_stable, Some(true));
     let table = fs::read_to_string(dir.path().join("out/treloar_models.csv")).unwrap();
     // Header plus the seven models, exactly one selected.
     assert_eq!(table.lines().count(), 8, "{table}");
@@ -364,7 +364,7 @@ fn warns_where_the_law_is_unphysical() {
         run.stderr
     );
     let m = read_material(&dir.path().join("material.toml"));
-    let w = m.fit.as_ref().unwrap()["warnings"].as_array().unwrap();
+    let w = &m.fit.as_ref().unwrap().warnings;
     assert!(!w.is_empty());
 }
 
@@ -408,7 +408,7 @@ fn to_heights_corrects_the_law_to_the_measured_heights() {
     )
     .ok();
     let fixed = read_material(&d.join("fixed.toml"));
-    assert!(fixed.fit.as_ref().unwrap().contains_key("refined"));
+    assert!(fixed.fit.as_ref().unwrap().refined.is_some());
     let measured = columns(&d.join("ss.csv"), "pressure_pa", "height_m");
     let pressures: Vec<String> = measured.iter().map(|m| m.0.to_string()).collect();
     let rms = |material: &str| {
