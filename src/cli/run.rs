@@ -6,7 +6,6 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::time::Instant;
 
 use anyhow::anyhow;
 use indicatif::ProgressBar;
@@ -16,18 +15,10 @@ use bulge::experiment::Experiment;
 use bulge::fit::FitModel;
 use bulge::io::write_atomic;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
-use bulge::pipeline::{
-    self, FitOut, Observer, PipelineError, RunOptions, Settings, Stage, StressOut, Timing,
-    Tracking, describe_stress,
-};
-use bulge::report::figures;
-use bulge::report::html::{Picture, Report};
-use bulge::report::plot::Figure;
-use bulge::report::table;
-use bulge::sim::scene::MeshSize;
+use bulge::pipeline::{self, Observer, PipelineError, RunOptions, Settings, Stage, Timing};
+use bulge::report::run_files::{OutFile, run_files, stage_files};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
-use bulge::track::annotate;
 
 /// Flags of `bulge run`.
 ///
@@ -168,76 +159,6 @@ fn settings(args: &Args, exp: &Experiment) -> Result<Settings, Failure> {
         .map_err(|e| Failure::BadInput(anyhow!("{}: {e}", exp.path.display())))
 }
 
-/// The settings as key/value pairs for the report.
-fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<(String, String)> {
-    let mesh = match s.mesh {
-        None => "default: 16 rings of the 60 degree sector".to_string(),
-        Some(MeshSize::Accuracy(a)) => format!("accuracy {a} (relative height error)"),
-        Some(MeshSize::Nodes(n)) => format!("about {n} nodes"),
-        Some(MeshSize::EdgeLength(h)) => format!("edge length {h} m"),
-    };
-    vec![
-        ("experiment".into(), exp.path.display().to_string()),
-        (
-            "track".into(),
-            format!(
-                "refine {}, min score {}, skip bad frames {}",
-                s.track.refine.name(),
-                s.track.min_score,
-                s.track.skip_bad_frames
-            ),
-        ),
-        ("stress".into(), describe_stress(&s.stress)),
-        (
-            "fit".into(),
-            format!(
-                "{}{}",
-                s.fit.label(),
-                if s.refine {
-                    ", corrected to the measured heights through the axisymmetric solution"
-                } else {
-                    ", as the stress/strain points give it (--no-refine)"
-                }
-            ),
-        ),
-        (
-            "simulate".into(),
-            format!(
-                "models {}{}, solver {}, tolerance {:e}",
-                s.models
-                    .iter()
-                    .map(|m| m.name())
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                if s.axisym {
-                    " + axisym (exact reference)"
-                } else {
-                    ""
-                },
-                s.solver.name(),
-                s.tolerance
-            ),
-        ),
-        ("mesh".into(), mesh),
-        (
-            "pressures simulated (Pa)".into(),
-            format!(
-                "{} {}",
-                if s.pressures_pa.is_some() {
-                    "given:"
-                } else {
-                    "the measured ones:"
-                },
-                pressures
-                    .iter()
-                    .map(|p| format!("{p:.1}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        ),
-    ]
-}
-
 /// A failed stage: the message names it and says where the earlier outputs are.
 fn stage_failure(stage: Stage, out: &Path, e: PipelineError) -> Failure {
     let bad = e.is_bad_input();
@@ -266,16 +187,6 @@ fn write(stage: Stage, out: &Path, file: &str, bytes: &[u8]) -> Result<PathBuf, 
     Ok(p)
 }
 
-/// Writes a figure as SVG and PNG; returns the PNG bytes.
-fn write_figure(stage: Stage, out: &Path, stem: &str, fig: &Figure) -> Result<Vec<u8>, Failure> {
-    let err = |e: String| stage_failure(stage, out, PipelineError::Output(e));
-    let svg = fig.to_svg().map_err(|e| err(format!("{stem}.svg: {e}")))?;
-    write(stage, out, &format!("{stem}.svg"), svg.as_bytes())?;
-    let png = out.join(format!("{stem}.png"));
-    fig.write_png(&png).map_err(|e| err(e.to_string()))?;
-    std::fs::read(&png).map_err(|e| err(format!("cannot read back {}: {e}", png.display())))
-}
-
 /// Inputs are never written to: refuse an output folder that holds the
 /// experiment file or the photos.
 fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
@@ -299,7 +210,6 @@ fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
 
 /// Progress bars and one line per stage on stderr.
 struct Console {
-    out: PathBuf,
     bar: Mutex<Option<ProgressBar>>,
 }
 
@@ -339,60 +249,15 @@ impl Observer for Console {
         };
         let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
         eprintln!("[{step}/5] {:<8} {} -> {files}", t.stage.name(), t.what);
-        let _ = &self.out;
     }
 }
 
-/// The files of the stages that finished, written whole.
-struct StageFiles {
-    heights: Option<Vec<u8>>,
-    stress: Option<Vec<u8>>,
-    fit: Option<(String, Figure)>,
-}
-
-impl StageFiles {
-    fn of(tracking: Option<&Tracking>, stress: Option<&StressOut>, fit: Option<&FitOut>) -> Self {
-        let labels: Option<Vec<(usize, String)>> = tracking.map(|t| {
-            t.tracked
-                .rows
-                .iter()
-                .map(|r| (r.frame, r.file.clone()))
-                .collect()
-        });
-        StageFiles {
-            heights: tracking.map(|t| t.csv().into_bytes()),
-            stress: stress.map(|s| s.csv(labels.as_deref()).into_bytes()),
-            fit: fit.and_then(|f| Some((toml::to_string(&f.material).ok()?, figures::fit(f)))),
-        }
+/// Writes the files, each whole.
+fn write_all(out: &Path, files: &[OutFile]) -> Result<(), Failure> {
+    for f in files {
+        write(f.stage, out, f.name, &f.bytes)?;
     }
-
-    /// Writes what there is; returns the PNG of the fit.
-    fn write(self, out: &Path) -> Result<Vec<u8>, Failure> {
-        if let Some(h) = self.heights {
-            write(Stage::Track, out, "heights.csv", &h)?;
-        }
-        if let Some(s) = self.stress {
-            write(Stage::Stress, out, "stress_strain.csv", &s)?;
-        }
-        let mut png = Vec::new();
-        if let Some((toml_text, fig)) = self.fit {
-            let svg = fig.to_svg().map_err(|e| {
-                stage_failure(
-                    Stage::Fit,
-                    out,
-                    PipelineError::Output(format!("fit.svg: {e}")),
-                )
-            })?;
-            write(Stage::Fit, out, "material.toml", toml_text.as_bytes())?;
-            write(Stage::Fit, out, "fit.svg", svg.as_bytes())?;
-            let p = out.join("fit.png");
-            fig.write_png(&p).map_err(|e| {
-                stage_failure(Stage::Fit, out, PipelineError::Output(e.to_string()))
-            })?;
-            png = std::fs::read(&p).unwrap_or_default();
-        }
-        Ok(png)
-    }
+    Ok(())
 }
 
 /// Runs `bulge run`.
@@ -403,177 +268,36 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let out = args.out.as_path();
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::Failed(anyhow!("cannot create {}: {e}", out.display())))?;
-    let spec = exp.specimen;
     let console = Console {
-        out: out.to_path_buf(),
         bar: Mutex::new(None),
     };
-    let o = match pipeline::run_observed(&exp, &s, &console) {
+    let result = pipeline::run_observed(&exp, &s, &console);
+    if let Some(b) = console.bar.lock().expect("progress bar").take() {
+        b.finish_and_clear();
+    }
+    let o = match result {
         Ok(o) => o,
         Err(e) => {
-            if let Some(b) = console.bar.lock().expect("progress bar").take() {
-                b.finish_and_clear();
-            }
             let p = &e.partial;
-            StageFiles::of(p.tracking.as_ref(), p.stress.as_ref(), p.fit.as_ref()).write(out)?;
+            let files = stage_files(p.tracking.as_ref(), p.stress.as_ref(), p.fit.as_ref())
+                .map_err(|err| stage_failure(e.stage, out, err))?;
+            write_all(out, &files)?;
             return Err(stage_failure(e.stage, out, e.error));
         }
     };
-    let fit_png = StageFiles::of(Some(&o.tracking), Some(&o.stress), Some(&o.fit)).write(out)?;
-    write(
-        Stage::Simulate,
-        out,
-        "simulated.csv",
-        &pipeline::simulated_csv(&o.runs).into_bytes(),
-    )?;
     for w in &o.fit.warnings {
         eprintln!("         warning: {w}");
     }
-    let notes: Vec<String> = o
-        .notes
-        .iter()
-        .filter_map(|n| n.strip_prefix("simulate: ").map(str::to_string))
-        .collect();
-    for n in &notes {
+    for n in o.notes.iter().filter_map(|n| n.strip_prefix("simulate: ")) {
         eprintln!("         note: {n}");
     }
-    let material_toml = toml::to_string(&o.fit.material).map_err(|e| {
-        stage_failure(
-            Stage::Fit,
-            out,
-            PipelineError::Output(format!("material.toml: {e}")),
-        )
-    })?;
-    let (tracking, stress, fit, runs, rows, pressures) = (
-        &o.tracking,
-        &o.stress,
-        &o.fit,
-        &o.runs,
-        &o.comparison,
-        &o.pressures_pa,
-    );
-    let mut timings = o.timings.clone();
-
-    // 5. report
-    let t = Instant::now();
-    let hfig = figures::heights(&stress.points, runs, rows);
-    let heights_png = write_figure(Stage::Report, out, "heights", &hfig)?;
-    let nrows = tracking.tracked.rows.len();
-    let mut picks = vec![0, nrows / 2, nrows - 1];
-    picks.dedup();
-    let mut photos = Vec::new();
-    for i in picks {
-        let r = &tracking.tracked.rows[i];
-        let png = annotate::annotated_png(&tracking.photo(i), &tracking.marks(i), 640)
-            .map_err(|e| stage_failure(Stage::Report, out, e.into()))?;
-        photos.push(Picture {
-            caption: format!(
-                "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",
-                r.frame,
-                r.file,
-                r.pressure_pa,
-                r.height_m * 1e3,
-                r.score
-            ),
-            png,
-        });
-    }
-    let secs = t.elapsed().as_secs_f64();
-    timings.push(Timing {
-        stage: Stage::Report,
-        seconds: secs,
-        what: format!(
-            "2 figures, {} annotated photos, report.html, summary.md",
-            photos.len()
-        ),
-    });
-    let mut experiment = vec![
-        ("file".to_string(), exp.path.display().to_string()),
-        ("free radius a".into(), format!("{} m", spec.radius_m)),
-        ("thickness t".into(), format!("{} m", spec.thickness_m)),
-        ("Poisson ratio".into(), format!("{}", spec.poisson)),
-        (
-            "pre-bulge height h0".into(),
-            format!("{} m", spec.prebulge_height_m),
-        ),
-        (
-            "photos".into(),
-            format!(
-                "{} tracked of {} ({}x{} px)",
-                nrows,
-                tracking.setup.frames.len(),
-                tracking.tracked.image_size[0],
-                tracking.tracked.image_size[1]
-            ),
-        ),
-        (
-            "metres per pixel".into(),
-            format!("{:.6e}", tracking.setup.calibration.metres_per_pixel),
-        ),
-    ];
-    if let (Some(lo), Some(hi)) = (
-        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::min),
-        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::max),
-    ) {
-        experiment.push(("pressure range".into(), format!("{lo:.1} to {hi:.1} Pa")));
-    }
-    let mut all_notes: Vec<String> = fit.warnings.iter().map(|w| format!("fit: {w}")).collect();
-    all_notes.extend(
-        notes
-            .iter()
-            .filter(|n| !n.starts_with("not solved"))
-            .cloned(),
-    );
-    let report = Report {
-        title: exp.path.display().to_string(),
-        experiment,
-        photos,
-        heights: Some(Picture {
-            caption: "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed); below, the relative error.".into(),
-            png: heights_png,
-        }),
-        fit: Some(Picture {
-            caption: "The fitted material: stress against strain, the secant modulus E(eps), and the residuals.".into(),
-            png: fit_png,
-        }),
-        material_toml: material_toml.clone(),
-        rows: rows.clone(),
-        runs: runs.clone(),
-        settings: settings_table(&s, &exp, pressures),
-        timings: timings.clone(),
-        notes: all_notes.clone(),
-    };
-    let html = report.to_html();
-    let mut md = format!(
-        "# bulge run: {}\n\n## Measured against simulated apex heights\n\n",
-        exp.path.display()
-    );
-    md.push_str(&table::markdown(rows, runs));
-    md.push_str("\nRelative error = simulated / measured - 1.\n\n## Material\n\n```toml\n");
-    md.push_str(&material_toml);
-    md.push_str("```\n\n## Settings\n\n");
-    for (k, v) in settings_table(&s, &exp, pressures) {
-        md.push_str(&format!("- {k}: {v}\n"));
-    }
-    md.push_str("\n## Time per stage\n\n");
-    md.push_str(&table::timings_markdown(&timings));
-    if !all_notes.is_empty() {
-        md.push_str("\n## Notes\n\n");
-        for n in &all_notes {
-            md.push_str(&format!("- {n}\n"));
-        }
-    }
-    write(Stage::Report, out, "report.html", html.as_bytes())?;
-    write(Stage::Report, out, "summary.md", md.as_bytes())?;
+    let files = run_files(&exp, &s, &o).map_err(|e| stage_failure(Stage::Report, out, e))?;
+    write_all(out, &files.files)?;
     eprintln!(
         "[5/5] {:<8} heights.svg, heights.png, report.html, summary.md",
         Stage::Report.name()
     );
-
-    println!("\nMeasured against simulated apex heights (error = simulated / measured - 1):\n");
-    print!("{}", table::terminal(rows, runs));
-    println!("\nTime per stage:");
-    print!("{}", table::timings_terminal(&timings));
+    print!("{}", files.terminal);
     println!("\nwrote {}", out.join("report.html").display());
     Ok(())
 }

@@ -6,4 +6,6 @@ pub mod fit_outputs;
 pub mod html;
 #[cfg(feature = "plots")]
 pub mod plot;
+#[cfg(all(feature = "plots", feature = "opencv"))]
+pub mod run_files;
 pub mod table;

@@ -376,35 +376,31 @@ impl Figure {
         })
     }
 
-    /// Writes a PNG file whole or not at all (drawn to a temporary file in
-    /// the same folder, then renamed).
+    /// The figure as PNG bytes (RGB, drawn in memory).
+    pub fn to_png(&self) -> Result<Vec<u8>, PlotError> {
+        let (w, h) = self.size;
+        let mut rgb = vec![0u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, self.size).into_drawing_area();
+            self.draw(root.clone())?;
+            root.present().map_err(draw_err)?;
+        }
+        let mut out = Vec::new();
+        let mut enc = png::Encoder::new(&mut out, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header().map_err(draw_err)?;
+        writer.write_image_data(&rgb).map_err(draw_err)?;
+        writer.finish().map_err(draw_err)?;
+        Ok(out)
+    }
+
+    /// Writes a PNG file whole or not at all ([`crate::io::write_atomic`]).
     pub fn write_png(&self, path: &Path) -> Result<(), PlotError> {
-        let io_err = |source| PlotError::Io {
+        let png = self.to_png()?;
+        crate::io::write_atomic(path, &png).map_err(|source| PlotError::Io {
             path: path.display().to_string(),
             source,
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-            _ => std::path::PathBuf::from("."),
-        };
-        std::fs::create_dir_all(&dir).map_err(io_err)?;
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "plot".into());
-        let tmp = dir.join(format!(".{name}.tmp{}.png", std::process::id()));
-        let drawn = (|| {
-            let root = BitMapBackend::new(&tmp, self.size).into_drawing_area();
-            self.draw(root.clone())?;
-            root.present().map_err(draw_err)
-        })();
-        if let Err(e) = drawn {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(e);
-        }
-        std::fs::rename(&tmp, path).map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            io_err(e)
         })
     }
 }

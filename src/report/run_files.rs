@@ -1,0 +1,335 @@
+//! Every file of a run, built in memory from the stages' outputs:
+//! `heights.csv`, `stress_strain.csv`, `material.toml`, `fit.svg`/`.png`,
+//! `simulated.csv`, `heights.svg`/`.png`, `report.html` (self-contained) and
+//! `summary.md`, and the table printed on the terminal. `bulge run` writes
+//! them; a failed run still gives the files of the stages that finished
+//! ([`stage_files`]).
+
+use std::time::Instant;
+
+use super::figures;
+use super::html::{Picture, Report};
+use super::table;
+use crate::experiment::Experiment;
+use crate::pipeline::{
+    self, FitOut, PipelineError, RunOutput, Settings, Stage, StressOut, Timing, Tracking,
+    describe_stress,
+};
+use crate::sim::scene::MeshSize;
+use crate::track::annotate;
+
+/// One output file: its name in the output folder, the stage that made it,
+/// and its bytes.
+#[derive(Debug, Clone)]
+pub struct OutFile {
+    /// File name, e.g. `heights.csv`.
+    pub name: &'static str,
+    /// The stage it belongs to.
+    pub stage: Stage,
+    /// Its content.
+    pub bytes: Vec<u8>,
+}
+
+/// Every file of a finished run, and what to print.
+#[derive(Debug, Clone)]
+pub struct RunFiles {
+    /// The files, in the order of the stages.
+    pub files: Vec<OutFile>,
+    /// The comparison table and the time per stage, for the terminal.
+    pub terminal: String,
+    /// The time per stage, the report's own included.
+    pub timings: Vec<Timing>,
+}
+
+fn output_error(what: &str, e: impl std::fmt::Display) -> PipelineError {
+    PipelineError::Output(format!("{what}: {e}"))
+}
+
+/// The files of the stages that finished: `heights.csv`, `stress_strain.csv`
+/// (with the frame and file of each row), `material.toml`, `fit.svg` and
+/// `fit.png`.
+pub fn stage_files(
+    tracking: Option<&Tracking>,
+    stress: Option<&StressOut>,
+    fit: Option<&FitOut>,
+) -> Result<Vec<OutFile>, PipelineError> {
+    let mut files = Vec::new();
+    if let Some(t) = tracking {
+        files.push(OutFile {
+            name: "heights.csv",
+            stage: Stage::Track,
+            bytes: t.csv().into_bytes(),
+        });
+    }
+    if let Some(s) = stress {
+        let labels: Option<Vec<(usize, String)>> = tracking.map(|t| {
+            t.tracked
+                .rows
+                .iter()
+                .map(|r| (r.frame, r.file.clone()))
+                .collect()
+        });
+        files.push(OutFile {
+            name: "stress_strain.csv",
+            stage: Stage::Stress,
+            bytes: s.csv(labels.as_deref()).into_bytes(),
+        });
+    }
+    if let Some(f) = fit {
+        let toml_text =
+            toml::to_string(&f.material).map_err(|e| output_error("material.toml", e))?;
+        let fig = figures::fit(f);
+        let svg = fig.to_svg().map_err(|e| output_error("fit.svg", e))?;
+        let png = fig.to_png().map_err(|e| output_error("fit.png", e))?;
+        files.push(OutFile {
+            name: "material.toml",
+            stage: Stage::Fit,
+            bytes: toml_text.into_bytes(),
+        });
+        files.push(OutFile {
+            name: "fit.svg",
+            stage: Stage::Fit,
+            bytes: svg.into_bytes(),
+        });
+        files.push(OutFile {
+            name: "fit.png",
+            stage: Stage::Fit,
+            bytes: png,
+        });
+    }
+    Ok(files)
+}
+
+/// Every file of the finished run `o` of `exp` with `s`.
+pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFiles, PipelineError> {
+    let t = Instant::now();
+    let mut files = stage_files(Some(&o.tracking), Some(&o.stress), Some(&o.fit))?;
+    let fit_png = files
+        .iter()
+        .find(|f| f.name == "fit.png")
+        .map(|f| f.bytes.clone())
+        .unwrap_or_default();
+    files.push(OutFile {
+        name: "simulated.csv",
+        stage: Stage::Simulate,
+        bytes: pipeline::simulated_csv(&o.runs).into_bytes(),
+    });
+    let (tracking, stress, fit, runs, rows, pressures) = (
+        &o.tracking,
+        &o.stress,
+        &o.fit,
+        &o.runs,
+        &o.comparison,
+        &o.pressures_pa,
+    );
+    let spec = &exp.specimen;
+    let hfig = figures::heights(&stress.points, runs, rows);
+    let heights_svg = hfig.to_svg().map_err(|e| output_error("heights.svg", e))?;
+    let heights_png = hfig.to_png().map_err(|e| output_error("heights.png", e))?;
+    let nrows = tracking.tracked.rows.len();
+    let mut picks = vec![0, nrows / 2, nrows.saturating_sub(1)];
+    picks.dedup();
+    let mut photos = Vec::new();
+    for i in picks {
+        let r = &tracking.tracked.rows[i];
+        let png = annotate::annotated_png(&tracking.photo(i), &tracking.marks(i), 640)?;
+        photos.push(Picture {
+            caption: format!(
+                "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",
+                r.frame,
+                r.file,
+                r.pressure_pa,
+                r.height_m * 1e3,
+                r.score
+            ),
+            png,
+        });
+    }
+    let mut timings = o.timings.clone();
+    timings.push(Timing {
+        stage: Stage::Report,
+        seconds: t.elapsed().as_secs_f64(),
+        what: format!(
+            "2 figures, {} annotated photos, report.html, summary.md",
+            photos.len()
+        ),
+    });
+    let mut experiment = vec![
+        ("file".to_string(), exp.path.display().to_string()),
+        ("free radius a".into(), format!("{} m", spec.radius_m)),
+        ("thickness t".into(), format!("{} m", spec.thickness_m)),
+        ("Poisson ratio".into(), format!("{}", spec.poisson)),
+        (
+            "pre-bulge height h0".into(),
+            format!("{} m", spec.prebulge_height_m),
+        ),
+        (
+            "photos".into(),
+            format!(
+                "{} tracked of {} ({}x{} px)",
+                nrows,
+                tracking.setup.frames.len(),
+                tracking.tracked.image_size[0],
+                tracking.tracked.image_size[1]
+            ),
+        ),
+        (
+            "metres per pixel".into(),
+            format!("{:.6e}", tracking.setup.calibration.metres_per_pixel),
+        ),
+    ];
+    if let (Some(lo), Some(hi)) = (
+        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::min),
+        stress.points.iter().map(|p| p.pressure_pa).reduce(f64::max),
+    ) {
+        experiment.push(("pressure range".into(), format!("{lo:.1} to {hi:.1} Pa")));
+    }
+    let mut notes: Vec<String> = fit.warnings.iter().map(|w| format!("fit: {w}")).collect();
+    notes.extend(
+        o.notes
+            .iter()
+            .filter_map(|n| n.strip_prefix("simulate: "))
+            .map(str::to_string),
+    );
+    let material_toml = String::from_utf8_lossy(
+        &files
+            .iter()
+            .find(|f| f.name == "material.toml")
+            .map(|f| f.bytes.clone())
+            .unwrap_or_default(),
+    )
+    .into_owned();
+    let settings = settings_table(s, exp, pressures);
+    let report = Report {
+        title: exp.path.display().to_string(),
+        experiment,
+        photos,
+        heights: Some(Picture {
+            caption: "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed); below, the relative error.".into(),
+            png: heights_png.clone(),
+        }),
+        fit: Some(Picture {
+            caption: "The fitted material: stress against strain, the secant modulus E(eps), and the residuals.".into(),
+            png: fit_png,
+        }),
+        material_toml: material_toml.clone(),
+        rows: rows.clone(),
+        runs: runs.clone(),
+        settings: settings.clone(),
+        timings: timings.clone(),
+        notes: notes.clone(),
+    };
+    let html = report.to_html();
+    let mut md = format!(
+        "# bulge run: {}\n\n## Measured against simulated apex heights\n\n",
+        exp.path.display()
+    );
+    md.push_str(&table::markdown(rows, runs));
+    md.push_str("\nRelative error = simulated / measured - 1.\n\n## Material\n\n```toml\n");
+    md.push_str(&material_toml);
+    md.push_str("```\n\n## Settings\n\n");
+    for (k, v) in &settings {
+        md.push_str(&format!("- {k}: {v}\n"));
+    }
+    md.push_str("\n## Time per stage\n\n");
+    md.push_str(&table::timings_markdown(&timings));
+    if !notes.is_empty() {
+        md.push_str("\n## Notes\n\n");
+        for n in &notes {
+            md.push_str(&format!("- {n}\n"));
+        }
+    }
+    for (name, bytes) in [
+        ("heights.svg", heights_svg.into_bytes()),
+        ("heights.png", heights_png),
+        ("report.html", html.into_bytes()),
+        ("summary.md", md.into_bytes()),
+    ] {
+        files.push(OutFile {
+            name,
+            stage: Stage::Report,
+            bytes,
+        });
+    }
+    let mut terminal = String::from(
+        "\nMeasured against simulated apex heights (error = simulated / measured - 1):\n\n",
+    );
+    terminal.push_str(&table::terminal(rows, runs));
+    terminal.push_str("\nTime per stage:\n");
+    terminal.push_str(&table::timings_terminal(&timings));
+    Ok(RunFiles {
+        files,
+        terminal,
+        timings,
+    })
+}
+
+/// The settings of a run as key/value pairs for the report.
+pub fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<(String, String)> {
+    let mesh = match s.mesh {
+        None => "default: 16 rings of the 60 degree sector".to_string(),
+        Some(MeshSize::Accuracy(a)) => format!("accuracy {a} (relative height error)"),
+        Some(MeshSize::Nodes(n)) => format!("about {n} nodes"),
+        Some(MeshSize::EdgeLength(h)) => format!("edge length {h} m"),
+    };
+    vec![
+        ("experiment".into(), exp.path.display().to_string()),
+        (
+            "track".into(),
+            format!(
+                "refine {}, min score {}, skip bad frames {}",
+                s.track.refine.name(),
+                s.track.min_score,
+                s.track.skip_bad_frames
+            ),
+        ),
+        ("stress".into(), describe_stress(&s.stress)),
+        (
+            "fit".into(),
+            format!(
+                "{}{}",
+                s.fit.label(),
+                if s.refine {
+                    ", corrected to the measured heights through the axisymmetric solution"
+                } else {
+                    ", as the stress/strain points give it (--no-refine)"
+                }
+            ),
+        ),
+        (
+            "simulate".into(),
+            format!(
+                "models {}{}, solver {}, tolerance {:e}",
+                s.models
+                    .iter()
+                    .map(|m| m.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                if s.axisym {
+                    " + axisym (exact reference)"
+                } else {
+                    ""
+                },
+                s.solver.name(),
+                s.tolerance
+            ),
+        ),
+        ("mesh".into(), mesh),
+        (
+            "pressures simulated (Pa)".into(),
+            format!(
+                "{} {}",
+                if s.pressures_pa.is_some() {
+                    "given:"
+                } else {
+                    "the measured ones:"
+                },
+                pressures
+                    .iter()
+                    .map(|p| format!("{p:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+    ]
+}
