@@ -707,51 +707,50 @@ pub fn simulate_stage(
         let t_model = Instant::now();
         let mut disc =
             DiscSolver::on_mesh(&scene, mesh.clone(), model)?.with_solver(settings.solver, opts)?;
-        let mut points = Vec::new();
-        let mut stopped: Option<String> = None;
-        for &p in pressures {
-            if let Some(why) = &stopped {
+        let solved = |q: &crate::sim::SweepPoint| SimPoint {
+            pressure_pa: q.pressure_pa,
+            height_m: Some(q.height_m),
+            iterations: q.stats.iterations,
+            residual: q.stats.residual,
+            wall_s: q.wall_s,
+            note: None,
+        };
+        let points = match disc.sweep(pressures, |_, _| tick()) {
+            Ok(done) => done.iter().map(solved).collect(),
+            Err((done, stop)) => {
+                let mut points: Vec<SimPoint> = done.iter().map(solved).collect();
                 points.push(SimPoint {
-                    pressure_pa: p,
+                    pressure_pa: stop.pressure_pa,
                     height_m: None,
                     iterations: 0,
                     residual: f64::NAN,
-                    wall_s: 0.0,
-                    note: Some(why.clone()),
+                    wall_s: stop.wall_s,
+                    note: Some(format!(
+                        "{} at {} Pa: {}",
+                        model.name(),
+                        stop.pressure_pa,
+                        stop.error
+                    )),
                 });
-                tick();
-                continue;
-            }
-            let t0 = Instant::now();
-            let out = disc.solve_to(p);
-            let wall = t0.elapsed().as_secs_f64();
-            match out {
-                Ok(st) => points.push(SimPoint {
-                    pressure_pa: p,
-                    height_m: Some(disc.apex_height_m()),
-                    iterations: st.iterations,
-                    residual: st.residual,
-                    wall_s: wall,
-                    note: None,
-                }),
-                Err(e) => {
-                    let why = format!("{} at {p} Pa: {e}", model.name());
+                for &p in &pressures[stop.index + 1..] {
                     points.push(SimPoint {
                         pressure_pa: p,
                         height_m: None,
                         iterations: 0,
                         residual: f64::NAN,
-                        wall_s: wall,
-                        note: Some(why.clone()),
+                        wall_s: 0.0,
+                        note: Some(format!(
+                            "not solved: {} stopped at a lower pressure",
+                            model.name()
+                        )),
                     });
-                    stopped = Some(format!(
-                        "not solved: {} stopped at a lower pressure",
-                        model.name()
-                    ));
                 }
+                for _ in stop.index..pressures.len() {
+                    tick();
+                }
+                points
             }
-            tick();
-        }
+        };
         runs.push(ModelRun {
             model: model.name().to_string(),
             solver: settings.solver.name().to_string(),

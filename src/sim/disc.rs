@@ -1,10 +1,10 @@
-//! The clamped disc of a bubble-inflation test, inflated pressure by
-//! pressure: the one pressure sweep behind `bulge simulate`, `bulge run` and
-//! `bulge bench`.
+//! A scene's membrane loaded pressure by pressure: the one pressure sweep
+//! behind `bulge simulate`, `bulge run` and `bulge bench`.
 //!
-//! A [`DiscSolver`] owns everything a sweep needs (mesh, membrane, current
-//! positions, Newton workspace and the first-guess predictor), so a caller
-//! only names the pressures:
+//! A [`SceneSolver`] owns everything a sweep needs (scene, mesh, membrane,
+//! current positions, Newton workspace and the first-guess predictor), so a
+//! caller only names the pressures. [`DiscSolver`] is its name for the
+//! clamped disc of a bubble-inflation test, built from the specimen:
 //!
 //! ```
 //! use bulge::{DiscSolver, Material, Specimen, SpringModel};
@@ -22,16 +22,20 @@
 use nalgebra::Point3;
 
 use super::SimError;
+use std::time::Instant;
+
 use super::mesh::Mesh;
-use super::scene::{DiscPredictor, MeshSize, Scene};
-use super::solve::{self, NewtonWorkspace, Options, Solver, Stats};
+use super::scene::{DiscPredictor, MeshSize, Scene, SceneKind};
+use super::solve::{self, NewtonWorkspace, Options, Predictor, Solver, Stats, Stay};
 use super::springs::{Membrane, SpringModel};
 use crate::experiment::Specimen;
 use crate::material::Material;
 
-/// A clamped circular membrane under uniform pressure, solved by
-/// continuation from the last equilibrium (see [`solve::continuation`]).
-pub struct DiscSolver {
+/// A membrane scene (disc, sphere segment, sheet) under uniform pressure and
+/// its nodal loads, solved by continuation from the last equilibrium (see
+/// [`solve::continuation`]).
+pub struct SceneSolver {
+    scene: Scene,
     mesh: Mesh,
     membrane: Membrane,
     x: Vec<Point3<f64>>,
@@ -39,11 +43,45 @@ pub struct DiscSolver {
     pressure_pa: f64,
     solver: Solver,
     options: Options,
-    predictor: DiscPredictor,
+    predictor: Box<dyn Predictor + Send + Sync>,
     workspace: Option<NewtonWorkspace>,
 }
 
-impl DiscSolver {
+/// The clamped disc of a bubble-inflation test: a [`SceneSolver`] built
+/// from the specimen ([`SceneSolver::new`]).
+pub type DiscSolver = SceneSolver;
+
+/// One pressure of a sweep ([`SceneSolver::sweep`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepPoint {
+    /// Index of the pressure in the list swept.
+    pub index: usize,
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// The scene's height (the apex above the clamp plane for a disc), m.
+    pub height_m: f64,
+    /// The scene's other measures ([`Scene::extra_columns`]).
+    pub extra: Vec<f64>,
+    /// What the solve did.
+    pub stats: Stats,
+    /// Wall time of this pressure, s.
+    pub wall_s: f64,
+}
+
+/// The pressure at which a sweep stopped, and why.
+#[derive(Debug, Clone)]
+pub struct SweepStop {
+    /// Index of the pressure in the list swept.
+    pub index: usize,
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// Why no equilibrium was found.
+    pub error: SimError,
+    /// Wall time spent on it, s.
+    pub wall_s: f64,
+}
+
+impl SceneSolver {
     /// The specimen's disc with the default mesh (a 60 degree sector of
     /// 16 rings: symmetry lets the sector stand for the whole disc), solved
     /// by Newton's method.
@@ -65,24 +103,23 @@ impl DiscSolver {
         Self::on_mesh(&scene, mesh, model)
     }
 
-    /// The disc of `scene` (a disc scene) on a mesh already built for it, so
-    /// that several spring models can share one mesh.
+    /// The scene on a mesh already built for it (so that several spring
+    /// models can share one mesh). A disc starts from Hencky's profile, the
+    /// other scenes from the last equilibrium.
     pub fn on_mesh(scene: &Scene, mesh: Mesh, model: SpringModel) -> Result<Self, SimError> {
-        let super::scene::SceneKind::Disc { radius_m } = scene.kind else {
-            return Err(SimError::BadParameter(format!(
-                "a disc solver needs a disc scene, not a {}",
-                scene.kind.name()
-            )));
-        };
         let membrane = scene.membrane(&mesh, model)?;
-        let predictor = DiscPredictor {
-            radius_m,
-            young_pa: membrane.law.young(1.0).1,
-            thickness_m: scene.thickness_m,
-            poisson: scene.material.poisson,
+        let predictor: Box<dyn Predictor + Send + Sync> = match scene.kind {
+            SceneKind::Disc { radius_m } => Box::new(DiscPredictor {
+                radius_m,
+                young_pa: membrane.law.young(1.0).1,
+                thickness_m: scene.thickness_m,
+                poisson: scene.material.poisson,
+            }),
+            _ => Box::new(Stay),
         };
         let apex = mesh.probe("apex").unwrap_or_else(|| nearest_to_axis(&mesh));
-        Ok(DiscSolver {
+        Ok(SceneSolver {
+            scene: scene.clone(),
             x: mesh.nodes.clone(),
             mesh,
             membrane,
@@ -104,10 +141,11 @@ impl DiscSolver {
     }
 
     /// Solves the equilibrium at `pressure_pa`, continued from the last one
-    /// (halving the increment where a step fails). On error the disc stays at
-    /// the last equilibrium reached.
+    /// (halving the increment where a step fails). On error the membrane
+    /// stays at the last equilibrium reached.
     pub fn solve_to(&mut self, pressure_pa: f64) -> Result<Stats, SimError> {
-        if !pressure_pa.is_finite() || pressure_pa <= 0.0 {
+        let nodal_only = pressure_pa == 0.0 && !self.membrane.node_loads.is_empty();
+        if !pressure_pa.is_finite() || (pressure_pa <= 0.0 && !nodal_only) {
             return Err(SimError::BadParameter(format!(
                 "pressure {pressure_pa} Pa: give a positive, finite pressure"
             )));
@@ -120,16 +158,68 @@ impl DiscSolver {
             pressure_pa,
             self.solver,
             &self.options,
-            &self.predictor,
+            self.predictor.as_ref(),
             &mut self.workspace,
         )?;
         self.pressure_pa = pressure_pa;
         Ok(stats)
     }
 
-    /// Height of the apex above the clamp plane, m.
+    /// Solves at each pressure in turn (increasing), calling `each` after
+    /// every equilibrium; stops at the first pressure without one and says
+    /// which (the pressures after it are not tried: each continues from the
+    /// last).
+    pub fn sweep(
+        &mut self,
+        pressures_pa: &[f64],
+        mut each: impl FnMut(&SceneSolver, &SweepPoint),
+    ) -> Result<Vec<SweepPoint>, (Vec<SweepPoint>, SweepStop)> {
+        let mut done = Vec::with_capacity(pressures_pa.len());
+        for (index, &p) in pressures_pa.iter().enumerate() {
+            let t0 = Instant::now();
+            match self.solve_to(p) {
+                Ok(stats) => {
+                    let (height_m, extra) = self.measure();
+                    let point = SweepPoint {
+                        index,
+                        pressure_pa: p,
+                        height_m,
+                        extra,
+                        stats,
+                        wall_s: t0.elapsed().as_secs_f64(),
+                    };
+                    each(self, &point);
+                    done.push(point);
+                }
+                Err(error) => {
+                    let stop = SweepStop {
+                        index,
+                        pressure_pa: p,
+                        error,
+                        wall_s: t0.elapsed().as_secs_f64(),
+                    };
+                    return Err((done, stop));
+                }
+            }
+        }
+        Ok(done)
+    }
+
+    /// Height of the apex above the clamp plane, m (for a disc; for other
+    /// scenes the node nearest the axis of the reference mesh).
     pub fn apex_height_m(&self) -> f64 {
         self.x[self.apex].z
+    }
+
+    /// The scene's height and other measures at the current equilibrium
+    /// ([`Scene::measure`]).
+    pub fn measure(&self) -> (f64, Vec<f64>) {
+        self.scene.measure(&self.mesh, &self.x)
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
     }
 
     /// The pressure of the current equilibrium, Pa (0 before the first solve).

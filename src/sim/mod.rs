@@ -38,7 +38,7 @@ pub mod solve;
 pub mod springs;
 pub mod vtk;
 
-pub use disc::DiscSolver;
+pub use disc::{DiscSolver, SceneSolver, SweepPoint, SweepStop};
 pub use mesh::{Constraint, Mesh};
 pub use springs::{Membrane, SpringModel};
 

@@ -8,7 +8,7 @@ use anyhow::{Context, anyhow};
 use nalgebra::{Point3, Vector3};
 
 use super::super::{Classify, Failure};
-use super::{Args, describe, finish, parse_list};
+use super::{Args, Choice, describe, finish};
 use bulge::io::{CsvOut, fmt_num, write_atomic};
 use bulge::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
 use bulge::sim::scene::{DiscPredictor, Scene, SceneKind};
@@ -31,8 +31,8 @@ pub struct DynArgs {
     /// symplectic-euler, verlet (Sudhamani & Merriliance's position Verlet, default),
     /// implicit-euler (Newton + sparse LU), xpbd (needs van-gelder or lloyd
     /// and a linear material).
-    #[arg(long, default_value = "verlet")]
-    pub integrator: String,
+    #[arg(long, default_value = "verlet", value_enum, value_delimiter = ',')]
+    pub integrator: Vec<Integrator>,
     /// Time step in s. Default: 0.9 of Verlet's stable step estimated for the
     /// mesh at rest. An explicit integrator given a larger step sub-steps (or
     /// refuses, see --step-policy).
@@ -79,20 +79,18 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
 pub fn run(args: Args) -> Result<(), Failure> {
     let d = args.dynamic.clone();
     let scene = build_scene(&args).bad_input()?;
-    let models = parse_list(
-        &args.model,
-        "model",
-        "tp, tp-paper, van-gelder, lloyd",
-        SpringModel::parse,
-    )
-    .bad_input()?;
-    let integrators = parse_list(
-        &d.integrator,
-        "integrator",
-        "explicit-euler, symplectic-euler, verlet, implicit-euler, xpbd",
-        Integrator::parse,
-    )
-    .bad_input()?;
+    let models: Vec<SpringModel> = args
+        .model
+        .iter()
+        .map(|c| match c {
+            Choice::Spring(m) => Ok(*m),
+            Choice::Axisym => Err(anyhow!(
+                "--dynamic integrates the spring models; axisym is a static solution: drop it from --model"
+            )),
+        })
+        .collect::<anyhow::Result<_>>()
+        .bad_input()?;
+    let integrators = d.integrator.clone();
     let t_end = d
         .t_end
         .ok_or_else(|| anyhow!("--dynamic needs --t-end (the simulated time in s, e.g. 0.05)"))

@@ -61,6 +61,7 @@ use xpbd::Xpbd;
 
 /// The time integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Integrator {
     /// `x += h v; v += h a(x, v)` (both from the old state).
     ExplicitEuler,

@@ -1,0 +1,246 @@
+//! `bulge simulate`: material -> simulated bubble heights with the
+//! mass-spring membrane models (see `docs/simulate.md`).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::anyhow;
+
+use super::Failure;
+
+mod axisym;
+mod dynamic;
+mod statics;
+
+use bulge::experiment::Experiment;
+use bulge::io::read_toml;
+use bulge::material::Material;
+use bulge::sim::mesh::Mesh;
+use bulge::sim::scene::{MeshSize, Scene, SceneKind};
+use bulge::sim::solve::Solver;
+use bulge::sim::springs::SpringModel;
+
+/// Flags of `bulge simulate`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file (TOML): `kind` = disc | sphere-segment | sheet, the geometry
+    /// in metres, `pressure_pa` = [...], `[material]` (or `material = "path"`)
+    /// and `[mesh]`. Format in docs/simulate.md. Or use --experiment.
+    pub scene: Option<PathBuf>,
+    /// Experiment file whose `[specimen]` gives the clamped disc (radius_m,
+    /// thickness_m); needs --material and --pressures.
+    #[arg(long, conflicts_with = "scene")]
+    pub experiment: Option<PathBuf>,
+    /// Material file (material.toml as `bulge fit` writes it). Required with
+    /// --experiment; with a scene it replaces the scene's material.
+    #[arg(long)]
+    pub material: Option<PathBuf>,
+    /// Pressures in Pa, comma-separated, solved in this order, each continued
+    /// from the previous (e.g. 5000,7300,8940). Replaces the scene's list.
+    #[arg(long, value_delimiter = ',', value_parser = parse_pressure)]
+    pub pressures: Option<Vec<f64>>,
+    /// Models, comma-separated, one output row each per pressure:
+    /// tp (TP MSS force form, default), tp-paper (eq 11 with the eq 16
+    /// switch), van-gelder (eq 1), lloyd (eq 4), axisym (the exact
+    /// axisymmetric membrane solution, disc only; solver `shooting`).
+    #[arg(long, default_value = "tp", value_delimiter = ',', value_parser = parse_choice)]
+    pub model: Vec<Choice>,
+    /// Quasi-static solvers, comma-separated: newton (sparse LU, default) or
+    /// dr (dynamic relaxation with kinetic damping).
+    #[arg(long, default_value = "newton", value_enum, value_delimiter = ',')]
+    pub solver: Vec<Solver>,
+    /// Output CSV: pressure_pa,height_m,model,solver,nodes,iterations,residual,wall_s
+    /// (the sphere segment adds its radii).
+    #[arg(short, long, default_value = "simulated.csv")]
+    pub output: PathBuf,
+    /// Folder for the deformed meshes as VTK (one file per model, solver and
+    /// pressure), for ParaView. Default: none written.
+    #[arg(long)]
+    pub vtk: Option<PathBuf>,
+    /// Residual force relative to the load at which a solve stops. Default 1e-8.
+    #[arg(long, default_value_t = 1e-8)]
+    pub tolerance: f64,
+    /// Cap on iterations per pressure step (Newton iterations, default 40; or
+    /// relaxation steps, default 200000).
+    #[arg(long)]
+    pub max_iterations: Option<usize>,
+    /// Mesh: target edge length in m (replaces the scene's [mesh] size).
+    #[arg(long, conflicts_with_all = ["nodes", "accuracy"])]
+    pub edge_length: Option<f64>,
+    /// Mesh: about this many solved nodes.
+    #[arg(long, conflicts_with = "accuracy")]
+    pub nodes: Option<usize>,
+    /// Mesh: relative height error wanted against the mesh-converged model
+    /// (disc), e.g. 0.005. Default mesh when no size is given anywhere: 16
+    /// rings (disc), 16 divisions (sphere segment).
+    #[arg(long)]
+    pub accuracy: Option<f64>,
+    /// Mesh the full disc instead of the 60 degree sector with mirror planes.
+    #[arg(long)]
+    pub full: bool,
+    /// With --model axisym: write the meridian profile at the last pressure
+    /// solved (r_m,rho_m,z_m,stretch_meridional,stretch_hoop) to this CSV.
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
+    /// Density in kg/m^3 for the lumped masses (default: the scene's, else 1100).
+    #[arg(long)]
+    pub density: Option<f64>,
+    /// Dynamic runs (--dynamic and its flags; see docs/dynamics.md).
+    #[command(flatten)]
+    pub dynamic: dynamic::DynArgs,
+}
+
+fn parse_pressure(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse()
+        .map_err(|_| format!("`{}` is not a pressure in Pa", s.trim()))
+}
+
+fn parse_choice(s: &str) -> Result<Choice, String> {
+    match s.trim() {
+        "axisym" => Ok(Choice::Axisym),
+        m => SpringModel::parse(m)
+            .map(Choice::Spring)
+            .ok_or_else(|| format!("`{m}` is not one of tp, tp-paper, van-gelder, lloyd, axisym")),
+    }
+}
+
+fn build_scene(args: &Args) -> anyhow::Result<Scene> {
+    let (scene, origin) = load_scene(args)?;
+    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
+    Ok(scene)
+}
+
+/// Reads the scene (a scene file, or `--experiment` + `--material`), applies
+/// the overriding flags, and returns it with the name of where it came from;
+/// the static and dynamic paths validate it each their own way.
+fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
+    let material = match &args.material {
+        Some(p) => Some(read_toml::<Material>(p)?),
+        None => None,
+    };
+    let mut scene = if let Some(path) = &args.scene {
+        let mut s = Scene::read(path)?;
+        if let Some(m) = material {
+            s.material = m;
+        }
+        s
+    } else if let Some(exp) = &args.experiment {
+        let e = Experiment::read(exp)?;
+        let m = material.ok_or_else(|| {
+            anyhow!("--experiment needs --material material.toml (the material to simulate)")
+        })?;
+        if (m.poisson - e.specimen.poisson).abs() > 1e-12 {
+            eprintln!(
+                "note: the material's poisson = {} is used; the specimen says {}",
+                m.poisson, e.specimen.poisson
+            );
+        }
+        if e.specimen.prebulge_height_m > 0.0 {
+            eprintln!("note: the simulated disc starts flat; prebulge_height_m is not modelled");
+        }
+        if args.pressures.is_none() {
+            return Err(anyhow!(
+                "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"
+            ));
+        }
+        Scene::from_specimen(&e.specimen, m, Vec::new())
+    } else {
+        return Err(anyhow!(
+            "give a scene file (bulge simulate scene.toml) or --experiment FILE --material FILE --pressures P1,P2,..."
+        ));
+    };
+    let origin = apply_overrides(&mut scene, args)?;
+    Ok((scene, origin))
+}
+
+/// A model of the `--model` list: a spring model or the exact
+/// axisymmetric solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Choice {
+    /// A mass-spring model.
+    Spring(SpringModel),
+    /// The exact axisymmetric solution (disc only).
+    Axisym,
+}
+
+/// Applies the flags that override a scene (pressures, mesh size, symmetry,
+/// density) and returns the name of where the scene came from, for messages.
+fn apply_overrides(scene: &mut Scene, args: &Args) -> anyhow::Result<String> {
+    if let Some(p) = &args.pressures {
+        scene.pressures_pa = p.clone();
+    }
+    if let Some(h) = args.edge_length {
+        scene.mesh.size = Some(MeshSize::EdgeLength(h));
+    }
+    if let Some(n) = args.nodes {
+        scene.mesh.size = Some(MeshSize::Nodes(n));
+    }
+    if let Some(a) = args.accuracy {
+        scene.mesh.size = Some(MeshSize::Accuracy(a));
+    }
+    if args.full {
+        scene.mesh.symmetry = false;
+    }
+    if let Some(d) = args.density {
+        scene.density_kg_m3 = d;
+    }
+    Ok(args
+        .scene
+        .as_deref()
+        .or(args.experiment.as_deref())
+        .unwrap_or(Path::new("command line"))
+        .display()
+        .to_string())
+}
+
+fn describe(mesh: &Mesh, scene: &Scene) -> String {
+    let q = mesh.quality();
+    let part = match (scene.kind, mesh.symmetry_copies) {
+        (SceneKind::Disc { .. }, 6) => " (60 degree sector with mirror planes)",
+        (SceneKind::SphereSegment { .. }, _) => " (octant with three symmetry planes)",
+        _ => "",
+    };
+    format!(
+        "mesh: {} nodes, {} triangles{part}; angles {:.1}-{:.1} deg, non-acute {:.2} %, edges {:.3e}-{:.3e} m",
+        mesh.nodes.len(),
+        q.triangles,
+        q.min_angle_deg,
+        q.max_angle_deg,
+        100.0 * q.non_acute_share,
+        q.edge_range_m[0],
+        q.edge_range_m[1]
+    )
+}
+
+/// Runs `bulge simulate`.
+pub fn run(args: Args) -> Result<(), Failure> {
+    if args.dynamic.dynamic {
+        dynamic::run(args)
+    } else {
+        statics::run(args)
+    }
+}
+
+/// Prints the result table and where it was written; fails naming every
+/// failure and where the finished part (`kept`) is.
+fn finish(
+    header: &str,
+    table: &[String],
+    output: &std::path::Path,
+    failures: &[String],
+    kept: &str,
+) -> Result<(), Failure> {
+    println!("{header}");
+    for line in table {
+        println!("{line}");
+    }
+    println!("wrote {}", output.display());
+    if !failures.is_empty() {
+        return Err(Failure::Failed(anyhow!(
+            "{}; {kept} are in {}",
+            failures.join("; "),
+            output.display()
+        )));
+    }
+    Ok(())
+}

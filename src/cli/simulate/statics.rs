@@ -1,0 +1,159 @@
+//! `bulge simulate` without `--dynamic`: each spring model and quasi-static
+//! solver swept over the scene's pressures ([`bulge::sim::SceneSolver`]).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, anyhow};
+
+use super::{Args, Choice, build_scene, describe, finish};
+use crate::cli::{Classify, Failure};
+use bulge::io::{CsvOut, fmt_num, write_atomic};
+use bulge::sim::scene::SceneKind;
+use bulge::sim::solve::Options;
+use bulge::sim::springs::SpringModel;
+use bulge::sim::{SceneSolver, SimError, vtk};
+
+/// Runs `bulge simulate` (quasi-static).
+pub(super) fn run(args: Args) -> Result<(), Failure> {
+    let scene = build_scene(&args).bad_input()?;
+    let models: Vec<SpringModel> = args
+        .model
+        .iter()
+        .filter_map(|c| match c {
+            Choice::Spring(m) => Some(*m),
+            Choice::Axisym => None,
+        })
+        .collect();
+    let axisym = args.model.contains(&Choice::Axisym);
+    if args.profile.is_some() && !axisym {
+        return Err(Failure::BadInput(anyhow!(
+            "--profile writes the axisym meridian: add axisym to --model"
+        )));
+    }
+    let mut opts = Options {
+        tolerance: args.tolerance,
+        ..Options::default()
+    };
+    if let Some(n) = args.max_iterations {
+        opts.newton_iterations = n;
+        opts.dr_steps = n;
+    }
+    opts.validate()
+        .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
+        .bad_input()?;
+    let mesh = scene
+        .build_mesh_for(&models)
+        .context("building the mesh")
+        .bad_input()?;
+    eprintln!("{}", describe(&mesh, &scene));
+    for &model in &models {
+        for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
+            eprintln!("warning ({}): {w}", model.name());
+        }
+    }
+
+    let mut header: Vec<&str> = bulge::pipeline::SIMULATED_COLUMNS.to_vec();
+    header.extend(scene.extra_columns());
+    let mut csv = CsvOut::new(&header);
+    let mut vtks: Vec<(PathBuf, String)> = Vec::new();
+    let mut failures: Vec<String> = Vec::new();
+    let mut table = Vec::new();
+    let runs = models.len() * args.solver.len() + usize::from(axisym);
+    let n_p = scene.pressures_pa.len();
+    let pb = crate::cli::progress((runs * n_p) as u64, "simulate");
+    let mut profile_out = None;
+    if axisym {
+        profile_out = super::axisym::run_axisym(
+            &scene,
+            header.len(),
+            &mut csv,
+            &mut table,
+            &mut failures,
+            args.profile.as_deref(),
+            &pb,
+        )?;
+    }
+    for &model in &models {
+        for &solver in &args.solver {
+            let mut s = SceneSolver::on_mesh(&scene, mesh.clone(), model)
+                .and_then(|s| s.with_solver(solver, opts))
+                .map_err(|e| anyhow!("{e}"))
+                .bad_input()?;
+            let (m, sv) = (model.name(), solver.name());
+            let swept = s.sweep(&scene.pressures_pa, |s, q| {
+                pb.inc(1);
+                let mut row = vec![
+                    fmt_num(Some(q.pressure_pa)),
+                    fmt_num(Some(q.height_m)),
+                    m.to_string(),
+                    sv.to_string(),
+                    mesh.nodes.len().to_string(),
+                    q.stats.iterations.to_string(),
+                    format!("{:.3e}", q.stats.residual),
+                    format!("{:.4}", q.wall_s),
+                ];
+                row.extend(q.extra.iter().map(|v| fmt_num(Some(*v))));
+                csv.row(&row);
+                table.push(format!(
+                    "{:>10} {:>12.6e} {:>10} {:>7} {:>6} {:>9.2e} {:>8.3}",
+                    q.pressure_pa,
+                    q.height_m,
+                    m,
+                    sv,
+                    q.stats.iterations,
+                    q.stats.residual,
+                    q.wall_s
+                ));
+                if let Some(dir) = &args.vtk {
+                    let x = s.positions();
+                    let name = format!("{m}_{sv}_{:03}.vtk", q.index);
+                    let title = format!("bulge {m} {sv} {} Pa", q.pressure_pa);
+                    let stretch = s.membrane().triangle_stretch(x);
+                    vtks.push((dir.join(name), vtk::polydata(&mesh, x, &stretch, &title)));
+                }
+            });
+            if let Err((_, stop)) = swept {
+                let p = stop.pressure_pa;
+                if let e @ SimError::NonPositiveModulus { .. } = &stop.error {
+                    pb.finish_and_clear();
+                    return Err(Failure::BadInput(anyhow!("{m} / {sv} at {p} Pa: {e}")));
+                }
+                let mut msg = format!("{m} / {sv}: {}", stop.error);
+                // the disc's limit pressure from the axisymmetric solution
+                if let SceneKind::Disc { radius_m } = scene.kind
+                    && let Some(note) = bulge::sim::hard::limit_note(
+                        &scene.material,
+                        radius_m,
+                        scene.thickness_m,
+                        p,
+                    )
+                {
+                    msg.push_str(&format!(" ({note})"));
+                }
+                failures.push(msg);
+                pb.inc((n_p - stop.index) as u64);
+            }
+        }
+    }
+    pb.finish_and_clear();
+    csv.write(&args.output)
+        .with_context(|| format!("writing {}", args.output.display()))
+        .failed()?;
+    if let (Some(path), Some(prof)) = (&args.profile, profile_out) {
+        prof.write(path)
+            .with_context(|| format!("writing {}", path.display()))
+            .failed()?;
+    }
+    for (path, text) in &vtks {
+        write_atomic(path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))
+            .failed()?;
+    }
+    finish(
+        "  pressure_pa     height_m      model  solver  iters  residual   wall_s",
+        &table,
+        &args.output,
+        &failures,
+        "the rows solved before",
+    )
+}
