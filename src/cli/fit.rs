@@ -22,11 +22,7 @@ use bulge::fit::{FitError, FitModel, FitSettings, StressMeasure, fit_material, i
 use bulge::io::{Table, write_atomic};
 use bulge::material::StrainMeasure;
 use bulge::mechanics::Modulus;
-use bulge::report::fit_outputs::fit_outputs;
-
-fn parse_model(s: &str) -> Result<FitModel, String> {
-    s.parse()
-}
+use bulge::report::fit_outputs::{FitPaths, fit_outputs};
 
 /// Flags of `bulge fit`.
 #[derive(Debug, clap::Args)]
@@ -44,7 +40,7 @@ pub struct Args {
     /// model.
     /// One of quartic, neo-hookean, mooney-rivlin, yeoh, ogden (see
     /// --ogden-terms), gent, all.
-    #[arg(long, default_value = "quartic", value_parser = parse_model)]
+    #[arg(long, default_value = "quartic", value_parser = super::parse_fit_model)]
     pub model: FitModel,
 
     /// Degree N of the polynomial modulus law E(eps) (quartic only). Default
@@ -111,35 +107,6 @@ pub struct Args {
     /// Do not draw the SVG and PNG plots.
     #[arg(long)]
     pub no_plot: bool,
-}
-
-/// Side outputs named after the material file.
-struct Outputs {
-    material: PathBuf,
-    curve: PathBuf,
-    residuals: PathBuf,
-    svg: PathBuf,
-    png: PathBuf,
-    models: PathBuf,
-}
-
-impl Outputs {
-    fn new(material: &Path) -> Self {
-        let stem = material
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "material".into());
-        let dir = material.parent().unwrap_or(Path::new(""));
-        let f = |suffix: &str| dir.join(format!("{stem}{suffix}"));
-        Self {
-            material: material.to_path_buf(),
-            curve: f("_curve.csv"),
-            residuals: f("_residuals.csv"),
-            svg: f("_fit.svg"),
-            png: f("_fit.png"),
-            models: f("_models.csv"),
-        }
-    }
 }
 
 /// The flags checked before any work; the settings of the fit.
@@ -209,42 +176,36 @@ pub fn run(args: Args) -> Result<(), Failure> {
         summary.push_str(&to_heights(&args.input, &table, exp, &mut fitted)?);
     }
     // Render everything before writing anything.
-    let toml_text = toml::to_string(&fitted.material).failed()?;
-    let svg = if args.no_plot {
-        None
-    } else {
-        Some(files.figure.to_svg().failed()?)
-    };
-    let out = Outputs::new(&args.output);
-    let write = |p: &Path, b: &[u8]| {
-        write_atomic(p, b).map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
-    };
-    write(&out.material, toml_text.as_bytes()).failed()?;
-    write(&out.curve, &files.curve.into_bytes()).failed()?;
-    write(&out.residuals, &files.residuals.into_bytes()).failed()?;
-    let mut written = vec![&out.material, &out.curve, &out.residuals];
+    let out = FitPaths::new(&args.output);
+    let mut files_out = vec![
+        (
+            &out.material,
+            toml::to_string(&fitted.material).failed()?.into_bytes(),
+        ),
+        (&out.curve, files.curve.into_bytes()),
+        (&out.residuals, files.residuals.into_bytes()),
+    ];
     if let Some(m) = files.models {
-        write(&out.models, &m.into_bytes()).failed()?;
-        written.push(&out.models);
+        files_out.push((&out.models, m.into_bytes()));
     }
-    if let Some(svg) = svg {
-        write(&out.svg, svg.as_bytes()).failed()?;
-        files.figure.write_png(&out.png).failed()?;
-        written.push(&out.svg);
-        written.push(&out.png);
+    if !args.no_plot {
+        files_out.push((&out.svg, files.figure.to_svg().failed()?.into_bytes()));
+        files_out.push((&out.png, files.figure.to_png().failed()?));
+    }
+    for (p, bytes) in &files_out {
+        write_atomic(p, bytes)
+            .map_err(|e| anyhow!("cannot write {}: {e}", p.display()))
+            .failed()?;
     }
     print!("{summary}");
     for w in &fitted.warnings {
         eprintln!("warning: {w}");
     }
-    println!(
-        "wrote {}",
-        written
-            .iter()
-            .map(|p| p.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    let names: Vec<String> = files_out
+        .iter()
+        .map(|f| f.0.display().to_string())
+        .collect();
+    println!("wrote {}", names.join(", "));
     Ok(())
 }
 
@@ -258,26 +219,12 @@ fn to_heights(
     fitted: &mut bulge::fit::FittedMaterial,
 ) -> Result<String, Failure> {
     let e = Experiment::read(exp)?;
-    let (Some(p), Some(h)) = (
-        table.optional_numbers("pressure_pa")?,
-        table.optional_numbers("height_m")?,
-    ) else {
+    let Some(measured) = inverse::Measured::from_table(table)? else {
         return Err(Failure::BadInput(anyhow!(
             "{}: --to-heights needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv",
             input.display()
         )));
     };
-    let measured: Vec<inverse::Measured> = p
-        .iter()
-        .zip(&h)
-        .filter_map(|(p, h)| match (p, h) {
-            (Some(p), Some(h)) if *p > 0.0 && *h > 0.0 => Some(inverse::Measured {
-                pressure_pa: *p,
-                height_m: *h,
-            }),
-            _ => None,
-        })
-        .collect();
     let r = fitted
         .refine_to_heights(&e.specimen, &measured, &Default::default())
         .map_err(|err| {

@@ -14,6 +14,10 @@ pub mod stress;
 pub mod synth;
 pub mod track;
 
+use std::sync::Mutex;
+
+use bulge::fit::FitModel;
+use bulge::pipeline::{Observer, Stage, Timing};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -131,4 +135,63 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     );
     pb.set_message(what.to_string());
     pb
+}
+
+/// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
+pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
+    s.parse()
+}
+
+/// Progress bars and one line per stage of a run on stderr.
+#[derive(Default)]
+pub struct Console {
+    bar: Mutex<Option<ProgressBar>>,
+}
+
+impl Console {
+    /// Clears the progress bar left, if any.
+    pub fn clear(&self) {
+        if let Some(b) = self.bar.lock().expect("progress bar").take() {
+            b.finish_and_clear();
+        }
+    }
+}
+
+impl Observer for Console {
+    fn start(&self, stage: Stage, steps: u64) {
+        let mut bar = self.bar.lock().expect("progress bar");
+        if let Some(b) = bar.take() {
+            b.finish_and_clear();
+        }
+        if steps > 0 {
+            *bar = Some(progress(steps, stage.name()));
+        }
+    }
+
+    fn tick(&self) {
+        if let Some(b) = self.bar.lock().expect("progress bar").as_ref() {
+            b.inc(1);
+        }
+    }
+
+    fn note(&self, stage: Stage, message: &str) {
+        if stage == Stage::Track || stage == Stage::Fit && message.starts_with("only ") {
+            eprintln!("         {message}");
+        }
+    }
+
+    fn done(&self, t: &Timing) {
+        if let Some(b) = self.bar.lock().expect("progress bar").take() {
+            b.finish_and_clear();
+        }
+        let files = match t.stage {
+            Stage::Track => "heights.csv",
+            Stage::Stress => "stress_strain.csv",
+            Stage::Fit => "material.toml, fit.svg, fit.png",
+            Stage::Simulate => "simulated.csv",
+            Stage::Report => "heights.svg, heights.png, report.html, summary.md",
+        };
+        let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
+        eprintln!("[{step}/5] {:<8} {} -> {files}", t.stage.name(), t.what);
+    }
 }

@@ -5,17 +5,15 @@
 //! a message naming the stage.
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 use anyhow::anyhow;
-use indicatif::ProgressBar;
 
-use super::Failure;
+use super::{Console, Failure};
 use bulge::experiment::Experiment;
 use bulge::fit::FitModel;
 use bulge::io::write_atomic;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
-use bulge::pipeline::{self, Observer, PipelineError, RunOptions, Settings, Stage, Timing};
+use bulge::pipeline::{self, PipelineError, RunOptions, Settings, Stage};
 use bulge::report::run_files::{OutFile, run_files, stage_files};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
@@ -86,7 +84,7 @@ pub struct Args {
     /// Material model to fit: quartic (Tudruj et al.'s (2023) secant modulus E(eps),
     /// default: what the mass-spring models were designed for),
     /// neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3, gent.
-    #[arg(long, value_parser = parse_fit)]
+    #[arg(long, value_parser = super::parse_fit_model)]
     pub fit: Option<FitModel>,
 
     /// Degree of the polynomial E(eps) law (quartic only). Default 4; lowered
@@ -127,10 +125,6 @@ pub struct Args {
     /// Leave frames below --min-score out instead of failing the track stage.
     #[arg(long)]
     pub skip_bad_frames: bool,
-}
-
-fn parse_fit(s: &str) -> Result<FitModel, String> {
-    s.parse()
 }
 
 /// Flags over the experiment file's `[run]`/`[simulate]` tables over the defaults.
@@ -208,50 +202,6 @@ fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Progress bars and one line per stage on stderr.
-struct Console {
-    bar: Mutex<Option<ProgressBar>>,
-}
-
-impl Observer for Console {
-    fn start(&self, stage: Stage, steps: u64) {
-        let mut bar = self.bar.lock().expect("progress bar");
-        if let Some(b) = bar.take() {
-            b.finish_and_clear();
-        }
-        if steps > 0 {
-            *bar = Some(super::progress(steps, stage.name()));
-        }
-    }
-
-    fn tick(&self) {
-        if let Some(b) = self.bar.lock().expect("progress bar").as_ref() {
-            b.inc(1);
-        }
-    }
-
-    fn note(&self, stage: Stage, message: &str) {
-        if stage == Stage::Track || stage == Stage::Fit && message.starts_with("only ") {
-            eprintln!("         {message}");
-        }
-    }
-
-    fn done(&self, t: &Timing) {
-        if let Some(b) = self.bar.lock().expect("progress bar").take() {
-            b.finish_and_clear();
-        }
-        let files = match t.stage {
-            Stage::Track => "heights.csv",
-            Stage::Stress => "stress_strain.csv",
-            Stage::Fit => "material.toml, fit.svg, fit.png",
-            Stage::Simulate => "simulated.csv",
-            Stage::Report => "heights.svg, heights.png, report.html, summary.md",
-        };
-        let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
-        eprintln!("[{step}/5] {:<8} {} -> {files}", t.stage.name(), t.what);
-    }
-}
-
 /// Writes the files, each whole.
 fn write_all(out: &Path, files: &[OutFile]) -> Result<(), Failure> {
     for f in files {
@@ -268,13 +218,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let out = args.out.as_path();
     std::fs::create_dir_all(out)
         .map_err(|e| Failure::Failed(anyhow!("cannot create {}: {e}", out.display())))?;
-    let console = Console {
-        bar: Mutex::new(None),
-    };
+    let console = Console::default();
     let result = pipeline::run_observed(&exp, &s, &console);
-    if let Some(b) = console.bar.lock().expect("progress bar").take() {
-        b.finish_and_clear();
-    }
+    console.clear();
     let o = match result {
         Ok(o) => o,
         Err(e) => {

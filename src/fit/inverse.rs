@@ -48,6 +48,34 @@ pub struct Measured {
     pub height_m: f64,
 }
 
+impl Measured {
+    /// The points of a table with the columns `pressure_pa` and `height_m`
+    /// (as `bulge stress` writes them) with a positive pressure and height;
+    /// `None` when the table lacks either column.
+    pub fn from_table(
+        t: &crate::io::Table,
+    ) -> Result<Option<Vec<Measured>>, crate::io::InputError> {
+        let (Some(p), Some(h)) = (
+            t.optional_numbers("pressure_pa")?,
+            t.optional_numbers("height_m")?,
+        ) else {
+            return Ok(None);
+        };
+        Ok(Some(
+            p.iter()
+                .zip(&h)
+                .filter_map(|(p, h)| match (p, h) {
+                    (Some(p), Some(h)) if *p > 0.0 && *h > 0.0 => Some(Measured {
+                        pressure_pa: *p,
+                        height_m: *h,
+                    }),
+                    _ => None,
+                })
+                .collect(),
+        ))
+    }
+}
+
 /// Settings of the correction.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {

@@ -3,6 +3,8 @@
 //! of `all`, a plain-text summary and (feature `plots`) the figure of the
 //! data, the law and the residuals.
 
+use std::path::{Path, PathBuf};
+
 use crate::fit::data::Loaded;
 use crate::fit::hyperelastic::{Equibiaxial, HyperFit, Kind};
 use crate::fit::quartic::{self, PolyFit};
@@ -11,6 +13,45 @@ use crate::io::{CsvOut, fmt_num};
 use crate::material::StrainMeasure;
 #[cfg(feature = "plots")]
 use crate::report::plot::{Figure, LegendPosition, Panel, Series};
+
+/// The files of a fit, named after the material file: `<stem>_curve.csv`,
+/// `<stem>_residuals.csv`, `<stem>_fit.svg`, `<stem>_fit.png`,
+/// `<stem>_models.csv`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitPaths {
+    /// The material file.
+    pub material: PathBuf,
+    /// The fitted curve.
+    pub curve: PathBuf,
+    /// The residuals.
+    pub residuals: PathBuf,
+    /// The figure as SVG.
+    pub svg: PathBuf,
+    /// The figure as PNG.
+    pub png: PathBuf,
+    /// The comparison of every model (`all`).
+    pub models: PathBuf,
+}
+
+impl FitPaths {
+    /// The paths beside `material`.
+    pub fn new(material: &Path) -> Self {
+        let stem = material
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "material".into());
+        let dir = material.parent().unwrap_or(Path::new(""));
+        let f = |suffix: &str| dir.join(format!("{stem}{suffix}"));
+        Self {
+            material: material.to_path_buf(),
+            curve: f("_curve.csv"),
+            residuals: f("_residuals.csv"),
+            svg: f("_fit.svg"),
+            png: f("_fit.png"),
+            models: f("_models.csv"),
+        }
+    }
+}
 
 /// Everything `bulge fit` writes besides the material, built in memory.
 pub struct FitOutputs {
