@@ -14,9 +14,6 @@ use bulge::sim::dynamics::{DampingLaw, Integrator, StepPolicy};
 use bulge::sim::scene::{Scene, SceneKind};
 use bulge::sim::springs::SpringModel;
 
-/// Largest mesh for which `--dynamic` also solves the static equilibrium to
-/// compare with (a 1e5-node Newton solve took 6 min and 3.3 GB).
-
 /// Flags of the dynamic runs (used with --dynamic).
 #[derive(Debug, Clone, clap::Args)]
 pub struct DynArgs {
