@@ -28,7 +28,7 @@ use crate::experiment::Experiment;
 use crate::experiment::Specimen;
 use crate::fit::data::Loaded;
 use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
-use crate::io::{CsvOut, fmt_num};
+use crate::io::{CsvOut, InputError, Table, fmt_num};
 use crate::material::Material;
 use crate::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
@@ -489,6 +489,91 @@ impl StressOut {
         }
         out
     }
+}
+
+/// The points of a heights table (`pressure_pa`, `height_m` and optionally
+/// `height_std_m`, as `bulge track` writes it). `height_std_m` given here is
+/// every point's standard deviation; refused beside a `height_std_m` column
+/// (one source of uncertainty, not a silent override).
+pub fn heights_points(table: &Table, height_std_m: Option<f64>) -> Result<Vec<Point>, InputError> {
+    let p_col = table.require("pressure_pa")?;
+    let h_col = table.require("height_m")?;
+    let std_col = table.column_index("height_std_m");
+    if let (Some(sd), Some(_)) = (height_std_m, std_col) {
+        return Err(InputError::cell(
+            &table.path,
+            1,
+            "height_std_m",
+            format!(
+                "--height-std-m {sd} was given and the file has a height_std_m column: drop the flag to use the column, or drop the column to use the flag"
+            ),
+        ));
+    }
+    (0..table.len())
+        .map(|r| {
+            let height_std_m = match (height_std_m, std_col) {
+                (Some(sd), _) => Some(sd),
+                (None, Some(c)) if !table.cell(r, c).is_empty() => Some(table.number(r, c)?),
+                _ => None,
+            };
+            Ok(Point {
+                pressure_pa: table.number(r, p_col)?,
+                height_m: table.number(r, h_col)?,
+                height_std_m,
+            })
+        })
+        .collect()
+}
+
+/// `stress_strain.csv` of a heights table: its other columns carried
+/// through first, then pressure and height as given, the derived values,
+/// and (with an uncertainty) `height_std_m` when it was given for every
+/// point (`std_given`) and the standard deviations.
+pub fn stress_csv_of_table(
+    table: &Table,
+    points: &[Point],
+    rows: &[Row],
+    std_given: bool,
+) -> Result<CsvOut, InputError> {
+    let p_col = table.require("pressure_pa")?;
+    let h_col = table.require("height_m")?;
+    let carried: Vec<usize> = (0..table.headers.len())
+        .filter(|&c| c != p_col && c != h_col)
+        .collect();
+    let with_std = points.iter().any(|p| p.height_std_m.is_some());
+    let mut header: Vec<&str> = carried.iter().map(|&c| table.headers[c].as_str()).collect();
+    header.extend(["pressure_pa", "height_m"]);
+    header.extend(DERIVED_COLUMNS);
+    if with_std {
+        if std_given {
+            header.push("height_std_m");
+        }
+        header.extend(STD_COLUMNS);
+    }
+    let mut out = CsvOut::new(&header);
+    for (r, row) in rows.iter().enumerate() {
+        let mut fields: Vec<String> = carried
+            .iter()
+            .map(|&c| table.cell(r, c).to_string())
+            .collect();
+        fields.push(table.cell(r, p_col).to_string());
+        fields.push(table.cell(r, h_col).to_string());
+        fields.extend(row.value.to_array().into_iter().map(fmt_num));
+        if with_std {
+            if std_given {
+                fields.push(fmt_num(points[r].height_std_m));
+            }
+            fields.extend(
+                row.std
+                    .unwrap_or_default()
+                    .to_array()
+                    .into_iter()
+                    .map(fmt_num),
+            );
+        }
+        out.row(&fields);
+    }
+    Ok(out)
 }
 
 /// Output of the fit stage.

@@ -13,11 +13,11 @@ use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
 use bulge::experiment::{Experiment, Specimen};
-use bulge::io::{CsvOut, InputError, Table, fmt_num, read_toml};
+use bulge::io::{InputError, Table, read_toml};
 use bulge::mechanics::{
-    self, DERIVED_COLUMNS, Modulus, ModulusStress, Options, Point, STD_COLUMNS, StrainMeasure,
-    StressError, TrueStress,
+    self, Modulus, ModulusStress, Options, StrainMeasure, StressError, TrueStress,
 };
+use bulge::pipeline;
 
 /// Flags of `bulge stress`.
 ///
@@ -144,35 +144,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     refuse_overwriting_input(&args.heights, &args.output)?;
 
     let table = Table::read(&args.heights)?;
-    let p_col = table.require("pressure_pa")?;
-    let h_col = table.require("height_m")?;
-    let std_col = table.column_index("height_std_m");
-    if let (Some(sd), Some(_)) = (args.height_std_m, std_col) {
-        return Err(InputError::cell(
-            &args.heights,
-            1,
-            "height_std_m",
-            format!(
-                "--height-std-m {sd} was given and the file has a height_std_m column: drop the flag to use the column, or drop the column to use the flag"
-            ),
-        )
-        .into());
-    }
-
-    let mut points = Vec::with_capacity(table.len());
-    for r in 0..table.len() {
-        let height_std_m = match (args.height_std_m, std_col) {
-            (Some(sd), _) => Some(sd),
-            (None, Some(c)) if !table.cell(r, c).is_empty() => Some(table.number(r, c)?),
-            _ => None,
-        };
-        points.push(Point {
-            pressure_pa: table.number(r, p_col)?,
-            height_m: table.number(r, h_col)?,
-            height_std_m,
-        });
-    }
-
+    let points = pipeline::heights_points(&table, args.height_std_m)?;
     let rows = mechanics::stress_strain(&spec, &opts, &points).map_err(|e| match e {
         StressError::Point { index, problem } => Failure::BadInput(
             table
@@ -181,40 +153,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         ),
         StressError::Specimen(m) => Failure::BadInput(anyhow!("invalid specimen: {m}")),
     })?;
-
-    // Columns: carried-through inputs, then pressure and height, then the
-    // derived values, then (with an uncertainty) their standard deviations.
-    let carried: Vec<usize> = (0..table.headers.len())
-        .filter(|&c| c != p_col && c != h_col)
-        .collect();
-    let with_std = args.height_std_m.is_some() || std_col.is_some();
-    let mut header: Vec<&str> = carried.iter().map(|&c| table.headers[c].as_str()).collect();
-    header.extend(["pressure_pa", "height_m"]);
-    header.extend(DERIVED_COLUMNS);
-    if with_std {
-        if args.height_std_m.is_some() {
-            header.push("height_std_m");
-        }
-        header.extend(STD_COLUMNS);
-    }
-    let mut out = CsvOut::new(&header);
-    for (r, row) in rows.iter().enumerate() {
-        let mut fields: Vec<String> = carried
-            .iter()
-            .map(|&c| table.cell(r, c).to_string())
-            .collect();
-        fields.push(table.cell(r, p_col).to_string());
-        fields.push(table.cell(r, h_col).to_string());
-        fields.extend(row.value.to_array().into_iter().map(fmt_num));
-        if with_std {
-            if args.height_std_m.is_some() {
-                fields.push(fmt_num(points[r].height_std_m));
-            }
-            let std = row.std.unwrap_or_default();
-            fields.extend(std.to_array().into_iter().map(fmt_num));
-        }
-        out.row(&fields);
-    }
+    let with_std = points.iter().any(|p| p.height_std_m.is_some());
+    let out = pipeline::stress_csv_of_table(&table, &points, &rows, args.height_std_m.is_some())?;
     out.write(&args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))
         .failed()?;
