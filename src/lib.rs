@@ -3,15 +3,15 @@
 //! Bubble-inflation (pressure-bulge) tests of thin elastic membranes, from
 //! photos to a verdict on the material model. Each stage is a library entry
 //! from its input to its output in memory; the `bulge` command line and
-//! [`pipeline::run`] only chain them and write files.
+//! `pipeline::run` only chain them and write files.
 //!
 //! | stage | entry | in -> out |
 //! |---|---|---|
-//! | track | [`track::track`] (feature `opencv`) | photos -> apex height per photo |
+//! | track | `track::track` (feature `opencv`) | photos -> apex height per photo |
 //! | stress | [`mechanics::stress_strain`] | heights -> stress and strain (spherical cap) |
 //! | fit | [`fit::quartic::fit`], [`fit::hyperelastic::fit`], [`fit::inverse::refine`] | stress/strain -> [`Material`] |
 //! | simulate | [`DiscSolver`] (mass-spring), [`axisym::solve_pressure`] (exact) | material -> heights |
-//! | all of them | [`pipeline::run`] (feature `opencv`) | [`Experiment`] -> [`pipeline::RunOutput`] |
+//! | all of them | `pipeline::run` (feature `opencv`) | [`Experiment`] -> `pipeline::RunOutput` |
 //!
 //! The whole pipeline on the bundled demo experiment (16 photos):
 //!

@@ -6,7 +6,7 @@
 //!
 //! Conventions shared with the single-stage commands:
 //!
-//! * heights: [`crate::track::track`] (`bulge track`);
+//! * heights: `crate::track::track` (`bulge track`; feature `opencv`);
 //! * stress/strain: [`crate::mechanics::stress_strain`] with
 //!   [`crate::mechanics::Options`] (`bulge stress`);
 //! * fit: the quartic secant modulus [`crate::fit::quartic::fit`] on the

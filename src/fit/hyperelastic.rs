@@ -21,8 +21,8 @@
 //! (nominal for Treloar-style tables, Cauchy for `stress_strain.csv`),
 //! unweighted. Neo-Hookean, Mooney-Rivlin and Yeoh are linear in their
 //! parameters for either measure: their least-squares problem is convex and
-//! the linear solution ([`super::linear`]) is the global minimum; it starts
-//! the Levenberg-Marquardt iteration ([`super::lm`], run by argmin), which
+//! the linear solution (the SVD) is the global minimum; it starts
+//! the Levenberg-Marquardt iteration (run by argmin), which
 //! then only confirms it. Ogden (in `alpha`) and Gent (in `Jm`) are not
 //! convex: they are started from a grid of the nonlinear parameters, the
 //! linear ones (`mu`) set at each grid point by linear least squares, and the

@@ -14,7 +14,7 @@
 //!
 //! where `h(p; theta)` is the apex height of the axisymmetric membrane
 //! ([`crate::axisym::solve_pressure`]) with the law's parameters `theta`, by
-//! Levenberg-Marquardt ([`super::lm`]) from the cap fit: first for one
+//! Levenberg-Marquardt from the cap fit: first for one
 //! factor on its stress parameters, then for every parameter. The Jacobian is by
 //! central differences of the axisymmetric solutions (solved to 1e-10, so the
 //! differences are clean), the pressures solved in parallel. A trial law

@@ -3,11 +3,11 @@
 //! fit in practice.
 //!
 //! * [`quartic`]: `E(eps) = c0 + c1 eps + ... + cN eps^N` by linear least
-//!   squares ([`linear`]: column scaling and the SVD), with R^2, RMSE, the
+//!   squares (column scaling and the SVD), with R^2, RMSE, the
 //!   condition number, standard errors and warnings where the law is
 //!   unphysical;
 //! * [`hyperelastic`]: neo-Hookean, Mooney-Rivlin, Yeoh, Ogden (1-3 terms) and
-//!   Gent fitted to equibiaxial stress by Levenberg-Marquardt ([`lm`], an
+//!   Gent fitted to equibiaxial stress by Levenberg-Marquardt (an
 //!   argmin solver) from one or many starting points, with a Drucker
 //!   stability check and AIC for comparing models ([`stats`]);
 //! * [`inverse`]: the law corrected until the exact axisymmetric inflation
@@ -21,8 +21,8 @@
 pub mod data;
 pub mod hyperelastic;
 pub mod inverse;
-pub mod linear;
-pub mod lm;
+pub(crate) mod linear;
+pub(crate) mod lm;
 pub mod material_fit;
 pub mod quartic;
 pub mod stats;

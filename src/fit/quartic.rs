@@ -4,7 +4,7 @@
 //! $$E(\varepsilon) = c_0 + c_1 \varepsilon + \dots + c_N \varepsilon^N,$$
 //!
 //! fitted by linear least squares to the points `(strain, secant_modulus_pa)`
-//! (see [`super::linear`]: column scaling and the SVD).
+//! (column scaling and the SVD).
 //!
 //! A modulus law is physically usable only where `E(eps) > 0` and where the
 //! stress it implies, `sigma(eps) = E(eps) eps / k` (`k = 1 - nu` for the

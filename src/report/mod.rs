@@ -1,11 +1,13 @@
 //! Tables, plots and the HTML report of a run.
 
 #[cfg(feature = "plots")]
-pub mod figures;
+pub(crate) mod figures;
 pub mod fit_outputs;
-pub mod html;
+#[cfg(all(feature = "plots", feature = "opencv"))]
+pub(crate) mod html;
 #[cfg(feature = "plots")]
 pub mod plot;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub mod run_files;
-pub mod table;
+#[cfg(all(feature = "plots", feature = "opencv"))]
+pub(crate) mod table;

@@ -215,7 +215,7 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
 }
 
 /// The edge rows found so far in the columns of one image, so that the
-/// passes of [`edge_fit`] and the wider [`axis_fit`] locate each column once:
+/// passes of the edge fit and the wider axis fit ([`axis_fit_in`]) locate each column once:
 /// `column_edge` iterates to a fixed point, so a column already converged
 /// within a pixel of a new start would converge to the same row again.
 pub struct Columns<'a> {
@@ -255,6 +255,7 @@ impl<'a> Columns<'a> {
 /// the apex is its vertex. Passes: the second centres each column's window
 /// on the first parabola, the third re-centres the span on the vertex when
 /// the vertex is well determined. `None` when too few columns show an edge.
+#[cfg(test)]
 pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
     edge_fit_in(&mut Columns::new(img, s.half_window_px), x0, y0, 0.0, s)
 }
@@ -395,18 +396,8 @@ fn minmod(a: f64, b: f64) -> f64 {
 /// +-8 px of the vertex). Flat tops pin the axis down only through their far
 /// flanks, hence the wide span; the row is not taken from this fit (the
 /// even model is biased at the apex by the higher terms over a wide span).
-/// Returns the axis and its standard error, px.
-pub fn axis_fit(
-    img: &Gray,
-    apex: &EdgeFit,
-    half_span_px: usize,
-    half_window_px: usize,
-) -> Option<(f64, f64)> {
-    axis_fit_in(&mut Columns::new(img, half_window_px), apex, half_span_px)
-}
-
-/// [`axis_fit`] on columns some of which may be located already (by the
-/// edge fit of the same image).
+/// Returns the axis and its standard error, px. The columns may be located
+/// already (by the edge fit of the same image).
 pub fn axis_fit_in(cols: &mut Columns, apex: &EdgeFit, half_span_px: usize) -> Option<(f64, f64)> {
     let w = cols.img.width as i64;
     let xc = apex.x_vertex.round() as i64;

@@ -25,7 +25,7 @@
 
 pub mod annotate;
 pub mod image;
-pub mod matcher;
+pub(crate) mod matcher;
 pub mod synth;
 
 use std::cmp::Ordering;
