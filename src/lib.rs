@@ -9,8 +9,8 @@
 //! |---|---|---|
 //! | track | `track::track` (feature `opencv`) | photos -> apex height per photo |
 //! | stress | [`mechanics::stress_strain`] | heights -> stress and strain (spherical cap) |
-//! | fit | [`fit::quartic::fit`], [`fit::hyperelastic::fit`], [`fit::inverse::refine`] | stress/strain -> [`Material`] |
-//! | simulate | [`DiscSolver`] (mass-spring), [`axisym::solve_pressure`] (exact) | material -> heights |
+//! | fit | [`fit::fit_material`] | stress/strain -> [`Material`] with its [`fit::Provenance`] |
+//! | simulate | [`DiscSolver`], [`sim::SceneSolver`] (mass-spring), [`axisym::solve_pressure`] (exact) | material -> heights |
 //! | all of them | `pipeline::run` (feature `opencv`) | [`Experiment`] -> `pipeline::RunOutput` |
 //!
 //! The whole pipeline on the bundled demo experiment (16 photos):
