@@ -505,7 +505,7 @@ pub fn heights_points(table: &Table, height_std_m: Option<f64>) -> Result<Vec<Po
             1,
             "height_std_m",
             format!(
-                "--height-std-m {sd} was given and the file has a height_std_m column: drop the flag to use the column, or drop the column to use the flag"
+                "a height standard deviation of {sd} m was given for every point and the file has a height_std_m column: drop one of them (one source of uncertainty)"
             ),
         ));
     }

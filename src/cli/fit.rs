@@ -158,7 +158,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
         poisson: args.poisson,
         modulus: args.modulus,
     };
-    let loaded = data::load(&table, &opts)?;
+    let flags = [
+        ("stress measure", "--stress-measure"),
+        ("strain measure", "--strain-measure"),
+    ];
+    let loaded = data::load(&table, &opts).map_err(|e| super::with_flags(e, &flags))?;
     let input = args.input.display().to_string();
     let mut fitted = fit_material(&loaded, &set, &input).map_err(|e| match e {
         FitError::TooFewPoints { points, .. } if matches!(set.model, FitModel::Quartic { .. }) => {

@@ -137,6 +137,35 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     pb
 }
 
+/// A library error about a setting, with the flag that sets it named: each
+/// `(phrase, flag)` whose phrase the message contains adds "(flag)".
+pub fn with_flags(e: bulge::io::InputError, flags: &[(&str, &str)]) -> bulge::io::InputError {
+    let named: Vec<&str> = flags
+        .iter()
+        .filter(|(phrase, _)| e.message.contains(phrase))
+        .map(|(_, flag)| *flag)
+        .collect();
+    if named.is_empty() {
+        return e;
+    }
+    bulge::io::InputError {
+        message: format!("{} ({})", e.message, named.join(", ")),
+        ..e
+    }
+}
+
+/// 1-based line of `field = ...` in a TOML file, when it can be found.
+pub fn field_line(path: &std::path::Path, field: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.lines()
+        .position(|l| {
+            let l = l.trim_start();
+            l.strip_prefix(field)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i as u64 + 1)
+}
+
 /// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
 pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
     s.parse()

@@ -144,7 +144,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     refuse_overwriting_input(&args.heights, &args.output)?;
 
     let table = Table::read(&args.heights)?;
-    let points = pipeline::heights_points(&table, args.height_std_m)?;
+    let both =
+        "--height-std-m: drop the flag to use the column, or drop the column to use the flag";
+    let points = pipeline::heights_points(&table, args.height_std_m)
+        .map_err(|e| super::with_flags(e, &[("standard deviation of", both)]))?;
     let rows = mechanics::stress_strain(&spec, &opts, &points).map_err(|e| match e {
         StressError::Point { index, problem } => Failure::BadInput(
             table
@@ -180,7 +183,7 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
         let exp: Experiment = read_toml(path)?;
         if let Err(m) = exp.specimen.validate() {
             let field = m.split_whitespace().next().unwrap_or("");
-            let line = field_line(path, field);
+            let line = super::field_line(path, field);
             return Err(InputError {
                 path: path.clone(),
                 line,
@@ -220,18 +223,6 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
         })
         .bad_input()?;
     Ok(spec)
-}
-
-/// 1-based line of `field = ...` in a TOML file, when it can be found.
-fn field_line(path: &Path, field: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(path).ok()?;
-    text.lines()
-        .position(|l| {
-            let l = l.trim_start();
-            l.strip_prefix(field)
-                .is_some_and(|rest| rest.trim_start().starts_with('='))
-        })
-        .map(|i| i as u64 + 1)
 }
 
 /// Inputs are never modified: refuse `-o` pointing at the heights file.

@@ -13,9 +13,10 @@
 //!   - the hyperelastic models take `stretch` and `stress_pa` (`p R / 2 t`,
 //!     eq 18, the membrane force per unit *undeformed* thickness), converted
 //!     for an incompressible membrane: Cauchy `sigma = l^2 p R / 2 t`, nominal
-//!     `P = l p R / 2 t`; Cauchy by default (`--stress-measure` to change).
+//!     `P = l p R / 2 t`; Cauchy by default (the stress measure of the
+//!     [`LoadOptions`] to change).
 //!     `true_stress_pa` is not used because its meaning depends on the
-//!     stress stage's `--true-stress` option (the paper's eq 25, `l p R/2t`,
+//!     stress stage's true-stress convention (the paper's eq 25, `l p R/2t`,
 //!     is for an incompressible membrane the *nominal* stress, not the true
 //!     one), which the file does not record; `stress_pa` is unambiguous.
 //!     Cauchy is the default because the residuals then weigh the points as
@@ -28,7 +29,7 @@
 //!     h/a = 0.53): hyperelastic parameters from bubble data carry that bias.
 //! * **raw equibiaxial data** `stretch` plus one stress column: `nominal_stress_pa`
 //!   or `cauchy_stress_pa` (the measure follows from the name), or
-//!   `stress_pa` with `--stress-measure` saying which. The hyperelastic models
+//!   `stress_pa` with the stress measure of the [`LoadOptions`] saying which. The hyperelastic models
 //!   are fitted in that measure. The quartic is fitted to the secant modulus
 //!   `k sigma / eps` built from the Cauchy stress and the chosen strain
 //!   (`k = 1 - nu` biaxial, `1` uniaxial), points at zero strain skipped.
@@ -202,7 +203,7 @@ fn load_stress_stage(
                     "strain",
                     format!(
                         "strain {} is not the {} strain of stretch {} (that would be {}): \
-                         drop --strain-measure to let bulge recognise it, or pass the other measure",
+                         leave the strain measure out to let bulge recognise it, or choose the other one",
                         strain[r],
                         measure_name(m),
                         stretch[r],
@@ -302,7 +303,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
             (true, true) => {
                 return Err(InputError::file(
                     &t.path,
-                    "both `nominal_stress_pa` and `cauchy_stress_pa` are present: pass --stress-measure to choose one",
+                    "both `nominal_stress_pa` and `cauchy_stress_pa` are present: choose the stress measure to fit",
                 ));
             }
             (false, false) => {
@@ -310,7 +311,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
                     &t.path,
                     format!(
                         "no stress column: expected `nominal_stress_pa` or `cauchy_stress_pa` (or `stress_pa` with \
-                         --stress-measure nominal|cauchy), or a `stress_strain.csv` from `bulge stress` (found: {})",
+                         the stress measure, nominal or cauchy, chosen), or a `stress_strain.csv` from `bulge stress` (found: {})",
                         t.headers.join(", ")
                     ),
                 ));
@@ -419,6 +420,6 @@ mod tests {
         assert!(e.contains("line 2") && e.contains("not positive"), "{e}");
         let t = Table::parse(Path::new("r.csv"), b"stretch,stress_pa\n1,0\n1.2,2\n").unwrap();
         let e = load(&t, &opts()).unwrap_err().to_string();
-        assert!(e.contains("--stress-measure"), "{e}");
+        assert!(e.contains("stress measure"), "{e}");
     }
 }

@@ -292,7 +292,7 @@ pub fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<
                 if s.refine {
                     ", corrected to the measured heights through the axisymmetric solution"
                 } else {
-                    ", as the stress/strain points give it (--no-refine)"
+                    ", as the stress/strain points give it (refine = false)"
                 }
             ),
         ),

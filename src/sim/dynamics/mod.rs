@@ -173,7 +173,7 @@ fn divergence_hint(integrator: &str, h_s: &f64, dt_crit_s: &f64) -> &'static str
     if integrator == "explicit-euler" && h_s <= dt_crit_s {
         ", but explicit Euler also amplifies every slow mode its dashpots leave undamped (|1 + h lambda| > 1 for an undamped oscillation; a bubble's transverse modes are carried by tension, not by the springs' stretch): use symplectic-euler, verlet or implicit-euler"
     } else {
-        "; lower --dt or use implicit-euler"
+        "; use a smaller time step or implicit-euler"
     }
 }
 
@@ -221,7 +221,7 @@ pub enum DynError {
     BadParameter(String),
     /// An explicit step above the stability limit, with the refuse policy.
     #[error(
-        "--dt {dt_s:.4e} s is above the stable step of {integrator} for this mesh, {dt_crit_s:.4e} s (stiffest mode {omega_rad_s:.4e} rad/s, its damping ratio {zeta:.3}); use --dt {suggest_s:.3e} or smaller, or let bulge sub-step (--step-policy substep)"
+        "the time step {dt_s:.4e} s is above the stable step of {integrator} for this mesh, {dt_crit_s:.4e} s (stiffest mode {omega_rad_s:.4e} rad/s, its damping ratio {zeta:.3}); use a step of {suggest_s:.3e} s or smaller, or let bulge sub-step (the substep policy)"
     )]
     StepTooLarge {
         /// Integrator name.
@@ -239,7 +239,7 @@ pub enum DynError {
     },
     /// Explicit Euler without damping has no stable step.
     #[error(
-        "explicit Euler is unstable at every step without damping (its amplification sqrt(1 + (w h)^2) exceeds 1 for every mode); give --damping > 0 or use symplectic-euler, verlet or implicit-euler"
+        "explicit Euler is unstable at every step without damping (its amplification sqrt(1 + (w h)^2) exceeds 1 for every mode); give a damping above 0 or use symplectic-euler, verlet or implicit-euler"
     )]
     NoStableStep,
     /// The watch fired.
@@ -263,7 +263,7 @@ pub enum DynError {
     },
     /// Newton did not converge in an implicit Euler step.
     #[error(
-        "implicit Euler: Newton did not converge at t = {t_s:.4e} s ({reason}); lower --dt (the step is {dt_s:.3e} s)"
+        "implicit Euler: Newton did not converge at t = {t_s:.4e} s ({reason}); use a smaller time step (the step is {dt_s:.3e} s)"
     )]
     NewtonFailed {
         /// Time, s.
@@ -371,7 +371,7 @@ impl<'a> Dynamics<'a> {
             && !(z.is_finite() && z >= 0.0)
         {
             return Err(DynError::BadParameter(format!(
-                "--damping {z} must be a fraction of critical damping >= 0 (e.g. 0.1)"
+                "damping {z} must be a fraction of critical damping >= 0 (e.g. 0.1)"
             )));
         }
         let e0 = membrane.law.young(1.0).1;
@@ -442,20 +442,20 @@ impl<'a> Dynamics<'a> {
     ) -> Result<DynRun, DynError> {
         if !(opts.dt_s.is_finite() && opts.dt_s > 0.0) {
             return Err(DynError::BadParameter(format!(
-                "--dt {} must be a positive time step in s",
+                "the time step {} s must be positive",
                 opts.dt_s
             )));
         }
         if !(opts.t_end_s.is_finite() && opts.t_end_s > 0.0) {
             return Err(DynError::BadParameter(format!(
-                "--t-end {} must be a positive time in s",
+                "the end time {} s must be positive",
                 opts.t_end_s
             )));
         }
         let steps = (opts.t_end_s / opts.dt_s).round().max(1.0) as usize;
         if steps > 50_000_000 {
             return Err(DynError::BadParameter(format!(
-                "--t-end {} s / --dt {} s is {steps} steps; at most 5e7 are allowed",
+                "the end time {} s over the time step {} s is {steps} steps; at most 5e7 are allowed",
                 opts.t_end_s, opts.dt_s
             )));
         }
@@ -493,7 +493,7 @@ impl<'a> Dynamics<'a> {
             }
             if substeps.saturating_mul(steps) > 50_000_000 {
                 return Err(DynError::BadParameter(format!(
-                    "--t-end {} s needs {} sub-steps of {:.3e} s (the stable limit of {}); at most 5e7 are allowed: shorten --t-end, coarsen the mesh or use implicit-euler",
+                    "the end time {} s needs {} sub-steps of {:.3e} s (the stable limit of {}); at most 5e7 are allowed: shorten the run, coarsen the mesh or use implicit-euler",
                     opts.t_end_s,
                     substeps.saturating_mul(steps),
                     STEP_SAFETY * dt_crit,

@@ -191,15 +191,17 @@ pub(super) fn run(pl: &Plan) -> Result<Done, Failure> {
                     ) => {
                         pb.finish_and_clear();
                         return Err(Failure::BadInput(anyhow!(
-                            "{} / {}: {e}",
+                            "{} / {}: {}: {e}",
                             model.name(),
-                            integ.name()
+                            integ.name(),
+                            flags_of(&e)
                         )));
                     }
                     Err(e) => failures.push(format!(
-                        "{} / {} at {p} Pa: {e}",
+                        "{} / {} at {p} Pa: {}: {e}",
                         model.name(),
-                        integ.name()
+                        integ.name(),
+                        flags_of(&e)
                     )),
                 }
             }
@@ -212,4 +214,15 @@ pub(super) fn run(pl: &Plan) -> Result<Done, Failure> {
         table,
         failures,
     })
+}
+
+/// The flags that set what a dynamic run's error is about.
+fn flags_of(e: &DynError) -> &'static str {
+    match e {
+        DynError::StepTooLarge { .. } => "--dt / --step-policy",
+        DynError::NoStableStep => "--damping",
+        DynError::BadParameter(_) => "--dt / --t-end / --damping",
+        DynError::Diverged { .. } | DynError::NewtonFailed { .. } => "--dt / --integrator",
+        _ => "--dynamic",
+    }
 }
