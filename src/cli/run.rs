@@ -11,10 +11,10 @@ use anyhow::anyhow;
 use super::{Console, Failure};
 use bulge::experiment::Experiment;
 use bulge::fit::FitModel;
-use bulge::io::write_atomic;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
 use bulge::pipeline::{self, PipelineError, RunOptions, Settings, Stage};
-use bulge::report::run_files::{OutFile, run_files, stage_files};
+use bulge::report::out_dir::{OutDir, OutDirError};
+use bulge::report::run_files::{run_files, stage_files};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
 
@@ -169,18 +169,6 @@ fn stage_failure(stage: Stage, out: &Path, e: PipelineError) -> Failure {
     }
 }
 
-fn write(stage: Stage, out: &Path, file: &str, bytes: &[u8]) -> Result<PathBuf, Failure> {
-    let p = out.join(file);
-    write_atomic(&p, bytes).map_err(|e| {
-        stage_failure(
-            stage,
-            out,
-            PipelineError::Output(format!("cannot write {}: {e}", p.display())),
-        )
-    })?;
-    Ok(p)
-}
-
 /// Inputs are never written to: refuse an output folder that holds the
 /// experiment file or the photos.
 fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
@@ -202,22 +190,18 @@ fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Writes the files, each whole.
-fn write_all(out: &Path, files: &[OutFile]) -> Result<(), Failure> {
-    for f in files {
-        write(f.stage, out, f.name, &f.bytes)?;
-    }
-    Ok(())
-}
-
 /// Runs `bulge run`.
 pub fn run(args: Args) -> Result<(), Failure> {
     let exp = Experiment::read(&args.experiment)?;
     let s = settings(&args, &exp)?;
     refuse_input_folder(&exp, &args.out)?;
     let out = args.out.as_path();
-    std::fs::create_dir_all(out)
-        .map_err(|e| Failure::Failed(anyhow!("cannot create {}: {e}", out.display())))?;
+    let dir = OutDir::lock(out).map_err(|e| match e.is_bad_input() {
+        true => Failure::BadInput(anyhow!("--out: {e}")),
+        false => Failure::Failed(e.into()),
+    })?;
+    let written =
+        |e: OutDirError| stage_failure(Stage::Report, out, PipelineError::Output(e.to_string()));
     let console = Console::default();
     let result = pipeline::run_observed(&exp, &s, &console);
     console.clear();
@@ -227,7 +211,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
             let p = &e.partial;
             let files = stage_files(p.tracking.as_ref(), p.stress.as_ref(), p.fit.as_ref())
                 .map_err(|err| stage_failure(e.stage, out, err))?;
-            write_all(out, &files)?;
+            dir.write_set(&files, &format!("stopped at stage {}", e.stage.name()))
+                .map_err(written)?;
             return Err(stage_failure(e.stage, out, e.error));
         }
     };
@@ -238,12 +223,31 @@ pub fn run(args: Args) -> Result<(), Failure> {
         eprintln!("         note: {n}");
     }
     let files = run_files(&exp, &s, &o).map_err(|e| stage_failure(Stage::Report, out, e))?;
-    write_all(out, &files.files)?;
+    let unsolved: Vec<String> = o
+        .runs
+        .iter()
+        .flat_map(|r| r.points.iter())
+        .filter(|p| p.height_m.is_none())
+        .map(|p| format!("{} Pa", p.pressure_pa))
+        .collect();
+    let status = if unsolved.is_empty() {
+        "complete"
+    } else {
+        "partial"
+    };
+    dir.write_set(&files.files, status).map_err(written)?;
     eprintln!(
         "[5/5] {:<8} heights.svg, heights.png, report.html, summary.md",
         Stage::Report.name()
     );
     print!("{}", files.terminal);
     println!("\nwrote {}", out.join("report.html").display());
+    if !unsolved.is_empty() {
+        return Err(Failure::Failed(anyhow!(
+            "the run is partial: {} simulated heights are missing (see the notes above and in the report); the outputs are in {}",
+            unsolved.len(),
+            out.display()
+        )));
+    }
     Ok(())
 }

@@ -5,6 +5,8 @@ pub(crate) mod figures;
 pub mod fit_outputs;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) mod html;
+#[cfg(all(feature = "plots", feature = "opencv"))]
+pub mod out_dir;
 #[cfg(feature = "plots")]
 pub mod plot;
 #[cfg(all(feature = "plots", feature = "opencv"))]

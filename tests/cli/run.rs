@@ -352,3 +352,87 @@ fn help_documents_every_flag() {
         assert!(r.stdout.contains(f), "--help lacks {f}");
     }
 }
+
+/// One run at a time per output folder: a folder whose lock is held is
+/// refused before any work, naming the lock file; `--out` naming a file is
+/// refused as the user's mistake (exit 2).
+#[test]
+fn a_locked_or_file_out_folder_is_refused() {
+    let dir = tempdir();
+    synth(dir.path(), 2);
+    let out = dir.path().join("out");
+    fs::create_dir_all(&out).unwrap();
+    fs::write(out.join(".bulge-lock"), "process 1\n").unwrap();
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"])
+        .bad_input(&["in use by another bulge run", ".bulge-lock"]);
+    assert!(!out.join("heights.csv").exists());
+    fs::write(dir.path().join("afile"), "").unwrap();
+    bulge_in(
+        dir.path(),
+        &["run", "exp/experiment.toml", "--out", "afile"],
+    )
+    .bad_input(&["not a folder"]);
+}
+
+/// A rerun into the same folder replaces the previous run's outputs as a
+/// set: when it stops at the fit stage, the previous report and simulated
+/// heights are gone, and the manifest says where it stopped.
+#[test]
+fn a_failed_rerun_leaves_no_file_of_the_previous_run() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
+    let out = dir.path().join("out");
+    assert!(out.join("report.html").exists() && out.join("simulated.csv").exists());
+    bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--fit",
+            "ogden-3",
+        ],
+    )
+    .bad_input(&["stage `fit`"]);
+    assert!(out.join("heights.csv").exists() && out.join("stress_strain.csv").exists());
+    for stale in [
+        "material.toml",
+        "simulated.csv",
+        "report.html",
+        "summary.md",
+    ] {
+        assert!(
+            !out.join(stale).exists(),
+            "{stale} of the previous run is left"
+        );
+    }
+    let manifest = fs::read_to_string(out.join("manifest.toml")).unwrap();
+    assert!(manifest.contains("stopped at stage fit"), "{manifest}");
+    assert!(!out.join(".bulge-lock").exists());
+}
+
+/// A pressure past the limit point has no equilibrium: the run writes what
+/// it has and exits 1, saying it is partial.
+#[test]
+fn a_partial_run_exits_1() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--pressures",
+            "2000,60000",
+            "--no-refine",
+        ],
+    );
+    assert_eq!(r.status, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("partial"), "{}", r.stderr);
+    let manifest = fs::read_to_string(dir.path().join("out/manifest.toml")).unwrap();
+    assert!(manifest.contains("status = \"partial\""), "{manifest}");
+}

@@ -1,0 +1,240 @@
+//! An output folder that holds one run's files as a set.
+//!
+//! * A lock file (`.bulge-lock`) refuses a second run into the same folder
+//!   while one is writing; it is removed when the run ends (a lock left by a
+//!   killed run names its process and how to clear it).
+//! * `manifest.toml` lists the files of the last run and the stage that made
+//!   each. Files of the previous run that the new one did not write (a rerun
+//!   that stopped at an earlier stage, or fewer outputs) are removed, so the
+//!   folder never mixes the outputs of two runs.
+//! * Each file is written whole (temporary file, then rename).
+
+use std::fs::{self, OpenOptions};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::run_files::OutFile;
+
+/// Name of the lock file inside the folder.
+pub const LOCK_FILE: &str = ".bulge-lock";
+/// Name of the manifest inside the folder.
+pub const MANIFEST: &str = "manifest.toml";
+
+/// Why the folder could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum OutDirError {
+    /// Another run holds the lock.
+    #[error(
+        "{dir} is in use by another bulge run ({holder}); wait for it to end, or, if no run is writing there, delete {lock}"
+    )]
+    Locked {
+        /// The folder.
+        dir: PathBuf,
+        /// What the lock file says.
+        holder: String,
+        /// The lock file.
+        lock: PathBuf,
+    },
+    /// The path exists and is not a folder.
+    #[error("{0} exists and is not a folder: give a folder for the outputs")]
+    NotAFolder(PathBuf),
+    /// A file system error.
+    #[error("{path}: {source}")]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+impl OutDirError {
+    /// True when the user's choice of folder is at fault (not the system).
+    pub fn is_bad_input(&self) -> bool {
+        !matches!(self, OutDirError::Io { .. })
+    }
+}
+
+/// `manifest.toml`: which files belong to the last run.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    /// The run's status: `complete`, or the stage it stopped at.
+    pub status: String,
+    /// The files, in the order written.
+    #[serde(default)]
+    pub files: Vec<ManifestEntry>,
+}
+
+/// One file of a manifest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ManifestEntry {
+    /// File name inside the folder.
+    pub name: String,
+    /// The stage that made it.
+    pub stage: String,
+    /// Size, bytes.
+    pub bytes: u64,
+}
+
+/// An output folder locked for one run; the lock goes when this is dropped.
+#[derive(Debug)]
+pub struct OutDir {
+    dir: PathBuf,
+    lock: PathBuf,
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutDirError + '_ {
+    move |source| OutDirError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+impl OutDir {
+    /// Creates the folder if needed and takes its lock.
+    pub fn lock(dir: impl AsRef<Path>) -> Result<OutDir, OutDirError> {
+        let dir = dir.as_ref().to_path_buf();
+        if dir.exists() && !dir.is_dir() {
+            return Err(OutDirError::NotAFolder(dir));
+        }
+        fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        let lock = dir.join(LOCK_FILE);
+        match OpenOptions::new().write(true).create_new(true).open(&lock) {
+            Ok(mut f) => {
+                let _ = writeln!(f, "process {}", std::process::id());
+                Ok(OutDir { dir, lock })
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                let holder = fs::read_to_string(&lock)
+                    .map(|s| s.trim().to_string())
+                    .unwrap_or_else(|_| "unknown process".into());
+                Err(OutDirError::Locked { dir, holder, lock })
+            }
+            Err(e) => Err(io_err(&lock)(e)),
+        }
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The manifest of the previous run, if any (an unreadable one counts as
+    /// none).
+    pub fn previous(&self) -> Option<Manifest> {
+        let text = fs::read_to_string(self.dir.join(MANIFEST)).ok()?;
+        toml::from_str(&text).ok()
+    }
+
+    /// Writes `files` (each whole), then the manifest with `status`, then
+    /// removes the files of the previous run that are not among them.
+    pub fn write_set(&self, files: &[OutFile], status: &str) -> Result<(), OutDirError> {
+        let previous = self.previous();
+        for f in files {
+            let p = self.dir.join(f.name);
+            crate::io::write_atomic(&p, &f.bytes).map_err(io_err(&p))?;
+        }
+        let manifest = Manifest {
+            status: status.to_string(),
+            files: files
+                .iter()
+                .map(|f| ManifestEntry {
+                    name: f.name.to_string(),
+                    stage: f.stage.name().to_string(),
+                    bytes: f.bytes.len() as u64,
+                })
+                .collect(),
+        };
+        let text = toml::to_string(&manifest).map_err(|e| OutDirError::Io {
+            path: self.dir.join(MANIFEST),
+            source: std::io::Error::other(e),
+        })?;
+        let mp = self.dir.join(MANIFEST);
+        crate::io::write_atomic(&mp, text.as_bytes()).map_err(io_err(&mp))?;
+        if let Some(prev) = previous {
+            for old in prev.files {
+                let stale = !files.iter().any(|f| f.name == old.name);
+                // only plain names of this folder: a manifest never points outside
+                if stale && Path::new(&old.name).file_name() == Some(old.name.as_ref()) {
+                    let _ = fs::remove_file(self.dir.join(&old.name));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for OutDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_file(&self.lock);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::Stage;
+
+    fn file(name: &'static str, stage: Stage) -> OutFile {
+        OutFile {
+            name,
+            stage,
+            bytes: name.as_bytes().to_vec(),
+        }
+    }
+
+    /// A second run into a locked folder is refused; the lock goes with the
+    /// first run.
+    #[test]
+    fn one_run_at_a_time() {
+        let d = tempfile::tempdir().unwrap();
+        let first = OutDir::lock(d.path()).unwrap();
+        let e = OutDir::lock(d.path()).unwrap_err();
+        assert!(matches!(e, OutDirError::Locked { .. }), "{e}");
+        assert!(e.to_string().contains(LOCK_FILE), "{e}");
+        drop(first);
+        assert!(OutDir::lock(d.path()).is_ok());
+    }
+
+    /// A rerun that stops at an earlier stage leaves no file of the previous
+    /// run's later stages; the manifest says what is there.
+    #[test]
+    fn a_shorter_rerun_removes_the_stale_files() {
+        let d = tempfile::tempdir().unwrap();
+        let full = [
+            file("heights.csv", Stage::Track),
+            file("material.toml", Stage::Fit),
+            file("report.html", Stage::Report),
+        ];
+        OutDir::lock(d.path())
+            .unwrap()
+            .write_set(&full, "complete")
+            .unwrap();
+        assert!(d.path().join("report.html").exists());
+        std::fs::write(d.path().join("notes.txt"), "mine").unwrap();
+        let out = OutDir::lock(d.path()).unwrap();
+        out.write_set(&full[..1], "stopped at fit").unwrap();
+        assert!(d.path().join("heights.csv").exists());
+        assert!(!d.path().join("material.toml").exists());
+        assert!(!d.path().join("report.html").exists());
+        // a file bulge did not write is left alone
+        assert!(d.path().join("notes.txt").exists());
+        let m = out.previous().unwrap();
+        assert_eq!(m.status, "stopped at fit");
+        assert_eq!(m.files.len(), 1);
+    }
+
+    #[test]
+    fn a_file_is_not_a_folder() {
+        let d = tempfile::tempdir().unwrap();
+        let f = d.path().join("x");
+        std::fs::write(&f, "").unwrap();
+        let e = OutDir::lock(&f).unwrap_err();
+        assert!(
+            matches!(e, OutDirError::NotAFolder(_)) && e.is_bad_input(),
+            "{e}"
+        );
+    }
+}
