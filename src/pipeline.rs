@@ -695,17 +695,7 @@ impl FitOut {
         };
         match &self.refined {
             Some(r) => {
-                let pct = |e: &[Option<f64>]| {
-                    inverse::Refined::rms(e)
-                        .map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v))
-                };
-                format!(
-                    "{what}; corrected to the heights: rms height error {} -> {} ({} iterations, {} axisymmetric solves)",
-                    pct(&r.before),
-                    pct(&r.after),
-                    r.iterations,
-                    r.solves
-                )
+                format!("{what}; corrected to the heights: {}", r.describe())
             }
             None => what,
         }
@@ -1066,6 +1056,20 @@ pub struct RunOutput {
     /// Remarks made along the way (frames left out, a lowered degree, the
     /// simulator's notes), each prefixed with its stage.
     pub notes: Vec<String>,
+}
+
+#[cfg(feature = "opencv")]
+impl RunOutput {
+    /// The pressures at which some model found no equilibrium, Pa (a run
+    /// with any is partial).
+    pub fn unsolved(&self) -> Vec<f64> {
+        self.runs
+            .iter()
+            .flat_map(|r| r.points.iter())
+            .filter(|p| p.height_m.is_none())
+            .map(|p| p.pressure_pa)
+            .collect()
+    }
 }
 
 /// The outputs of the stages that finished before a run stopped.

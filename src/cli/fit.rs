@@ -1,14 +1,6 @@
-//! `bulge fit`: stress/strain -> `material.toml`, with the fitted curve as
-//! CSV and a plot (SVG and PNG) of the data, the fit and the residuals.
-//!
-//! Outputs, all named after `--output` (default `material.toml`):
-//! `material.toml`, `material_curve.csv` (the fitted curve on a fine grid),
-//! `material_residuals.csv` (data, fit and residual at every point),
-//! `material_fit.svg` and `material_fit.png` (unless `--no-plot`), and with
-//! `--model all` `material_models.csv` (the comparison table). Everything is
-//! computed and drawn in memory first ([`bulge::fit::fit_material`],
-//! [`bulge::report::fit_outputs`]); nothing is written when the input is
-//! refused.
+//! `bulge fit`: stress/strain -> `material.toml` and its side files (see
+//! `--output`), computed and drawn in memory first ([`bulge::fit::fit_material`],
+//! [`bulge::report::fit_outputs`]); nothing is written when the input is refused.
 
 use std::path::{Path, PathBuf};
 
@@ -112,26 +104,33 @@ pub struct Args {
 /// The flags checked before any work; the settings of the fit.
 fn settings(args: &Args) -> Result<FitSettings, Failure> {
     let bad = |m: String| Err(Failure::BadInput(anyhow!(m)));
-    if !(0.0..0.5).contains(&args.poisson) {
-        return bad(format!(
-            "--poisson {} is outside [0, 0.5): give the specimen's Poisson ratio (0.45 for latex, 0.5 is excluded)",
-            args.poisson
-        ));
-    }
-    if args.degree > 8 {
-        return bad(format!(
-            "--degree {} is too high: polynomial laws above degree 8 only fit the noise; use 2 to 6",
-            args.degree
-        ));
-    }
-    if !(1..=3).contains(&args.ogden_terms) {
-        return bad(format!(
-            "--ogden-terms {} is not supported: use 1, 2 or 3",
-            args.ogden_terms
-        ));
-    }
-    if args.samples < 2 {
-        return bad(format!("--samples {} must be at least 2", args.samples));
+    let (p, d, o, n) = (args.poisson, args.degree, args.ogden_terms, args.samples);
+    let checks = [
+        (
+            (0.0..0.5).contains(&p),
+            format!(
+                "--poisson {p} is outside [0, 0.5): give the specimen's Poisson ratio (0.45 for latex, 0.5 is excluded)"
+            ),
+        ),
+        (
+            d <= 8,
+            format!(
+                "--degree {d} is too high: polynomial laws above degree 8 only fit the noise; use 2 to 6"
+            ),
+        ),
+        (
+            (1..=3).contains(&o),
+            format!("--ogden-terms {o} is not supported: use 1, 2 or 3"),
+        ),
+        (
+            (2..=100_000).contains(&n),
+            format!(
+                "--samples {n} must be in 2..=100000 (points of the drawn curve; 200 is plenty)"
+            ),
+        ),
+    ];
+    if let Some((_, m)) = checks.into_iter().find(|c| !c.0) {
+        return bad(m);
     }
     let model = match args.model {
         FitModel::Hyperelastic(Kind::Ogden(_)) => {
@@ -150,6 +149,7 @@ fn settings(args: &Args) -> Result<FitSettings, Failure> {
 
 /// Runs `bulge fit`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_file(&args.output, "-o")?;
     let set = settings(&args)?;
     let table = Table::read(&args.input)?;
     let opts = LoadOptions {
@@ -237,14 +237,10 @@ fn to_heights(
                 input.display()
             ))
         })?;
-    let pct = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v));
     Ok(format!(
-        "corrected to the heights of {} points on the specimen of {}: rms height error {} -> {} ({} iterations, {} axisymmetric solves)\n",
+        "corrected to the heights of {} points on the specimen of {}: {}\n",
         measured.len(),
         exp.display(),
-        pct(inverse::Refined::rms(&r.before)),
-        pct(inverse::Refined::rms(&r.after)),
-        r.iterations,
-        r.solves
+        r.describe()
     ))
 }

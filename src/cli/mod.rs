@@ -166,6 +166,30 @@ pub fn field_line(path: &std::path::Path, field: &str) -> Option<u64> {
         .map(|i| i as u64 + 1)
 }
 
+/// Refuses an output file path that names a folder (the user's mistake,
+/// exit 2), before any work.
+pub fn output_file(path: &std::path::Path, flag: &str) -> Result<(), Failure> {
+    if path.is_dir() {
+        return Err(Failure::BadInput(anyhow::anyhow!(
+            "{flag} {} is a folder: give a file name (e.g. {})",
+            path.display(),
+            path.join("out.csv").display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses an output folder path that names an existing file (exit 2).
+pub fn output_folder(path: &std::path::Path, flag: &str) -> Result<(), Failure> {
+    if path.exists() && !path.is_dir() {
+        return Err(Failure::BadInput(anyhow::anyhow!(
+            "{flag} {} is a file: give a folder for the outputs",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
 pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
     s.parse()

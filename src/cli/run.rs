@@ -223,13 +223,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         eprintln!("         note: {n}");
     }
     let files = run_files(&exp, &s, &o).map_err(|e| stage_failure(Stage::Report, out, e))?;
-    let unsolved: Vec<String> = o
-        .runs
-        .iter()
-        .flat_map(|r| r.points.iter())
-        .filter(|p| p.height_m.is_none())
-        .map(|p| format!("{} Pa", p.pressure_pa))
-        .collect();
+    let unsolved = o.unsolved();
     let status = if unsolved.is_empty() {
         "complete"
     } else {

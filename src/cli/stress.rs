@@ -126,6 +126,7 @@ pub struct Args {
 
 /// Runs `bulge stress`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_file(&args.output, "-o")?;
     let spec = specimen(&args)?;
     let opts = Options {
         strain: args.strain,

@@ -85,10 +85,16 @@ pub struct Args {
     /// Write JPEG photos of this quality (1-100) instead of PNG.
     #[arg(long)]
     pub jpeg_quality: Option<u8>,
+
+    /// Largest memory a photo may take while it is drawn, GB (default 2):
+    /// larger pictures are refused before any work.
+    #[arg(long, default_value_t = 2.0)]
+    pub max_memory_gb: f64,
 }
 
 /// Runs `bulge synth`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_folder(&args.out_dir, "OUT_DIR")?;
     let bad = |m: String| Failure::BadInput(anyhow!(m));
     if args.frames == 0 {
         return Err(bad("--frames 0: give at least one photo".into()));
@@ -97,6 +103,30 @@ pub fn run(args: Args) -> Result<(), Failure> {
         return Err(bad(format!(
             "--width {} --height {}: the picture must be at least 64x48 px",
             args.width, args.height
+        )));
+    }
+    // drawn in double precision with a blurred copy and the encoded image
+    let bytes = (args.width as f64) * (args.height as f64) * 25.0;
+    if bytes > args.max_memory_gb * 1e9 {
+        return Err(bad(format!(
+            "--width {} --height {}: drawing one photo takes about {:.1} GB, above --max-memory-gb {}; make it smaller or raise the limit",
+            args.width,
+            args.height,
+            bytes / 1e9,
+            args.max_memory_gb
+        )));
+    }
+    if args.frames > 100_000 {
+        return Err(bad(format!(
+            "--frames {}: at most 100000 photos (a test is a few to a few hundred)",
+            args.frames
+        )));
+    }
+    let blur_cap = 0.1 * args.width.min(args.height) as f64;
+    if args.blur_px > blur_cap {
+        return Err(bad(format!(
+            "--blur-px {}: a blur wider than a tenth of the picture ({blur_cap} px) erases the bubble's edge and its kernel grows with it; use a few px",
+            args.blur_px
         )));
     }
     for (name, v) in [

@@ -61,6 +61,7 @@ pub struct Args {
 
 /// Runs `bulge track`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_file(&args.output, "-o")?;
     let start = Instant::now();
     if !(-1.0..=1.0).contains(&args.min_score) {
         return Err(Failure::BadInput(anyhow::anyhow!(

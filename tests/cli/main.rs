@@ -6,6 +6,7 @@ mod util;
 mod bench;
 mod dynamics;
 mod fit;
+mod mistakes;
 mod run;
 mod simulate;
 mod stress;

@@ -440,6 +440,7 @@ fn plot(entries: &[Entry]) -> Figure {
 
 /// Runs `bulge bench`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_folder(&args.out, "--out")?;
     if args.out.exists() && !args.out.is_dir() {
         return Err(Failure::BadInput(anyhow!(
             "--out {} is a file; give a folder (it is created if missing)",

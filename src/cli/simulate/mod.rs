@@ -214,6 +214,18 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
 
 /// Runs `bulge simulate`.
 pub fn run(args: Args) -> Result<(), Failure> {
+    super::output_file(&args.output, "-o")?;
+    if let Some(v) = &args.vtk {
+        super::output_folder(v, "--vtk")?;
+    }
+    for (p, flag) in [
+        (&args.profile, "--profile"),
+        (&args.dynamic.trace, "--trace"),
+    ] {
+        if let Some(p) = p {
+            super::output_file(p, flag)?;
+        }
+    }
     if args.dynamic.dynamic {
         dynamic::run(args)
     } else {
