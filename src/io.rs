@@ -318,6 +318,23 @@ pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Input
     })
 }
 
+/// A number for a message: up to 6 significant digits, in exponent form
+/// outside [1e-3, 1e7) (never the 300 digits of a plain `{}` of 1e-300).
+pub fn fmt_short(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-3..1e7).contains(&a) {
+        let s = format!("{:.6}", v);
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s.is_empty() || s == "-" {
+            "0".into()
+        } else {
+            s.to_string()
+        }
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -362,5 +379,14 @@ mod tests {
         assert_eq!(fmt_num(Some(f64::NAN)), "");
         assert_eq!(fmt_num(None), "");
         assert_eq!(fmt_num(Some(0.5)), "0.5");
+    }
+
+    #[test]
+    fn short_numbers_for_messages() {
+        assert_eq!(fmt_short(1e-300), "1.00000e-300");
+        assert_eq!(fmt_short(5000.0), "5000");
+        assert_eq!(fmt_short(0.0125), "0.0125");
+        assert_eq!(fmt_short(1.7e308), "1.70000e308");
+        assert_eq!(fmt_short(0.0), "0");
     }
 }

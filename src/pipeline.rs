@@ -525,6 +525,50 @@ pub fn heights_points(table: &Table, height_std_m: Option<f64>) -> Result<Vec<Po
         .collect()
 }
 
+/// The stress stage's rows checked for what a user would not trust: a
+/// derived value that is not finite (inputs beyond double precision, such
+/// as a pressure of 1e308 Pa or a thickness of 1e-320 m) is refused with its
+/// row (index into `points`) and column; a height below a millionth of the
+/// radius gets a warning (its strain is at round-off level and its secant
+/// modulus meaningless).
+pub fn check_stress_rows(
+    spec: &Specimen,
+    points: &[Point],
+    rows: &[Row],
+) -> Result<Vec<String>, (usize, &'static str, String)> {
+    let mut warnings = Vec::new();
+    for (i, (p, r)) in points.iter().zip(rows).enumerate() {
+        for (name, v) in DERIVED_COLUMNS.iter().zip(r.value.to_array()) {
+            if let Some(v) = v
+                && !v.is_finite()
+            {
+                return Err((
+                    i,
+                    name,
+                    format!(
+                        "{name} is {v} for pressure {} Pa and height {} m on a disc of radius {} m and thickness {} m: \
+                         the numbers are beyond double precision; check the units (Pa, m)",
+                        crate::io::fmt_short(p.pressure_pa),
+                        crate::io::fmt_short(p.height_m),
+                        crate::io::fmt_short(spec.radius_m),
+                        crate::io::fmt_short(spec.thickness_m)
+                    ),
+                ));
+            }
+        }
+        if p.height_m > 0.0 && p.height_m < 1e-6 * spec.radius_m {
+            warnings.push(format!(
+                "point {}: the height {} m is {} of the radius: its strain is at round-off level and its secant modulus ({} Pa) meaningless",
+                i + 1,
+                crate::io::fmt_short(p.height_m),
+                crate::io::fmt_short(p.height_m / spec.radius_m),
+                crate::io::fmt_short(r.value.secant_modulus_pa.unwrap_or(f64::NAN))
+            ));
+        }
+    }
+    Ok(warnings)
+}
+
 /// `stress_strain.csv` of a heights table: its other columns carried
 /// through first, then pressure and height as given, the derived values,
 /// and (with an uncertainty) `height_std_m` when it was given for every
@@ -541,6 +585,21 @@ pub fn stress_csv_of_table(
         .filter(|&c| c != p_col && c != h_col)
         .collect();
     let with_std = points.iter().any(|p| p.height_std_m.is_some());
+    let written = |name: &str| {
+        DERIVED_COLUMNS.contains(&name)
+            || (with_std && (STD_COLUMNS.contains(&name) || (std_given && name == "height_std_m")))
+    };
+    if let Some(&c) = carried.iter().find(|&&c| written(&table.headers[c])) {
+        let name = &table.headers[c];
+        return Err(InputError::cell(
+            &table.path,
+            1,
+            name,
+            format!(
+                "the column `{name}` is one that bulge stress writes: rename or drop it in the input"
+            ),
+        ));
+    }
     let mut header: Vec<&str> = carried.iter().map(|&c| table.headers[c].as_str()).collect();
     header.extend(["pressure_pa", "height_m"]);
     header.extend(DERIVED_COLUMNS);

@@ -158,6 +158,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         StressError::Specimen(m) => Failure::BadInput(anyhow!("invalid specimen: {m}")),
     })?;
     let with_std = points.iter().any(|p| p.height_std_m.is_some());
+    let warnings = pipeline::check_stress_rows(&spec, &points, &rows)
+        .map_err(|(i, col, m)| table.error_at(i, col, m))?;
     let out = pipeline::stress_csv_of_table(&table, &points, &rows, args.height_std_m.is_some())?;
     out.write(&args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))
@@ -172,6 +174,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
         opts.modulus_stress.name(),
         if with_std { ", with *_std columns" } else { "" }
     );
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
     Ok(())
 }
 

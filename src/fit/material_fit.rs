@@ -174,9 +174,9 @@ pub struct Provenance {
     /// Root-mean-square residual, Pa.
     #[serde(default)]
     pub rmse_pa: f64,
-    /// Coefficient of determination.
-    #[serde(default)]
-    pub r2: f64,
+    /// Coefficient of determination (none when the data do not vary).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r2: Option<f64>,
     /// Akaike information criterion.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub aic: Option<f64>,
@@ -405,7 +405,7 @@ pub fn fit_material(
             prov.modulus_convention = Some(settings.modulus);
             prov.modulus_stress = settings.modulus_stress;
             prov.rmse_pa = f.stats.rmse;
-            prov.r2 = f.stats.r2;
+            prov.r2 = Some(f.stats.r2).filter(|v| v.is_finite());
             prov.aic = Some(f.stats.aic);
             prov.condition_number = Some(f.condition_scaled);
             prov.condition_number_unscaled = Some(f.condition_raw);
@@ -481,7 +481,7 @@ pub fn fit_material(
         prov.fitted = Some(chosen.kind.label());
         prov.points = chosen.stats.n;
         prov.rmse_pa = chosen.stats.rmse;
-        prov.r2 = chosen.stats.r2;
+        prov.r2 = Some(chosen.stats.r2).filter(|v| v.is_finite());
         prov.aic = Some(chosen.stats.aic);
         prov.aicc = chosen.stats.aicc;
         prov.std_errors = Some(
@@ -496,6 +496,12 @@ pub fn fit_material(
         prov.starts = Some(chosen.starts);
     }
     warnings.extend(skipped.iter().map(|s| format!("skipped {s}")));
+    if !prov.rmse_pa.is_finite() {
+        return Err(FitError::Unsupported(format!(
+            "the fit's residuals are not finite (RMSE {} Pa): the data are beyond double precision; check the units",
+            prov.rmse_pa
+        )));
+    }
     prov.warnings = warnings.clone();
     let cap_material = Material {
         model,
@@ -607,7 +613,7 @@ mod tests {
             (p.points, p.degree, p.source.as_str()),
             (12, Some(4), "exact")
         );
-        assert!(p.r2 > 1.0 - 1e-12);
+        assert!(p.r2.unwrap() > 1.0 - 1e-12);
     }
 
     /// Too few points: refused, or the degree lowered when asked.

@@ -44,7 +44,8 @@ pub fn limit_note(
         )
     } else {
         format!(
-            "this disc's limit pressure is {pl:.6e} Pa (exact axisymmetric solution); {pressure_pa} Pa is below it, so an equilibrium exists: refine the pressure steps or raise --max-iterations"
+            "this disc's limit pressure is {pl:.6e} Pa (exact axisymmetric solution); {} Pa is below it, so an equilibrium exists: add intermediate pressures or raise the iteration cap",
+            crate::io::fmt_short(pressure_pa)
         )
     })
 }

@@ -86,7 +86,10 @@ pub enum SimError {
         triangle: usize,
     },
     /// A triangle collapsed during the solve.
-    #[error("triangle {triangle} collapsed (zero area) during the solve at {pressure_pa} Pa")]
+    #[error(
+        "triangle {triangle} collapsed (zero area) during the solve at {} Pa",
+        crate::io::fmt_short(*.pressure_pa)
+    )]
     Collapsed {
         /// Triangle index.
         triangle: usize,
@@ -95,7 +98,9 @@ pub enum SimError {
     },
     /// No equilibrium found at a pressure, even with load sub-steps.
     #[error(
-        "no equilibrium found at {pressure_pa} Pa ({reason}); last equilibrium at {last_pressure_pa} Pa. A pressure above the membrane's limit point has no nearby equilibrium; otherwise raise --max-iterations or loosen --tolerance"
+        "no equilibrium found at {} Pa ({reason}); last equilibrium at {} Pa. A pressure above the membrane's limit point has no nearby equilibrium; otherwise raise the iteration cap or loosen the tolerance",
+        crate::io::fmt_short(*.pressure_pa),
+        crate::io::fmt_short(*.last_pressure_pa)
     )]
     NoEquilibrium {
         /// The pressure asked for, Pa.

@@ -408,6 +408,14 @@ pub fn newton_with(
             // differences of nearly equal lengths); the state is converged.
             let dmax = d.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             if last_err.is_none() && dmax <= 1e-8 * m.min_rest_edge() {
+                // ... unless the load itself is below that floor: then
+                // nothing was solved (a pressure too small to resolve)
+                if rn > 1e-3 * load {
+                    return Err(fail(format!(
+                        "the load is below the round-off of the spring forces (relative residual {:.3e} at the smallest step): the pressure is too small for this membrane to resolve in double precision; give a larger one",
+                        rn / load
+                    )));
+                }
                 return Ok(Stats {
                     iterations: it + 1,
                     residual: rn / load,

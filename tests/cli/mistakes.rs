@@ -59,3 +59,68 @@ fn resource_limits_are_named_before_the_work() {
     .bad_input(&["--samples"]);
     assert!(!d.join("material.toml").exists());
 }
+
+/// A pressure too small for double precision to resolve on the membrane is
+/// not reported as solved; the message prints the pressure in a few digits.
+#[test]
+fn a_pressure_below_round_off_is_not_solved() {
+    let dir = tempdir();
+    let scene = crate::util::repo().join("data/scenes/latex-disc.toml");
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "simulate",
+            scene.to_str().unwrap(),
+            "--pressures",
+            "1e-300",
+            "-o",
+            "s.csv",
+        ],
+    );
+    assert_eq!(r.status, 1, "{}", r.stderr);
+    assert!(r.stderr.contains("1.00000e-300 Pa"), "{}", r.stderr);
+    assert!(r.stderr.contains("too small"), "{}", r.stderr);
+    let csv = fs::read_to_string(dir.path().join("s.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1, "a row was written: {csv}");
+}
+
+/// Nonsense that used to give empty cells or a silent duplicate: a derived
+/// value beyond double precision is refused naming its row and column; an
+/// input column that the output writes is refused; a height at round-off
+/// level gets a warning.
+#[test]
+fn stress_refuses_what_it_cannot_compute() {
+    let dir = tempdir();
+    let d = dir.path();
+    let stress = |name: &str, text: &str| {
+        fs::write(d.join(name), text).unwrap();
+        let args = [
+            "stress",
+            name,
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--poisson",
+            "0.45",
+            "-o",
+            "out.csv",
+        ];
+        bulge_in(d, &args)
+    };
+    stress("big.csv", "pressure_pa,height_m\n1.7e308,0.01\n").bad_input(&[
+        "big.csv",
+        "line 2",
+        "stress_pa",
+        "inf",
+        "units",
+    ]);
+    stress("dup.csv", "pressure_pa,height_m,stress_pa\n1000,0.01,5\n").bad_input(&[
+        "dup.csv",
+        "`stress_pa`",
+        "rename or drop",
+    ]);
+    assert!(!d.join("out.csv").exists());
+    let r = stress("tiny.csv", "pressure_pa,height_m\n1000,1e-12\n").ok();
+    assert!(r.stderr.contains("round-off"), "{}", r.stderr);
+}
