@@ -830,12 +830,25 @@ pub fn simulate_stage(
     let mut scene = Scene::from_specimen(spec, material.clone(), pressures.to_vec());
     scene.mesh.size = settings.mesh;
     scene.validate(true).map_err(PipelineError::Input)?;
-    let mesh = scene.build_mesh()?;
     let opts = solve::Options {
         tolerance: settings.tolerance,
         ..solve::Options::default()
     };
     opts.validate()?;
+    let mesh = match settings.mesh {
+        Some(MeshSize::Accuracy(a)) if !settings.models.is_empty() => {
+            crate::sim::disc::mesh_for_accuracy(
+                &scene,
+                &settings.models,
+                settings.solver,
+                opts,
+                a,
+                scene.mesh.max_nodes,
+            )?
+            .mesh
+        }
+        _ => scene.build_mesh()?,
+    };
     let mut runs = Vec::new();
     for &model in &settings.models {
         let t_model = Instant::now();

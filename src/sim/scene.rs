@@ -120,7 +120,14 @@ pub struct MeshSettings {
     pub symmetry: bool,
     /// Sphere: corner topologies at a, b, c (default II, I, I as in Fig. 7).
     pub corners: [Corner; 3],
+    /// Largest mesh built, nodes (default [`DEFAULT_MAX_NODES`]): a bigger
+    /// one is refused before it is built, with its memory estimate.
+    pub max_nodes: usize,
 }
+
+/// Default node limit of a mesh: Newton's sparse factorisation takes about
+/// 33 kB per node (3.3 GB at 1e5 nodes), so 3e5 nodes is about 10 GB.
+pub const DEFAULT_MAX_NODES: usize = 300_000;
 
 impl Default for MeshSettings {
     fn default() -> Self {
@@ -128,7 +135,22 @@ impl Default for MeshSettings {
             size: None,
             symmetry: true,
             corners: [Corner::TypeII, Corner::TypeI, Corner::TypeI],
+            max_nodes: DEFAULT_MAX_NODES,
         }
+    }
+}
+
+impl MeshSettings {
+    /// Refuses a mesh of `nodes` nodes above the limit, with its memory.
+    pub fn check_nodes(&self, nodes: usize) -> Result<(), SimError> {
+        if nodes > self.max_nodes {
+            return Err(SimError::BadParameter(format!(
+                "the mesh would have about {nodes} nodes (about {:.1} GB for Newton's factorisation), above the limit of {} nodes: ask for fewer nodes, a longer edge or a looser accuracy, or raise the node limit",
+                nodes as f64 * 33e3 / 1e9,
+                self.max_nodes
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -459,7 +481,13 @@ impl Scene {
                     Some(MeshSize::Accuracy(a)) => disc_rings_for_accuracy(a, models),
                     None => DEFAULT_DISC_RINGS,
                 }
-                .clamp(1, 5000);
+                .max(1);
+                let n = if sector {
+                    (rings + 1) * (rings + 2) / 2
+                } else {
+                    1 + 3 * rings * (rings + 1)
+                };
+                self.mesh.check_nodes(n)?;
                 mesh::disc(mesh::DiscOptions {
                     radius_m,
                     rings,
@@ -476,7 +504,8 @@ impl Scene {
                     }
                     Some(MeshSize::Accuracy(_)) | None => DEFAULT_SPHERE_DIVISIONS,
                 }
-                .clamp(2, 5000);
+                .max(2);
+                self.mesh.check_nodes((n + 1) * (n + 2) / 2)?;
                 mesh::sphere_segment(mesh::SphereOptions {
                     radius_m,
                     divisions: n,
@@ -491,6 +520,8 @@ impl Scene {
                     }
                     Some(MeshSize::Accuracy(_)) | None => length_m.min(width_m) / 10.0,
                 };
+                let n = (length_m * width_m * 2.0 / (3f64.sqrt() * h * h)).min(1e18);
+                self.mesh.check_nodes(n as usize)?;
                 mesh::sheet(mesh::SheetOptions {
                     length_m,
                     width_m,

@@ -74,6 +74,10 @@ pub struct Args {
     /// rings (disc), 16 divisions (sphere segment).
     #[arg(long)]
     pub accuracy: Option<f64>,
+    /// Largest mesh, nodes (default 300000, about 10 GB for Newton): bigger
+    /// meshes are refused before they are built.
+    #[arg(long)]
+    pub max_nodes: Option<usize>,
     /// Mesh the full disc instead of the 60 degree sector with mirror planes.
     #[arg(long)]
     pub full: bool,
@@ -181,6 +185,7 @@ fn apply_overrides(scene: &mut Scene, args: &Args) -> anyhow::Result<String> {
     if args.full {
         scene.mesh.symmetry = false;
     }
+    scene.mesh.max_nodes = args.max_nodes.unwrap_or(scene.mesh.max_nodes);
     if let Some(d) = args.density {
         scene.density_kg_m3 = d;
     }

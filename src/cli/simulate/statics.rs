@@ -8,7 +8,8 @@ use anyhow::{Context, anyhow};
 use super::{Args, Choice, build_scene, describe, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::{CsvOut, fmt_num, write_atomic};
-use bulge::sim::scene::SceneKind;
+use bulge::sim::disc::mesh_for_accuracy;
+use bulge::sim::scene::{MeshSize, SceneKind};
 use bulge::sim::solve::Options;
 use bulge::sim::springs::SpringModel;
 use bulge::sim::{SceneSolver, SimError, vtk};
@@ -41,10 +42,29 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
     opts.validate()
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
-    let mesh = scene
-        .build_mesh_for(&models)
-        .context("building the mesh")
-        .bad_input()?;
+    let mesh = match (scene.mesh.size, scene.kind) {
+        (Some(MeshSize::Accuracy(a)), SceneKind::Disc { .. }) if !models.is_empty() => {
+            let s = mesh_for_accuracy(
+                &scene,
+                &models,
+                args.solver[0],
+                opts,
+                a,
+                scene.mesh.max_nodes,
+            )
+            .context("--accuracy")
+            .bad_input()?;
+            eprintln!(
+                "mesh sized for --accuracy {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
+                s.rings, s.estimated_error, s.rings, s.coarse_rings
+            );
+            s.mesh
+        }
+        _ => scene
+            .build_mesh_for(&models)
+            .context("building the mesh")
+            .bad_input()?,
+    };
     eprintln!("{}", describe(&mesh, &scene));
     for &model in &models {
         for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
