@@ -10,6 +10,10 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+mod guard;
+
+pub use guard::{OutputConflict, OutputPlan};
+
 /// A problem with an input file, located to the cell where possible.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", location(path, *line, column.as_deref()))]
