@@ -11,8 +11,12 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 mod guard;
+mod temp;
 
 pub use guard::{OutputConflict, OutputPlan};
+#[cfg(feature = "cli")]
+pub use temp::install_cleanup_on_signal;
+pub use temp::{remove_temporary_files, temporary_files};
 
 /// A problem with an input file, located to the cell where possible.
 #[derive(Debug, thiserror::Error)]
@@ -248,27 +252,145 @@ pub fn fmt_num(v: Option<f64>) -> String {
 }
 
 /// Writes a file whole or not at all: the bytes go to a temporary file in the
-/// same folder, which is then renamed over the target. Parent folders are
-/// created.
+/// same folder, which is synced and then renamed over the target. Parent
+/// folders are created; the permissions of a file replaced are kept.
+///
+/// What is at `path` decides how:
+///
+/// * nothing, or a regular file: replaced atomically as above;
+/// * a symbolic link to a regular file: the file it points to is replaced
+///   atomically, and the link stays;
+/// * a FIFO, a device, a socket (e.g. `/dev/stdout`), or a link to one or to
+///   nothing: written through (opened for writing and written), since
+///   renaming over it would swap the stream or the link for a regular file;
+/// * a folder: refused.
+///
+/// The temporary file is registered for removal if the process is
+/// interrupted (see [`remove_temporary_files`]; the `bulge` binary installs
+/// `install_cleanup_on_signal`).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    fs::create_dir_all(&dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
+    match target(path)? {
+        Target::Replace(target) => {
+            let (tmp, mut f) = temp::TempFile::create(&target)?;
+            f.write_all(bytes)?;
+            f.sync_all()?;
+            drop(f);
+            finish(tmp, &target)
+        }
+        Target::Through(target) => write_through(&target, bytes),
     }
-    fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = fs::remove_file(&tmp);
-    })
+}
+
+/// [`write_atomic`] for writers that want a path rather than bytes (image
+/// encoders, plotting back-ends): `write` is given a temporary path next to
+/// `path` (same extension, so writers that choose the format by extension
+/// still work), and what it writes there then replaces `path` as in
+/// [`write_atomic`]. If `write` fails, the temporary file is removed and
+/// `path` is left as it was.
+pub fn write_atomic_with<E>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<(), AtomicWriteError<E>> {
+    let target = target(path).map_err(AtomicWriteError::Io)?;
+    let created = match &target {
+        Target::Replace(t) => temp::TempFile::create(t),
+        // never a temporary file beside a device or a FIFO (in /dev, say)
+        Target::Through(t) => temp::TempFile::create_in(&std::env::temp_dir(), t),
+    };
+    let (tmp, f) = created.map_err(AtomicWriteError::Io)?;
+    drop(f);
+    write(tmp.path()).map_err(AtomicWriteError::Write)?;
+    match target {
+        Target::Replace(t) => {
+            fs::File::open(tmp.path())
+                .and_then(|f| f.sync_all())
+                .map_err(AtomicWriteError::Io)?;
+            finish(tmp, &t).map_err(AtomicWriteError::Io)
+        }
+        Target::Through(t) => {
+            let bytes = fs::read(tmp.path()).map_err(AtomicWriteError::Io)?;
+            drop(tmp);
+            write_through(&t, &bytes).map_err(AtomicWriteError::Io)
+        }
+    }
+}
+
+/// Why [`write_atomic_with`] failed: in the caller's writer, or in the file
+/// handling around it.
+#[derive(Debug, thiserror::Error)]
+pub enum AtomicWriteError<E> {
+    /// The writer failed.
+    #[error(transparent)]
+    Write(E),
+    /// Creating, syncing or renaming the temporary file failed.
+    #[error(transparent)]
+    Io(std::io::Error),
+}
+
+enum Target {
+    /// Write a temporary file and rename it onto this path.
+    Replace(PathBuf),
+    /// Open this path for writing and write.
+    Through(PathBuf),
+}
+
+fn target(path: &Path) -> std::io::Result<Target> {
+    use std::io::ErrorKind;
+    let meta = match fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == ErrorKind::NotFound => {
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            fs::create_dir_all(dir)?;
+            return Ok(Target::Replace(path.to_path_buf()));
+        }
+        Err(e) => return Err(e),
+    };
+    let ft = meta.file_type();
+    if ft.is_file() {
+        Ok(Target::Replace(path.to_path_buf()))
+    } else if ft.is_dir() {
+        Err(std::io::Error::new(
+            ErrorKind::IsADirectory,
+            format!("{} is a folder, not a file", path.display()),
+        ))
+    } else if ft.is_symlink() {
+        match fs::canonicalize(path) {
+            Ok(real) => match fs::metadata(&real) {
+                Ok(m) if m.is_file() => Ok(Target::Replace(real)),
+                Ok(m) if m.is_dir() => Err(std::io::Error::new(
+                    ErrorKind::IsADirectory,
+                    format!("{} links to a folder, not a file", path.display()),
+                )),
+                _ => Ok(Target::Through(path.to_path_buf())),
+            },
+            // a link to nothing: writing through it creates its target
+            Err(_) => Ok(Target::Through(path.to_path_buf())),
+        }
+    } else {
+        Ok(Target::Through(path.to_path_buf()))
+    }
+}
+
+/// Gives the temporary file the permissions of the file it replaces, then
+/// renames it over it.
+fn finish(tmp: temp::TempFile, target: &Path) -> std::io::Result<()> {
+    if let Ok(m) = fs::metadata(target) {
+        fs::set_permissions(tmp.path(), m.permissions())?;
+    }
+    tmp.persist(target)
+}
+
+fn write_through(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(path)?;
+    f.write_all(bytes)?;
+    f.flush()
 }
 
 /// Builds a CSV document in memory (so that it can be written atomically).
@@ -359,6 +481,105 @@ mod tests {
         write_atomic(&p, b"two").unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"two");
         assert_eq!(fs::read_dir(p.parent().unwrap()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn atomic_write_keeps_permissions_and_refuses_folders() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("run.sh");
+        fs::write(&p, b"old").unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            fs::set_permissions(&p, fs::Permissions::from_mode(0o750)).unwrap();
+            write_atomic(&p, b"new").unwrap();
+            let mode = fs::metadata(&p).unwrap().permissions().mode();
+            assert_eq!(mode & 0o777, 0o750);
+        }
+        assert!(write_atomic(dir.path(), b"x").is_err());
+        assert!(dir.path().is_dir());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn atomic_write_goes_through_a_fifo() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        for round in 0..2 {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || fs::read(fifo).unwrap())
+            };
+            if round == 0 {
+                write_atomic(&fifo, b"through the pipe").unwrap();
+            } else {
+                write_atomic_with(&fifo, |tmp| fs::write(tmp, b"through the pipe")).unwrap();
+            }
+            assert_eq!(reader.join().unwrap(), b"through the pipe");
+            let ft = fs::symlink_metadata(&fifo).unwrap().file_type();
+            assert!(ft.is_fifo(), "the FIFO was replaced");
+            // nothing left beside it
+            assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn atomic_write_keeps_a_symlink_and_replaces_its_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let real_dir = dir.path().join("real");
+        fs::create_dir(&real_dir).unwrap();
+        let real = real_dir.join("data.csv");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        assert_eq!(fs::read_dir(&real_dir).unwrap().count(), 1);
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
+        // a link to nothing yet: written through, creating its target
+        let later = dir.path().join("later.csv");
+        let dangling = dir.path().join("dangling.csv");
+        std::os::unix::fs::symlink(&later, &dangling).unwrap();
+        write_atomic(&dangling, b"made").unwrap();
+        assert!(
+            fs::symlink_metadata(&dangling)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&later).unwrap(), b"made");
+    }
+
+    #[test]
+    fn atomic_write_with_keeps_extension_and_old_file_on_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("fig.png");
+        fs::write(&p, b"old").unwrap();
+        let r = write_atomic_with(&p, |tmp| {
+            assert_eq!(tmp.extension().unwrap(), "png");
+            assert_eq!(tmp.parent(), p.parent());
+            fs::write(tmp, b"half")?;
+            Err(std::io::Error::other("drawing failed"))
+        });
+        assert!(matches!(r, Err(AtomicWriteError::Write(_))));
+        assert_eq!(fs::read(&p).unwrap(), b"old");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        write_atomic_with(&p, |tmp| fs::write(tmp, b"new")).unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"new");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 
     #[test]
