@@ -428,20 +428,150 @@ impl CsvOut {
 }
 
 /// Reads and parses a TOML file into `T`, with the file named in the error.
+/// A misspelt key or value refused by `T` gets the nearest valid name
+/// suggested ("did you mean `radius_m`?").
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
     let text = fs::read_to_string(path)
         .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
-    toml::from_str(&text).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| text[..s.start.min(text.len())].lines().count().max(1) as u64);
-        InputError {
-            path: path.to_path_buf(),
-            line,
-            column: None,
-            message: format!("invalid TOML: {}", e.message()),
+    toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))
+}
+
+/// An [`InputError`] from a TOML parse error of `text`, read from `path`:
+/// the line of the error and, for an unknown key or value, the nearest
+/// valid one.
+pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
+    let line = e.span().map(|s| {
+        let end = s.start.min(text.len());
+        // a span never splits a character, but a byte offset might
+        let end = (0..=end)
+            .rev()
+            .find(|&i| text.is_char_boundary(i))
+            .unwrap_or(0);
+        text[..end].lines().count().max(1) as u64
+    });
+    let mut message = format!("invalid TOML: {}", e.message().trim_end());
+    if let Some(hint) = did_you_mean(e.message()) {
+        message.push_str(&format!("; did you mean `{hint}`?"));
+    }
+    InputError {
+        path: path.to_path_buf(),
+        line,
+        column: None,
+        message,
+    }
+}
+
+/// The suggestion for serde's "unknown field `x`, expected one of `a`, `b`"
+/// and "unknown variant `x`, expected ..." messages.
+fn did_you_mean(message: &str) -> Option<&str> {
+    let rest = message
+        .strip_prefix("unknown field `")
+        .or_else(|| message.strip_prefix("unknown variant `"))?;
+    let (name, rest) = rest.split_once('`')?;
+    let candidates = rest.split('`').skip(1).step_by(2);
+    nearest_name(name, candidates)
+}
+
+/// The candidate nearest to a misspelt `name`, if one is near enough to be
+/// what was meant: at most one edit (insertion, deletion, substitution or
+/// swap of two neighbours, ignoring case) per three letters, or `name` with
+/// its unit suffix missing (`young` for `young_pa`).
+pub fn nearest_name<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    let lower = name.to_lowercase();
+    let budget = (lower.chars().count() / 3).max(1);
+    let mut best: Option<(usize, &str)> = None;
+    for c in candidates {
+        let lc = c.to_lowercase();
+        let d = if lc.strip_prefix(&lower).is_some_and(|r| r.starts_with('_')) {
+            1
+        } else {
+            edit_distance(&lower, &lc)
+        };
+        if d <= budget && best.is_none_or(|(bd, _)| d < bd) {
+            best = Some((d, c));
         }
-    })
+    }
+    best.map(|(_, c)| c)
+}
+
+/// Optimal string alignment distance (Levenshtein plus swaps of adjacent
+/// characters).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let (n, m) = (a.len(), b.len());
+    let mut d = vec![vec![0usize; m + 1]; n + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for j in 0..=m {
+        d[0][j] = j;
+    }
+    for i in 1..=n {
+        for j in 1..=m {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[n][m]
+}
+
+/// Why a value could not be written as TOML.
+#[derive(Debug, thiserror::Error)]
+pub enum TomlWriteError {
+    /// A number is NaN or infinite: TOML can spell it, but no reader of
+    /// this crate accepts it, and it means the computation went wrong.
+    #[error(
+        "`{key} = {value}` is not a finite number; nothing was written (a file must hold measured or fitted values only: check the data that produced it)"
+    )]
+    NonFinite {
+        /// Dotted path of the key, with `[i]` for array entries.
+        key: String,
+        /// The value.
+        value: f64,
+    },
+    /// The value has no TOML form.
+    #[error("cannot write as TOML: {0}")]
+    Serialize(#[from] toml::ser::Error),
+}
+
+/// Serialises `value` as a TOML document, refusing NaN and infinities
+/// anywhere in it (the error names the first such key). Use it for every
+/// TOML file written, e.g. `material.toml`, then [`write_atomic`].
+pub fn to_toml_string<T: serde::Serialize + ?Sized>(value: &T) -> Result<String, TomlWriteError> {
+    let v = toml::Value::try_from(value)?;
+    if let Some((key, value)) = first_non_finite(&v, "") {
+        return Err(TomlWriteError::NonFinite { key, value });
+    }
+    Ok(toml::to_string(value)?)
+}
+
+fn first_non_finite(v: &toml::Value, at: &str) -> Option<(String, f64)> {
+    match v {
+        toml::Value::Float(x) if !x.is_finite() => Some((at.to_string(), *x)),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+            let key = if at.is_empty() {
+                k.clone()
+            } else {
+                format!("{at}.{k}")
+            };
+            first_non_finite(v, &key)
+        }),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| first_non_finite(v, &format!("{at}[{i}]"))),
+        _ => None,
+    }
 }
 
 #[cfg(test)]
@@ -580,6 +710,75 @@ mod tests {
         write_atomic_with(&p, |tmp| fs::write(tmp, b"new")).unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"new");
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn nearest_name_suggests_close_spellings_only() {
+        let keys = ["model", "poisson", "c1_pa", "young_pa", "radius_m"];
+        assert_eq!(nearest_name("possion", keys), Some("poisson"));
+        assert_eq!(nearest_name("Poisson", keys), Some("poisson"));
+        assert_eq!(nearest_name("c2_pa", keys), Some("c1_pa"));
+        assert_eq!(nearest_name("young", keys), Some("young_pa"));
+        assert_eq!(nearest_name("radius", keys), Some("radius_m"));
+        assert_eq!(nearest_name("thickness", keys), None);
+        assert_eq!(nearest_name("x", keys), None);
+    }
+
+    #[test]
+    fn read_toml_suggests_the_nearest_key() {
+        #[derive(Debug, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        #[allow(dead_code)]
+        struct S {
+            radius_m: f64,
+            thickness_m: f64,
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("s.toml");
+        fs::write(&p, "radius_m = 1.0\nthicknes_m = 2.0\n").unwrap();
+        let e = read_toml::<S>(&p).unwrap_err().to_string();
+        assert!(e.contains("s.toml"), "{e}");
+        assert!(e.contains("did you mean `thickness_m`?"), "{e}");
+    }
+
+    #[test]
+    fn toml_with_nan_is_not_written() {
+        #[derive(serde::Serialize)]
+        struct Fit {
+            r2: f64,
+            rmse_pa: Vec<f64>,
+        }
+        #[derive(serde::Serialize)]
+        struct M {
+            c1_pa: f64,
+            fit: Fit,
+        }
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: f64::NAN,
+                rmse_pa: vec![1.0],
+            },
+        };
+        let e = to_toml_string(&m).unwrap_err().to_string();
+        assert!(e.contains("`fit.r2 = NaN`"), "{e}");
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: 0.9,
+                rmse_pa: vec![1.0, f64::INFINITY],
+            },
+        };
+        let e = to_toml_string(&m).unwrap_err().to_string();
+        assert!(e.contains("`fit.rmse_pa[1] = inf`"), "{e}");
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: 0.9,
+                rmse_pa: vec![1.0],
+            },
+        };
+        assert!(to_toml_string(&m).unwrap().contains("r2 = 0.9"));
     }
 
     #[test]
