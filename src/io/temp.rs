@@ -185,6 +185,7 @@ mod tests {
         assert!(list.is_empty() && !p.exists());
     }
 
+    #[cfg(feature = "cli")]
     const CHILD_DIR: &str = "BULGE_TEST_SIGNAL_CHILD_DIR";
 
     /// Run by `a_signal_removes_the_temporary_file_and_exits_130` in a
