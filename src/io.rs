@@ -10,6 +10,14 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+mod guard;
+mod temp;
+
+pub use guard::{OutputConflict, OutputPlan};
+#[cfg(feature = "cli")]
+pub use temp::install_cleanup_on_signal;
+pub use temp::{remove_temporary_files, temporary_files};
+
 /// A problem with an input file, located to the cell where possible.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", location(path, *line, column.as_deref()))]
@@ -244,27 +252,145 @@ pub fn fmt_num(v: Option<f64>) -> String {
 }
 
 /// Writes a file whole or not at all: the bytes go to a temporary file in the
-/// same folder, which is then renamed over the target. Parent folders are
-/// created.
+/// same folder, which is synced and then renamed over the target. Parent
+/// folders are created; the permissions of a file replaced are kept.
+///
+/// What is at `path` decides how:
+///
+/// * nothing, or a regular file: replaced atomically as above;
+/// * a symbolic link to a regular file: the file it points to is replaced
+///   atomically, and the link stays;
+/// * a FIFO, a device, a socket (e.g. `/dev/stdout`), or a link to one or to
+///   nothing: written through (opened for writing and written), since
+///   renaming over it would swap the stream or the link for a regular file;
+/// * a folder: refused.
+///
+/// The temporary file is registered for removal if the process is
+/// interrupted (see [`remove_temporary_files`]; the `bulge` binary installs
+/// `install_cleanup_on_signal`).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    fs::create_dir_all(&dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
+    match target(path)? {
+        Target::Replace(target) => {
+            let (tmp, mut f) = temp::TempFile::create(&target)?;
+            f.write_all(bytes)?;
+            f.sync_all()?;
+            drop(f);
+            finish(tmp, &target)
+        }
+        Target::Through(target) => write_through(&target, bytes),
     }
-    fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = fs::remove_file(&tmp);
-    })
+}
+
+/// [`write_atomic`] for writers that want a path rather than bytes (image
+/// encoders, plotting back-ends): `write` is given a temporary path next to
+/// `path` (same extension, so writers that choose the format by extension
+/// still work), and what it writes there then replaces `path` as in
+/// [`write_atomic`]. If `write` fails, the temporary file is removed and
+/// `path` is left as it was.
+pub fn write_atomic_with<E>(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<(), AtomicWriteError<E>> {
+    let target = target(path).map_err(AtomicWriteError::Io)?;
+    let created = match &target {
+        Target::Replace(t) => temp::TempFile::create(t),
+        // never a temporary file beside a device or a FIFO (in /dev, say)
+        Target::Through(t) => temp::TempFile::create_in(&std::env::temp_dir(), t),
+    };
+    let (tmp, f) = created.map_err(AtomicWriteError::Io)?;
+    drop(f);
+    write(tmp.path()).map_err(AtomicWriteError::Write)?;
+    match target {
+        Target::Replace(t) => {
+            fs::File::open(tmp.path())
+                .and_then(|f| f.sync_all())
+                .map_err(AtomicWriteError::Io)?;
+            finish(tmp, &t).map_err(AtomicWriteError::Io)
+        }
+        Target::Through(t) => {
+            let bytes = fs::read(tmp.path()).map_err(AtomicWriteError::Io)?;
+            drop(tmp);
+            write_through(&t, &bytes).map_err(AtomicWriteError::Io)
+        }
+    }
+}
+
+/// Why [`write_atomic_with`] failed: in the caller's writer, or in the file
+/// handling around it.
+#[derive(Debug, thiserror::Error)]
+pub enum AtomicWriteError<E> {
+    /// The writer failed.
+    #[error(transparent)]
+    Write(E),
+    /// Creating, syncing or renaming the temporary file failed.
+    #[error(transparent)]
+    Io(std::io::Error),
+}
+
+enum Target {
+    /// Write a temporary file and rename it onto this path.
+    Replace(PathBuf),
+    /// Open this path for writing and write.
+    Through(PathBuf),
+}
+
+fn target(path: &Path) -> std::io::Result<Target> {
+    use std::io::ErrorKind;
+    let meta = match fs::symlink_metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == ErrorKind::NotFound => {
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            fs::create_dir_all(dir)?;
+            return Ok(Target::Replace(path.to_path_buf()));
+        }
+        Err(e) => return Err(e),
+    };
+    let ft = meta.file_type();
+    if ft.is_file() {
+        Ok(Target::Replace(path.to_path_buf()))
+    } else if ft.is_dir() {
+        Err(std::io::Error::new(
+            ErrorKind::IsADirectory,
+            format!("{} is a folder, not a file", path.display()),
+        ))
+    } else if ft.is_symlink() {
+        match fs::canonicalize(path) {
+            Ok(real) => match fs::metadata(&real) {
+                Ok(m) if m.is_file() => Ok(Target::Replace(real)),
+                Ok(m) if m.is_dir() => Err(std::io::Error::new(
+                    ErrorKind::IsADirectory,
+                    format!("{} links to a folder, not a file", path.display()),
+                )),
+                _ => Ok(Target::Through(path.to_path_buf())),
+            },
+            // a link to nothing: writing through it creates its target
+            Err(_) => Ok(Target::Through(path.to_path_buf())),
+        }
+    } else {
+        Ok(Target::Through(path.to_path_buf()))
+    }
+}
+
+/// Gives the temporary file the permissions of the file it replaces, then
+/// renames it over it.
+fn finish(tmp: temp::TempFile, target: &Path) -> std::io::Result<()> {
+    if let Ok(m) = fs::metadata(target) {
+        fs::set_permissions(tmp.path(), m.permissions())?;
+    }
+    tmp.persist(target)
+}
+
+fn write_through(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(path)?;
+    f.write_all(bytes)?;
+    f.flush()
 }
 
 /// Builds a CSV document in memory (so that it can be written atomically).
@@ -302,20 +428,148 @@ impl CsvOut {
 }
 
 /// Reads and parses a TOML file into `T`, with the file named in the error.
+/// A misspelt key or value refused by `T` gets the nearest valid name
+/// suggested ("did you mean `radius_m`?").
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
     let text = fs::read_to_string(path)
         .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
-    toml::from_str(&text).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| text[..s.start.min(text.len())].lines().count().max(1) as u64);
-        InputError {
-            path: path.to_path_buf(),
-            line,
-            column: None,
-            message: format!("invalid TOML: {}", e.message()),
+    toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))
+}
+
+/// An [`InputError`] from a TOML parse error of `text`, read from `path`:
+/// the line of the error and, for an unknown key or value, the nearest
+/// valid one.
+pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
+    let line = e.span().map(|s| {
+        let end = s.start.min(text.len());
+        // a span never splits a character, but a byte offset might
+        let end = (0..=end)
+            .rev()
+            .find(|&i| text.is_char_boundary(i))
+            .unwrap_or(0);
+        text[..end].lines().count().max(1) as u64
+    });
+    let mut message = format!("invalid TOML: {}", e.message().trim_end());
+    if let Some(hint) = did_you_mean(e.message()) {
+        message.push_str(&format!("; did you mean `{hint}`?"));
+    }
+    InputError {
+        path: path.to_path_buf(),
+        line,
+        column: None,
+        message,
+    }
+}
+
+/// The suggestion for serde's "unknown field `x`, expected one of `a`, `b`"
+/// and "unknown variant `x`, expected ..." messages.
+fn did_you_mean(message: &str) -> Option<&str> {
+    let rest = message
+        .strip_prefix("unknown field `")
+        .or_else(|| message.strip_prefix("unknown variant `"))?;
+    let (name, rest) = rest.split_once('`')?;
+    let candidates = rest.split('`').skip(1).step_by(2);
+    nearest_name(name, candidates)
+}
+
+/// The candidate nearest to a misspelt `name`, if one is near enough to be
+/// what was meant: at most one edit (insertion, deletion, substitution or
+/// swap of two neighbours, ignoring case) per three letters, or `name` with
+/// its unit suffix missing (`young` for `young_pa`).
+pub fn nearest_name<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    let lower = name.to_lowercase();
+    let budget = (lower.chars().count() / 3).max(1);
+    let mut best: Option<(usize, &str)> = None;
+    for c in candidates {
+        let lc = c.to_lowercase();
+        let d = if lc.strip_prefix(&lower).is_some_and(|r| r.starts_with('_')) {
+            1
+        } else {
+            edit_distance(&lower, &lc)
+        };
+        if d <= budget && best.is_none_or(|(bd, _)| d < bd) {
+            best = Some((d, c));
         }
-    })
+    }
+    best.map(|(_, c)| c)
+}
+
+/// Optimal string alignment distance (Levenshtein plus swaps of adjacent
+/// characters).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let (n, m) = (a.len(), b.len());
+    let mut d = vec![vec![0usize; m + 1]; n + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    d[0] = (0..=m).collect();
+    for i in 1..=n {
+        for j in 1..=m {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[n][m]
+}
+
+/// Why a value could not be written as TOML.
+#[derive(Debug, thiserror::Error)]
+pub enum TomlWriteError {
+    /// A number is NaN or infinite: TOML can spell it, but no reader of
+    /// this crate accepts it, and it means the computation went wrong.
+    #[error(
+        "`{key} = {value}` is not a finite number; nothing was written (a file must hold measured or fitted values only: check the data that produced it)"
+    )]
+    NonFinite {
+        /// Dotted path of the key, with `[i]` for array entries.
+        key: String,
+        /// The value.
+        value: f64,
+    },
+    /// The value has no TOML form.
+    #[error("cannot write as TOML: {0}")]
+    Serialize(#[from] toml::ser::Error),
+}
+
+/// Serialises `value` as a TOML document, refusing NaN and infinities
+/// anywhere in it (the error names the first such key). Use it for every
+/// TOML file written, e.g. `material.toml`, then [`write_atomic`].
+pub fn to_toml_string<T: serde::Serialize + ?Sized>(value: &T) -> Result<String, TomlWriteError> {
+    let v = toml::Value::try_from(value)?;
+    if let Some((key, value)) = first_non_finite(&v, "") {
+        return Err(TomlWriteError::NonFinite { key, value });
+    }
+    Ok(toml::to_string(value)?)
+}
+
+fn first_non_finite(v: &toml::Value, at: &str) -> Option<(String, f64)> {
+    match v {
+        toml::Value::Float(x) if !x.is_finite() => Some((at.to_string(), *x)),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+            let key = if at.is_empty() {
+                k.clone()
+            } else {
+                format!("{at}.{k}")
+            };
+            first_non_finite(v, &key)
+        }),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| first_non_finite(v, &format!("{at}[{i}]"))),
+        _ => None,
+    }
 }
 
 /// A number for a message: up to 6 significant digits, in exponent form
@@ -372,6 +626,174 @@ mod tests {
         write_atomic(&p, b"two").unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"two");
         assert_eq!(fs::read_dir(p.parent().unwrap()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn atomic_write_keeps_permissions_and_refuses_folders() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("run.sh");
+        fs::write(&p, b"old").unwrap();
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            fs::set_permissions(&p, fs::Permissions::from_mode(0o750)).unwrap();
+            write_atomic(&p, b"new").unwrap();
+            let mode = fs::metadata(&p).unwrap().permissions().mode();
+            assert_eq!(mode & 0o777, 0o750);
+        }
+        assert!(write_atomic(dir.path(), b"x").is_err());
+        assert!(dir.path().is_dir());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn atomic_write_goes_through_a_fifo() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        for round in 0..2 {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || fs::read(fifo).unwrap())
+            };
+            if round == 0 {
+                write_atomic(&fifo, b"through the pipe").unwrap();
+            } else {
+                write_atomic_with(&fifo, |tmp| fs::write(tmp, b"through the pipe")).unwrap();
+            }
+            assert_eq!(reader.join().unwrap(), b"through the pipe");
+            let ft = fs::symlink_metadata(&fifo).unwrap().file_type();
+            assert!(ft.is_fifo(), "the FIFO was replaced");
+            // nothing left beside it
+            assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn atomic_write_keeps_a_symlink_and_replaces_its_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let real_dir = dir.path().join("real");
+        fs::create_dir(&real_dir).unwrap();
+        let real = real_dir.join("data.csv");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        assert_eq!(fs::read_dir(&real_dir).unwrap().count(), 1);
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 2);
+        // a link to nothing yet: written through, creating its target
+        let later = dir.path().join("later.csv");
+        let dangling = dir.path().join("dangling.csv");
+        std::os::unix::fs::symlink(&later, &dangling).unwrap();
+        write_atomic(&dangling, b"made").unwrap();
+        assert!(
+            fs::symlink_metadata(&dangling)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&later).unwrap(), b"made");
+    }
+
+    #[test]
+    fn atomic_write_with_keeps_extension_and_old_file_on_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("fig.png");
+        fs::write(&p, b"old").unwrap();
+        let r = write_atomic_with(&p, |tmp| {
+            assert_eq!(tmp.extension().unwrap(), "png");
+            assert_eq!(tmp.parent(), p.parent());
+            fs::write(tmp, b"half")?;
+            Err(std::io::Error::other("drawing failed"))
+        });
+        assert!(matches!(r, Err(AtomicWriteError::Write(_))));
+        assert_eq!(fs::read(&p).unwrap(), b"old");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        write_atomic_with(&p, |tmp| fs::write(tmp, b"new")).unwrap();
+        assert_eq!(fs::read(&p).unwrap(), b"new");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn nearest_name_suggests_close_spellings_only() {
+        let keys = ["model", "poisson", "c1_pa", "young_pa", "radius_m"];
+        assert_eq!(nearest_name("possion", keys), Some("poisson"));
+        assert_eq!(nearest_name("Poisson", keys), Some("poisson"));
+        assert_eq!(nearest_name("c2_pa", keys), Some("c1_pa"));
+        assert_eq!(nearest_name("young", keys), Some("young_pa"));
+        assert_eq!(nearest_name("radius", keys), Some("radius_m"));
+        assert_eq!(nearest_name("thickness", keys), None);
+        assert_eq!(nearest_name("x", keys), None);
+    }
+
+    #[test]
+    fn read_toml_suggests_the_nearest_key() {
+        #[derive(Debug, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        #[allow(dead_code)]
+        struct S {
+            radius_m: f64,
+            thickness_m: f64,
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("s.toml");
+        fs::write(&p, "radius_m = 1.0\nthicknes_m = 2.0\n").unwrap();
+        let e = read_toml::<S>(&p).unwrap_err().to_string();
+        assert!(e.contains("s.toml"), "{e}");
+        assert!(e.contains("did you mean `thickness_m`?"), "{e}");
+    }
+
+    #[test]
+    fn toml_with_nan_is_not_written() {
+        #[derive(serde::Serialize)]
+        struct Fit {
+            r2: f64,
+            rmse_pa: Vec<f64>,
+        }
+        #[derive(serde::Serialize)]
+        struct M {
+            c1_pa: f64,
+            fit: Fit,
+        }
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: f64::NAN,
+                rmse_pa: vec![1.0],
+            },
+        };
+        let e = to_toml_string(&m).unwrap_err().to_string();
+        assert!(e.contains("`fit.r2 = NaN`"), "{e}");
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: 0.9,
+                rmse_pa: vec![1.0, f64::INFINITY],
+            },
+        };
+        let e = to_toml_string(&m).unwrap_err().to_string();
+        assert!(e.contains("`fit.rmse_pa[1] = inf`"), "{e}");
+        let m = M {
+            c1_pa: 1.0,
+            fit: Fit {
+                r2: 0.9,
+                rmse_pa: vec![1.0],
+            },
+        };
+        assert!(to_toml_string(&m).unwrap().contains("r2 = 0.9"));
     }
 
     #[test]

@@ -27,6 +27,10 @@
 
 use serde::{Deserialize, Serialize};
 
+mod check;
+
+pub use check::MaterialError;
+
 /// A material file: the model with its parameters, the Poisson ratio, and the
 /// statistics of the fit that produced it (if any).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -82,9 +86,11 @@ impl StrainMeasure {
     }
 }
 
-/// Constitutive models with their parameters (SI units, Pa).
+/// Constitutive models with their parameters (SI units, Pa). Keys that the
+/// model does not take are refused; [`Material::read`] also names the nearest
+/// valid key and checks the parameters ([`Model::validate`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "model", rename_all = "kebab-case")]
+#[serde(tag = "model", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Model {
     /// Linear elastic, Young's modulus in Pa.
     Linear {

@@ -227,11 +227,14 @@ pub struct RefinedRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height_rms_after: Option<f64>,
     /// Levenberg-Marquardt iterations.
+    #[serde(default)]
     pub iterations: u64,
     /// Axisymmetric solves spent.
+    #[serde(default)]
     pub axisym_solves: usize,
     /// The law fitted to the stress/strain points, before the correction.
-    pub cap_law: Model,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cap_law: Option<Model>,
 }
 
 impl RefinedRecord {
@@ -243,7 +246,7 @@ impl RefinedRecord {
             height_rms_after: inverse::Refined::rms(&r.after),
             iterations: r.iterations,
             axisym_solves: r.solves,
-            cap_law: cap.clone(),
+            cap_law: Some(cap.clone()),
         }
     }
 }
