@@ -164,6 +164,24 @@ impl Experiment {
         Ok(e)
     }
 
+    /// The files this experiment reads, resolved: the experiment file, the
+    /// pressure log and the template image (the photos are listed by the
+    /// tracker, which knows their pattern), and the photo folder.
+    pub fn input_files(&self) -> (Vec<PathBuf>, Option<PathBuf>) {
+        let mut files = vec![self.path.clone()];
+        if let Some(p) = &self.pressure {
+            files.push(self.resolve(&p.csv));
+        }
+        let mut folder = None;
+        if let Some(ph) = &self.photos {
+            if let Some(t) = &ph.template {
+                files.push(self.resolve(t));
+            }
+            folder = Some(self.resolve(&ph.dir));
+        }
+        (files, folder)
+    }
+
     /// Resolves a path written in the file against the file's folder.
     pub fn resolve(&self, p: &Path) -> PathBuf {
         if p.is_absolute() {

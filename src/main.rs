@@ -5,6 +5,8 @@ mod cli;
 use clap::Parser;
 
 fn main() {
+    // temporary files of unfinished writes are removed on Ctrl-C and kill
+    let _ = bulge::io::install_cleanup_on_signal();
     let cli = cli::Cli::parse();
     if let Err(failure) = cli::dispatch(cli) {
         eprintln!("error: {:#}", failure.error());

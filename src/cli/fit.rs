@@ -11,7 +11,7 @@ use bulge::experiment::Experiment;
 use bulge::fit::data::{self, LoadOptions};
 use bulge::fit::hyperelastic::Kind;
 use bulge::fit::{FitError, FitModel, FitSettings, StressMeasure, fit_material, inverse};
-use bulge::io::{Table, write_atomic};
+use bulge::io::{OutputPlan, Table, write_atomic};
 use bulge::material::StrainMeasure;
 use bulge::mechanics::Modulus;
 use bulge::report::fit_outputs::{FitPaths, fit_outputs};
@@ -150,6 +150,12 @@ fn settings(args: &Args) -> Result<FitSettings, Failure> {
 /// Runs `bulge fit`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_file(&args.output, "-o")?;
+    let out = FitPaths::new(&args.output);
+    let plan = OutputPlan::new()
+        .input(&args.input)
+        .inputs(&args.to_heights);
+    let sides = [&out.curve, &out.residuals, &out.svg, &out.png, &out.models];
+    super::guard(plan.output_as("-o", &out.material).outputs(sides))?;
     let set = settings(&args)?;
     let table = Table::read(&args.input)?;
     let opts = LoadOptions {
@@ -180,11 +186,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         summary.push_str(&to_heights(&args.input, &table, exp, &mut fitted)?);
     }
     // Render everything before writing anything.
-    let out = FitPaths::new(&args.output);
     let mut files_out = vec![
         (
             &out.material,
-            toml::to_string(&fitted.material).failed()?.into_bytes(),
+            bulge::io::to_toml_string(&fitted.material)
+                .failed()?
+                .into_bytes(),
         ),
         (&out.curve, files.curve.into_bytes()),
         (&out.residuals, files.residuals.into_bytes()),

@@ -7,6 +7,7 @@
 //! failed (a solver that diverged, an I/O failure while writing).
 
 pub mod bench;
+mod checks;
 pub mod fit;
 pub mod run;
 pub mod simulate;
@@ -16,8 +17,8 @@ pub mod track;
 
 use std::sync::Mutex;
 
-use bulge::fit::FitModel;
 use bulge::pipeline::{Observer, Stage, Timing};
+pub use checks::*;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -135,64 +136,6 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     );
     pb.set_message(what.to_string());
     pb
-}
-
-/// A library error about a setting, with the flag that sets it named: each
-/// `(phrase, flag)` whose phrase the message contains adds "(flag)".
-pub fn with_flags(e: bulge::io::InputError, flags: &[(&str, &str)]) -> bulge::io::InputError {
-    let named: Vec<&str> = flags
-        .iter()
-        .filter(|(phrase, _)| e.message.contains(phrase))
-        .map(|(_, flag)| *flag)
-        .collect();
-    if named.is_empty() {
-        return e;
-    }
-    bulge::io::InputError {
-        message: format!("{} ({})", e.message, named.join(", ")),
-        ..e
-    }
-}
-
-/// 1-based line of `field = ...` in a TOML file, when it can be found.
-pub fn field_line(path: &std::path::Path, field: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(path).ok()?;
-    text.lines()
-        .position(|l| {
-            let l = l.trim_start();
-            l.strip_prefix(field)
-                .is_some_and(|rest| rest.trim_start().starts_with('='))
-        })
-        .map(|i| i as u64 + 1)
-}
-
-/// Refuses an output file path that names a folder (the user's mistake,
-/// exit 2), before any work.
-pub fn output_file(path: &std::path::Path, flag: &str) -> Result<(), Failure> {
-    if path.is_dir() {
-        return Err(Failure::BadInput(anyhow::anyhow!(
-            "{flag} {} is a folder: give a file name (e.g. {})",
-            path.display(),
-            path.join("out.csv").display()
-        )));
-    }
-    Ok(())
-}
-
-/// Refuses an output folder path that names an existing file (exit 2).
-pub fn output_folder(path: &std::path::Path, flag: &str) -> Result<(), Failure> {
-    if path.exists() && !path.is_dir() {
-        return Err(Failure::BadInput(anyhow::anyhow!(
-            "{flag} {} is a file: give a folder for the outputs",
-            path.display()
-        )));
-    }
-    Ok(())
-}
-
-/// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
-pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
-    s.parse()
 }
 
 /// Progress bars and one line per stage of a run on stderr.

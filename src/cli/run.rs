@@ -11,6 +11,7 @@ use anyhow::anyhow;
 use super::{Console, Failure};
 use bulge::experiment::Experiment;
 use bulge::fit::FitModel;
+use bulge::io::OutputPlan;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
 use bulge::pipeline::{self, PipelineError, RunOptions, Settings, Stage};
 use bulge::report::out_dir::{OutDir, OutDirError};
@@ -169,32 +170,12 @@ fn stage_failure(stage: Stage, out: &Path, e: PipelineError) -> Failure {
     }
 }
 
-/// Inputs are never written to: refuse an output folder that holds the
-/// experiment file or the photos.
-fn refuse_input_folder(exp: &Experiment, out: &Path) -> Result<(), Failure> {
-    let Ok(o) = out.canonicalize() else {
-        return Ok(());
-    };
-    let mut inputs = vec![exp.base_dir.clone()];
-    if let Some(p) = &exp.photos {
-        inputs.push(exp.resolve(&p.dir));
-    }
-    for i in inputs {
-        if i.canonicalize().is_ok_and(|i| i == o) {
-            return Err(Failure::BadInput(anyhow!(
-                "--out {} is the folder of the experiment's inputs: choose another folder (inputs are never overwritten)",
-                out.display()
-            )));
-        }
-    }
-    Ok(())
-}
-
 /// Runs `bulge run`.
 pub fn run(args: Args) -> Result<(), Failure> {
     let exp = Experiment::read(&args.experiment)?;
     let s = settings(&args, &exp)?;
-    refuse_input_folder(&exp, &args.out)?;
+    let plan = OutputPlan::new().inputs(super::experiment_inputs(&exp));
+    super::guard(plan.output_as("--out", &args.out))?;
     let out = args.out.as_path();
     let dir = OutDir::lock(out).map_err(|e| match e.is_bad_input() {
         true => Failure::BadInput(anyhow!("--out: {e}")),

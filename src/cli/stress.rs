@@ -7,12 +7,13 @@
 //! columns when a height uncertainty is given. The output is built in memory
 //! and written whole, or not at all when any input is refused.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
 use bulge::experiment::{Experiment, Specimen};
+use bulge::io::OutputPlan;
 use bulge::io::{InputError, Table, read_toml};
 use bulge::mechanics::{
     self, Modulus, ModulusStress, Options, StrainMeasure, StressError, TrueStress,
@@ -142,7 +143,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         ))
         .bad_input();
     }
-    refuse_overwriting_input(&args.heights, &args.output)?;
+    let plan = OutputPlan::new()
+        .input(&args.heights)
+        .inputs(&args.experiment);
+    super::guard(plan.output_as("-o", &args.output))?;
 
     let table = Table::read(&args.heights)?;
     let both =
@@ -229,18 +233,4 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
         })
         .bad_input()?;
     Ok(spec)
-}
-
-/// Inputs are never modified: refuse `-o` pointing at the heights file.
-fn refuse_overwriting_input(input: &Path, output: &Path) -> Result<(), Failure> {
-    if let (Ok(i), Ok(o)) = (input.canonicalize(), output.canonicalize())
-        && i == o
-    {
-        return Err(anyhow!(
-            "-o {} is the input file itself: choose another output file (inputs are never overwritten)",
-            output.display()
-        ))
-        .bad_input();
-    }
-    Ok(())
 }

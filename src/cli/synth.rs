@@ -95,6 +95,8 @@ pub struct Args {
 /// Runs `bulge synth`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_folder(&args.out_dir, "OUT_DIR")?;
+    let plan = bulge::io::OutputPlan::new().inputs(&args.material);
+    super::guard(plan.output_as("OUT_DIR", &args.out_dir))?;
     let bad = |m: String| Failure::BadInput(anyhow!(m));
     if args.frames == 0 {
         return Err(bad("--frames 0: give at least one photo".into()));
@@ -159,7 +161,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .validate()
         .map_err(|m| bad(format!("specimen: {m}")))?;
     let material = match &args.material {
-        Some(p) => bulge::io::read_toml::<Material>(p)?,
+        Some(p) => Material::read(p)?,
         None => Material {
             model: Model::NeoHookean { c1_pa: 0.2e6 },
             poisson: 0.45,

@@ -7,6 +7,7 @@ use anyhow::Context;
 
 use super::{Classify, Failure};
 use bulge::experiment::Experiment;
+use bulge::io::OutputPlan;
 use bulge::track::{self, Options, Refine, TrackError};
 
 /// Flags of `bulge track`.
@@ -76,6 +77,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         )));
     }
     let exp = Experiment::read(&args.experiment)?;
+    let plan = OutputPlan::new().inputs(super::experiment_inputs(&exp));
+    super::guard(plan.output_as("-o", &args.output))?;
     let setup = track::setup_from_experiment(&exp).map_err(classify)?;
     let opts = Options {
         refine: args.refine,

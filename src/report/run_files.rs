@@ -77,7 +77,7 @@ pub fn stage_files(
     }
     if let Some(f) = fit {
         let toml_text =
-            toml::to_string(&f.material).map_err(|e| output_error("material.toml", e))?;
+            crate::io::to_toml_string(&f.material).map_err(|e| output_error("material.toml", e))?;
         let fig = figures::fit(f);
         let svg = fig.to_svg().map_err(|e| output_error("fit.svg", e))?;
         let png = fig.to_png().map_err(|e| output_error("fit.png", e))?;

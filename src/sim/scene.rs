@@ -333,12 +333,11 @@ impl Scene {
                 } else {
                     base.join(p)
                 };
-                crate::io::read_toml::<Material>(&mp)?
+                Material::read(&mp)?
             }
-            toml::Value::Table(t) => t
-                .clone()
-                .try_into::<Material>()
-                .map_err(|e| err(format!("[material]: {}", e.message())))?,
+            toml::Value::Table(t) => {
+                Material::from_table(t).map_err(|e| err(format!("[material]: {e}")))?
+            }
             other => {
                 return Err(err(format!(
                     "material = {other}: give a path to a material.toml or a [material] table"

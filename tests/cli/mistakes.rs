@@ -124,3 +124,139 @@ fn stress_refuses_what_it_cannot_compute() {
     let r = stress("tiny.csv", "pressure_pa,height_m\n1000,1e-12\n").ok();
     assert!(r.stderr.contains("round-off"), "{}", r.stderr);
 }
+
+/// Every command refuses, before any work, an output that is one of its
+/// inputs (derived outputs included), and leaves the inputs as they were.
+#[test]
+fn inputs_are_never_overwritten() {
+    let dir = tempdir();
+    let d = dir.path();
+    let demo = crate::util::repo().join("data/demo");
+    // a private copy of the demo experiment
+    fs::create_dir_all(d.join("exp/photos")).unwrap();
+    for f in ["experiment.toml", "pressure.csv", "heights.csv"] {
+        fs::copy(demo.join(f), d.join("exp").join(f)).unwrap();
+    }
+    for e in fs::read_dir(demo.join("photos")).unwrap() {
+        let e = e.unwrap();
+        fs::copy(e.path(), d.join("exp/photos").join(e.file_name())).unwrap();
+    }
+    let treloar = crate::util::repo().join("data/treloar_equibiaxial.csv");
+    fs::copy(&treloar, d.join("in.csv")).unwrap();
+    fs::copy(&treloar, d.join("m_curve.csv")).unwrap();
+    let scene = crate::util::repo().join("data/scenes/latex-disc.toml");
+    fs::copy(&scene, d.join("disc.toml")).unwrap();
+    let snapshot = || {
+        let mut v = Vec::new();
+        for p in [
+            "in.csv",
+            "m_curve.csv",
+            "disc.toml",
+            "exp/experiment.toml",
+            "exp/pressure.csv",
+            "exp/heights.csv",
+            "exp/photos/frame_003.jpg",
+        ] {
+            v.push(fs::read(d.join(p)).unwrap());
+        }
+        v
+    };
+    let before = snapshot();
+    let cases: &[&[&str]] = &[
+        &["fit", "in.csv", "-o", "in.csv"],
+        &["fit", "m_curve.csv", "-o", "m.toml"],
+        &[
+            "fit",
+            "exp/heights.csv",
+            "--to-heights",
+            "exp/experiment.toml",
+            "-o",
+            "exp/experiment.toml",
+        ],
+        &["track", "exp/experiment.toml", "-o", "exp/experiment.toml"],
+        &["track", "exp/experiment.toml", "-o", "exp/pressure.csv"],
+        &[
+            "track",
+            "exp/experiment.toml",
+            "-o",
+            "exp/photos/frame_003.jpg",
+        ],
+        &["simulate", "disc.toml", "-o", "disc.toml"],
+        &[
+            "simulate",
+            "disc.toml",
+            "--material",
+            "exp/experiment.toml",
+            "-o",
+            "exp/experiment.toml",
+        ],
+        &[
+            "simulate",
+            "disc.toml",
+            "--model",
+            "axisym",
+            "-o",
+            "s.csv",
+            "--profile",
+            "s.csv",
+        ],
+        &[
+            "stress",
+            "exp/heights.csv",
+            "--experiment",
+            "exp/experiment.toml",
+            "-o",
+            "exp/experiment.toml",
+        ],
+        &["run", "exp/experiment.toml", "--out", "exp"],
+        &["synth", "exp", "--material", "exp/experiment.toml"],
+    ];
+    for args in cases {
+        let r = bulge_in(d, args);
+        assert_eq!(r.status, 2, "{args:?}\n{}", r.stderr);
+        assert!(
+            r.stderr.contains("inputs are never overwritten"),
+            "{args:?}\n{}",
+            r.stderr
+        );
+    }
+    assert!(snapshot() == before, "an input changed");
+    assert!(!d.join("s.csv").exists() && !d.join("m.toml").exists());
+}
+
+/// Material files are read strictly: a misspelt key gets the nearest valid
+/// name, a key of another model is named, list lengths and signs are
+/// checked; each refused with the file and line.
+#[test]
+fn material_files_are_strict() {
+    let dir = tempdir();
+    let d = dir.path();
+    let scene = crate::util::repo().join("data/scenes/latex-disc.toml");
+    let scene = scene.to_str().unwrap();
+    for (text, needles) in [
+        (
+            "model = \"neo-hookean\"\npossion = 0.45\nc1_pa = 2e5\n",
+            &["m.toml", "possion", "poisson"][..],
+        ),
+        (
+            "model = \"neo-hookean\"\npoisson = 0.45\nc1_pa = 2e5\nc2_pa = 1e4\n",
+            &["c2_pa", "mooney-rivlin"][..],
+        ),
+        (
+            "model = \"ogden\"\npoisson = 0.45\nmu_pa = [1e5, 2e3]\nalpha = [1.3]\n",
+            &["mu_pa", "alpha"][..],
+        ),
+        (
+            "model = \"gent\"\npoisson = 0.45\nmu_pa = 1e5\njm = -5\n",
+            &["jm", "-5"][..],
+        ),
+    ] {
+        fs::write(d.join("m.toml"), text).unwrap();
+        bulge_in(
+            d,
+            &["simulate", scene, "--material", "m.toml", "-o", "s.csv"],
+        )
+        .bad_input(needles);
+    }
+    assert!(!d.join("s.csv").exists());
+}

@@ -544,7 +544,8 @@ fn stress_refuses_pressure_on_a_flat_disc() {
 fn stress_refuses_to_overwrite_its_input() {
     let dir = tempdir();
     write_inputs(dir.path(), GOOD);
-    stress_in(dir.path(), "heights.csv").bad_input(&["input file itself"]);
+    stress_in(dir.path(), "heights.csv")
+        .bad_input(&["is the input", "inputs are never overwritten"]);
     assert_eq!(
         fs::read_to_string(dir.path().join("heights.csv")).unwrap(),
         GOOD

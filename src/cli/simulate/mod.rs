@@ -6,13 +6,13 @@ use std::path::{Path, PathBuf};
 use anyhow::anyhow;
 
 use super::Failure;
+use bulge::io::OutputPlan;
 
 mod axisym;
 mod dynamic;
 mod statics;
 
 use bulge::experiment::Experiment;
-use bulge::io::read_toml;
 use bulge::material::Material;
 use bulge::sim::mesh::Mesh;
 use bulge::sim::scene::{MeshSize, Scene, SceneKind};
@@ -119,7 +119,7 @@ fn build_scene(args: &Args) -> anyhow::Result<Scene> {
 /// the static and dynamic paths validate it each their own way.
 fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
     let material = match &args.material {
-        Some(p) => Some(read_toml::<Material>(p)?),
+        Some(p) => Some(Material::read(p)?),
         None => None,
     };
     let mut scene = if let Some(path) = &args.scene {
@@ -220,6 +220,19 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
 /// Runs `bulge simulate`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_file(&args.output, "-o")?;
+    let inputs = [&args.scene, &args.material, &args.experiment];
+    let mut plan = OutputPlan::new().inputs(inputs.into_iter().flatten());
+    plan = plan.output_as("-o", &args.output);
+    for (p, flag) in [
+        (&args.vtk, "--vtk"),
+        (&args.profile, "--profile"),
+        (&args.dynamic.trace, "--trace"),
+    ] {
+        if let Some(p) = p {
+            plan = plan.output_as(flag, p);
+        }
+    }
+    super::guard(plan)?;
     if let Some(v) = &args.vtk {
         super::output_folder(v, "--vtk")?;
     }

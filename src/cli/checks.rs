@@ -1,0 +1,89 @@
+//! Checks shared by the subcommands, made before any work: output paths
+//! against the inputs and of the right kind, flag names added to library
+//! messages, the parsers of flag values.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::anyhow;
+use bulge::experiment::Experiment;
+use bulge::fit::FitModel;
+use bulge::io::OutputPlan;
+
+use super::Failure;
+
+/// Refuses, before any work, an output that is an input, holds one or lies
+/// in an input folder, or two outputs on one file (exit 2).
+pub fn guard(plan: OutputPlan) -> Result<(), Failure> {
+    plan.check()
+        .map_err(|e| Failure::BadInput(anyhow!("{e} (inputs are never overwritten)")))
+}
+
+/// Every file an experiment reads: its file, the pressure log, the template
+/// and each photo.
+pub fn experiment_inputs(exp: &Experiment) -> Vec<PathBuf> {
+    let (mut files, folder) = exp.input_files();
+    if let (Some(dir), Some(ph)) = (folder, &exp.photos)
+        && let Ok(photos) = bulge::track::list_photos(&dir, &ph.glob)
+    {
+        files.extend(photos);
+    }
+    files
+}
+
+/// A library error about a setting, with the flag that sets it named: each
+/// `(phrase, flag)` whose phrase the message contains adds "(flag)".
+pub fn with_flags(e: bulge::io::InputError, flags: &[(&str, &str)]) -> bulge::io::InputError {
+    let named: Vec<&str> = flags
+        .iter()
+        .filter(|(phrase, _)| e.message.contains(phrase))
+        .map(|(_, flag)| *flag)
+        .collect();
+    if named.is_empty() {
+        return e;
+    }
+    bulge::io::InputError {
+        message: format!("{} ({})", e.message, named.join(", ")),
+        ..e
+    }
+}
+
+/// 1-based line of `field = ...` in a TOML file, when it can be found.
+pub fn field_line(path: &Path, field: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    text.lines()
+        .position(|l| {
+            let l = l.trim_start();
+            l.strip_prefix(field)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+        .map(|i| i as u64 + 1)
+}
+
+/// Refuses an output file path that names a folder (the user's mistake,
+/// exit 2), before any work.
+pub fn output_file(path: &Path, flag: &str) -> Result<(), Failure> {
+    if path.is_dir() {
+        return Err(Failure::BadInput(anyhow!(
+            "{flag} {} is a folder: give a file name (e.g. {})",
+            path.display(),
+            path.join("out.csv").display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses an output folder path that names an existing file (exit 2).
+pub fn output_folder(path: &Path, flag: &str) -> Result<(), Failure> {
+    if path.exists() && !path.is_dir() {
+        return Err(Failure::BadInput(anyhow!(
+            "{flag} {} is a file: give a folder for the outputs",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
+pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
+    s.parse()
+}
