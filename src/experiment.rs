@@ -33,9 +33,42 @@ pub struct Specimen {
     pub prebulge_height_m: f64,
 }
 
+/// A `[specimen]` field out of its range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpecimenError {
+    /// The free radius is not a positive length.
+    #[error(
+        "radius_m = {0} must be a positive length in metres (the free radius of the disc, e.g. 0.0375)"
+    )]
+    Radius(f64),
+    /// The thickness is not a positive length.
+    #[error("thickness_m = {0} must be a positive length in metres (e.g. 0.00035)")]
+    Thickness(f64),
+    /// The Poisson ratio is outside [0, 0.5).
+    #[error(
+        "poisson = {0} must be in [0, 0.5) (rubber: 0.45 to 0.499; 0.5 is singular in the plane-stress formulas)"
+    )]
+    Poisson(f64),
+    /// The pre-bulge height is negative or not finite.
+    #[error("prebulge_height_m = {0} must be zero or a positive height in metres")]
+    Prebulge(f64),
+}
+
+impl SpecimenError {
+    /// The key of the field at fault, as the experiment file spells it.
+    pub fn field(&self) -> &'static str {
+        match self {
+            SpecimenError::Radius(_) => "radius_m",
+            SpecimenError::Thickness(_) => "thickness_m",
+            SpecimenError::Poisson(_) => "poisson",
+            SpecimenError::Prebulge(_) => "prebulge_height_m",
+        }
+    }
+}
+
 impl Specimen {
-    /// Checks every field; the message names the field, the value and the fix.
-    pub fn validate(&self) -> Result<(), String> {
+    /// Checks every field; the error names the field, the value and the fix.
+    pub fn validate(&self) -> Result<(), SpecimenError> {
         let Specimen {
             radius_m,
             thickness_m,
@@ -43,24 +76,16 @@ impl Specimen {
             prebulge_height_m,
         } = *self;
         if !(radius_m.is_finite() && radius_m > 0.0) {
-            return Err(format!(
-                "radius_m = {radius_m} must be a positive length in metres (the free radius of the disc, e.g. 0.0375)"
-            ));
+            return Err(SpecimenError::Radius(radius_m));
         }
         if !(thickness_m.is_finite() && thickness_m > 0.0) {
-            return Err(format!(
-                "thickness_m = {thickness_m} must be a positive length in metres (e.g. 0.00035)"
-            ));
+            return Err(SpecimenError::Thickness(thickness_m));
         }
         if !(poisson.is_finite() && (0.0..0.5).contains(&poisson)) {
-            return Err(format!(
-                "poisson = {poisson} must be in [0, 0.5) (rubber: 0.45 to 0.499; 0.5 is singular in the plane-stress formulas)"
-            ));
+            return Err(SpecimenError::Poisson(poisson));
         }
         if !(prebulge_height_m.is_finite() && prebulge_height_m >= 0.0) {
-            return Err(format!(
-                "prebulge_height_m = {prebulge_height_m} must be zero or a positive height in metres"
-            ));
+            return Err(SpecimenError::Prebulge(prebulge_height_m));
         }
         Ok(())
     }
@@ -203,13 +228,23 @@ mod tests {
         assert_eq!(s.prebulge_height_m, 0.0);
         assert!(s.validate().is_ok());
         let bad = Specimen { poisson: 0.5, ..s };
-        assert!(bad.validate().unwrap_err().contains("poisson = 0.5"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("poisson = 0.5")
+        );
         let bad = Specimen { radius_m: 0.0, ..s };
-        assert!(bad.validate().unwrap_err().contains("radius_m"));
+        assert!(bad.validate().unwrap_err().to_string().contains("radius_m"));
         let bad = Specimen {
             thickness_m: -1.0,
             ..s
         };
-        assert!(bad.validate().unwrap_err().contains("thickness_m"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("thickness_m")
+        );
     }
 }

@@ -318,7 +318,7 @@ pub enum StressError {
     /// The specimen failed [`Specimen::validate`] (radius or thickness <= 0,
     /// Poisson ratio outside [0, 0.5), negative pre-bulge height).
     #[error("invalid specimen: {0}")]
-    Specimen(String),
+    Specimen(#[from] crate::experiment::SpecimenError),
     /// One point is invalid; `index` is its 0-based position in the input.
     #[error("point {index}: {problem}")]
     Point {

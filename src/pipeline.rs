@@ -829,7 +829,9 @@ pub fn simulate_stage(
     }
     let mut scene = Scene::from_specimen(spec, material.clone(), pressures.to_vec());
     scene.mesh.size = settings.mesh;
-    scene.validate(true).map_err(PipelineError::Input)?;
+    scene
+        .validate(true)
+        .map_err(|e| PipelineError::Input(e.to_string()))?;
     let opts = solve::Options {
         tolerance: settings.tolerance,
         ..solve::Options::default()

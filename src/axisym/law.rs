@@ -66,21 +66,21 @@ pub enum Law<'a> {
 
 impl<'a> Law<'a> {
     /// Builds the law of a material, checking its parameters.
-    pub fn new(material: &'a Material) -> Result<Self, String> {
+    pub fn new(material: &'a Material) -> Result<Self, super::AxisymError> {
         let nu = material.poisson;
         let needs_nu = matches!(material.model, Model::Linear { .. } | Model::Quartic { .. });
         if needs_nu && !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
-            return Err(format!(
+            return Err(super::AxisymError::Material(format!(
                 "poisson = {nu} must be in [0, 0.5) for the {} material (plane stress)",
                 material.model.name()
-            ));
+            )));
         }
         let law = match &material.model {
             Model::Linear { young_pa } => {
                 if !(young_pa.is_finite() && *young_pa > 0.0) {
-                    return Err(format!(
+                    return Err(super::AxisymError::Material(format!(
                         "young_pa = {young_pa} must be a positive modulus in Pa"
-                    ));
+                    )));
                 }
                 Law::Linear {
                     c: young_pa / (1.0 - nu * nu),
@@ -94,20 +94,20 @@ impl<'a> Law<'a> {
             } => {
                 let [lo, hi] = *strain_range;
                 if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-                    return Err(format!(
+                    return Err(super::AxisymError::Material(format!(
                         "strain_range = [{lo}, {hi}] must be two finite strains, the smaller first"
-                    ));
+                    )));
                 }
                 if coefficients_pa.is_empty() || coefficients_pa.iter().any(|c| !c.is_finite()) {
-                    return Err(format!(
+                    return Err(super::AxisymError::Material(format!(
                         "coefficients_pa = {coefficients_pa:?} must be a non-empty list of finite numbers (Pa)"
-                    ));
+                    )));
                 }
                 if coefficients_pa[0] <= 0.0 {
-                    return Err(format!(
+                    return Err(super::AxisymError::Material(format!(
                         "coefficients_pa[0] = {} is the modulus at zero strain and must be positive",
                         coefficients_pa[0]
-                    ));
+                    )));
                 }
                 Law::Quartic {
                     c: coefficients_pa
@@ -120,16 +120,16 @@ impl<'a> Law<'a> {
                 }
             }
             m => {
-                let h = m
-                    .hyperelastic()
-                    .ok_or_else(|| format!("{} is not hyperelastic", m.name()))?;
+                let h = m.hyperelastic().ok_or_else(|| {
+                    super::AxisymError::Material(format!("{} is not hyperelastic", m.name()))
+                })?;
                 let d = h.derivatives(1.0, 1.0);
                 let biaxial = d.hess[0][0] + d.hess[0][1];
                 if !(biaxial.is_finite() && biaxial > 0.0) {
-                    return Err(format!(
+                    return Err(super::AxisymError::Material(format!(
                         "the {} parameters give a non-positive initial stiffness ({biaxial} Pa): check their signs",
                         m.name()
-                    ));
+                    )));
                 }
                 Law::Hyper(h)
             }

@@ -175,7 +175,7 @@ pub struct Solution {
 pub enum AxisymError {
     /// A specimen field is out of range.
     #[error("specimen: {0}")]
-    Specimen(String),
+    Specimen(#[from] crate::experiment::SpecimenError),
     /// A material parameter is out of range.
     #[error("material: {0}")]
     Material(String),
@@ -293,7 +293,7 @@ impl<'a> Ctx<'a> {
     ) -> Result<Self, AxisymError> {
         specimen.validate().map_err(AxisymError::Specimen)?;
         opts.validate()?;
-        let law = Law::new(material).map_err(AxisymError::Material)?;
+        let law = Law::new(material)?;
         Ok(Self {
             mem: Membrane {
                 law,

@@ -84,6 +84,6 @@ pub fn output_folder(path: &Path, flag: &str) -> Result<(), Failure> {
 }
 
 /// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
-pub fn parse_fit_model(s: &str) -> Result<FitModel, String> {
+pub fn parse_fit_model(s: &str) -> Result<FitModel, bulge::fit::UnknownFitModel> {
     s.parse()
 }

@@ -192,8 +192,7 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
         // be located to its line in the file.
         let exp: Experiment = read_toml(path)?;
         if let Err(m) = exp.specimen.validate() {
-            let field = m.split_whitespace().next().unwrap_or("");
-            let line = super::field_line(path, field);
+            let line = super::field_line(path, m.field());
             return Err(InputError {
                 path: path.clone(),
                 line,
@@ -222,8 +221,7 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
     };
     spec.validate()
         .map_err(|m| {
-            let field = m.split_whitespace().next().unwrap_or("");
-            let flag = match field {
+            let flag = match m.field() {
                 "radius_m" => "--radius-m",
                 "thickness_m" => "--thickness-m",
                 "poisson" => "--poisson",

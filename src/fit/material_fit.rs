@@ -67,10 +67,15 @@ impl FitModel {
 
 /// Parses `quartic`, `neo-hookean`, `mooney-rivlin`, `yeoh`, `ogden-N`
 /// (`ogden`: three terms), `gent` or `all`; the quartic has degree 4.
-impl FromStr for FitModel {
-    type Err = String;
+/// A fit model name that is not one of [`FitModel::NAMES`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{0}` is not one of {names}", names = FitModel::NAMES)]
+pub struct UnknownFitModel(pub String);
 
-    fn from_str(s: &str) -> Result<Self, String> {
+impl FromStr for FitModel {
+    type Err = UnknownFitModel;
+
+    fn from_str(s: &str) -> Result<Self, UnknownFitModel> {
         let s = s.trim();
         match s {
             "quartic" => Ok(FitModel::Quartic { degree: 4 }),
@@ -80,15 +85,15 @@ impl FromStr for FitModel {
                 .into_iter()
                 .find(|k| k.label() == s)
                 .map(FitModel::Hyperelastic)
-                .ok_or_else(|| format!("`{s}` is not one of {}", FitModel::NAMES)),
+                .ok_or_else(|| UnknownFitModel(s.to_string())),
         }
     }
 }
 
 impl TryFrom<String> for FitModel {
-    type Error = String;
+    type Error = UnknownFitModel;
 
-    fn try_from(s: String) -> Result<Self, String> {
+    fn try_from(s: String) -> Result<Self, UnknownFitModel> {
         s.parse()
     }
 }
@@ -589,7 +594,7 @@ mod tests {
             "ogden".parse::<FitModel>().unwrap(),
             FitModel::Hyperelastic(Kind::Ogden(3))
         );
-        let e = "ogdne".parse::<FitModel>().unwrap_err();
+        let e = "ogdne".parse::<FitModel>().unwrap_err().to_string();
         assert!(e.contains("ogdne") && e.contains("mooney-rivlin"), "{e}");
     }
 

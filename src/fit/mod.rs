@@ -28,7 +28,8 @@ pub mod quartic;
 pub mod stats;
 
 pub use material_fit::{
-    FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, fit_material,
+    FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, UnknownFitModel,
+    fit_material,
 };
 
 use serde::{Deserialize, Serialize};

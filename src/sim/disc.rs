@@ -98,7 +98,9 @@ impl SceneSolver {
     ) -> Result<Self, SimError> {
         let mut scene = Scene::from_specimen(spec, material.clone(), Vec::new());
         scene.mesh.size = size;
-        scene.validate(false).map_err(SimError::BadParameter)?;
+        scene
+            .validate(false)
+            .map_err(|e| SimError::BadParameter(e.to_string()))?;
         let mesh = scene.build_mesh_for(&[model])?;
         Self::on_mesh(&scene, mesh, model)
     }

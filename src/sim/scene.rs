@@ -211,35 +211,73 @@ struct MeshFile {
     corners: Option<Vec<String>>,
 }
 
+/// What is wrong with a scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// No pressure where one is needed.
+    #[error("the pressure list is empty: give at least one pressure in Pa, e.g. [5000, 7300]")]
+    NoPressure,
+    /// A pressure that is not a positive number of Pa (1-based position).
+    #[error(
+        "pressure {index} of the list is {value}: every pressure must be a positive number of Pa"
+    )]
+    Pressure {
+        /// 1-based position in the list.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// A pressure that does not parse as a number (1-based position).
+    #[error(
+        "pressure {index} is `{text}`, not a number: write positive pressures in Pa separated by commas, e.g. 5000,7300,8940"
+    )]
+    NotANumber {
+        /// 1-based position in the list.
+        index: usize,
+        /// The text.
+        text: String,
+    },
+    /// A number out of its range.
+    #[error("{key} = {value} must be {what}")]
+    Value {
+        /// The key.
+        key: &'static str,
+        /// The value.
+        value: f64,
+        /// Its range, and an example.
+        what: &'static str,
+    },
+    /// A `[[load]]` that cannot be applied.
+    #[error("[[load]] {0}")]
+    Load(String),
+    /// A `[mesh]` table that cannot be meshed.
+    #[error("[mesh] {0}")]
+    Mesh(String),
+}
+
 /// Checks a pressure list: non-empty, every value a finite number > 0.
-pub fn validate_pressures(p: &[f64]) -> Result<(), String> {
+pub fn validate_pressures(p: &[f64]) -> Result<(), SceneError> {
     if p.is_empty() {
-        return Err(
-            "the pressure list is empty: give at least one pressure in Pa, e.g. [5000, 7300]"
-                .into(),
-        );
+        return Err(SceneError::NoPressure);
     }
     for (i, v) in p.iter().enumerate() {
         if !(v.is_finite() && *v > 0.0) {
-            return Err(format!(
-                "pressure {} of the list is {v}: every pressure must be a positive number of Pa",
-                i + 1
-            ));
+            return Err(SceneError::Pressure {
+                index: i + 1,
+                value: *v,
+            });
         }
     }
     Ok(())
 }
 
 /// Parses a comma-separated pressure list (`5000,7300,8940`).
-pub fn parse_pressures(s: &str) -> Result<Vec<f64>, String> {
+pub fn parse_pressures(s: &str) -> Result<Vec<f64>, SceneError> {
     let mut out = Vec::new();
     for (i, part) in s.split(',').enumerate() {
-        let v: f64 = part.trim().parse().map_err(|_| {
-            format!(
-                "pressure {} is `{}`, not a number: write positive pressures in Pa separated by commas, e.g. 5000,7300,8940",
-                i + 1,
-                part.trim()
-            )
+        let v: f64 = part.trim().parse().map_err(|_| SceneError::NotANumber {
+            index: i + 1,
+            text: part.trim().to_string(),
         })?;
         out.push(v);
     }
@@ -256,7 +294,7 @@ fn parse_corner(s: &str) -> Option<Corner> {
 }
 
 impl MeshSettings {
-    fn from_file(m: &MeshFile) -> Result<MeshSettings, String> {
+    fn from_file(m: &MeshFile) -> Result<MeshSettings, SceneError> {
         let given = [
             m.edge_length_m.is_some(),
             m.nodes.is_some(),
@@ -266,7 +304,9 @@ impl MeshSettings {
         .filter(|b| **b)
         .count();
         if given > 1 {
-            return Err("[mesh]: give at most one of edge_length_m, nodes, accuracy".into());
+            return Err(SceneError::Mesh(
+                "give at most one of edge_length_m, nodes, accuracy".into(),
+            ));
         }
         let size = if let Some(h) = m.edge_length_m {
             Some(MeshSize::EdgeLength(h))
@@ -284,13 +324,15 @@ impl MeshSettings {
         }
         if let Some(c) = &m.corners {
             if c.len() != 3 {
-                return Err(format!(
-                    "[mesh] corners = {c:?}: give three, for corners a, b, c, each \"I\" or \"II\""
-                ));
+                return Err(SceneError::Mesh(format!(
+                    "corners = {c:?}: give three, for corners a, b, c, each \"I\" or \"II\""
+                )));
             }
             for (k, name) in c.iter().enumerate() {
                 s.corners[k] = parse_corner(name).ok_or_else(|| {
-                    format!("[mesh] corners: `{name}` is not a corner type; write \"I\" or \"II\"")
+                    SceneError::Mesh(format!(
+                        "corners: `{name}` is not a corner type; write \"I\" or \"II\""
+                    ))
                 })?;
             }
         }
@@ -299,17 +341,25 @@ impl MeshSettings {
     }
 
     /// Checks the size.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), SceneError> {
         match self.size {
-            Some(MeshSize::EdgeLength(h)) if !(h.is_finite() && h > 0.0) => Err(format!(
-                "edge length {h} must be a positive length in metres"
-            )),
-            Some(MeshSize::Nodes(n)) if n < 3 => {
-                Err(format!("nodes = {n}: ask for at least 3 nodes"))
+            Some(MeshSize::EdgeLength(h)) if !(h.is_finite() && h > 0.0) => {
+                Err(SceneError::Value {
+                    key: "edge_length_m",
+                    value: h,
+                    what: "a positive length in metres",
+                })
             }
-            Some(MeshSize::Accuracy(a)) if !(a.is_finite() && a > 0.0 && a < 0.5) => Err(format!(
-                "accuracy = {a} must be a relative error in (0, 0.5), e.g. 0.005 for 0.5 %"
-            )),
+            Some(MeshSize::Nodes(n)) if n < 3 => Err(SceneError::Mesh(format!(
+                "nodes = {n}: ask for at least 3 nodes"
+            ))),
+            Some(MeshSize::Accuracy(a)) if !(a.is_finite() && a > 0.0 && a < 0.5) => {
+                Err(SceneError::Value {
+                    key: "accuracy",
+                    value: a,
+                    what: "a relative error in (0, 0.5), e.g. 0.005 for 0.5 %",
+                })
+            }
             _ => Ok(()),
         }
     }
@@ -384,20 +434,24 @@ impl Scene {
             pressures_pa: pressures,
             material,
             density_kg_m3: f.density_kg_m3.unwrap_or(DEFAULT_DENSITY_KG_M3),
-            mesh: MeshSettings::from_file(&f.mesh).map_err(err)?,
+            mesh: MeshSettings::from_file(&f.mesh).map_err(|e| err(e.to_string()))?,
             loads: f.load,
         };
-        scene.validate(false).map_err(err)?;
+        scene.validate(false).map_err(|e| err(e.to_string()))?;
         Ok(scene)
     }
 
     /// Checks lengths, loads and (when `need_pressures`) the pressure list.
-    pub fn validate(&self, need_pressures: bool) -> Result<(), String> {
-        let pos = |v: f64, name: &str| {
+    pub fn validate(&self, need_pressures: bool) -> Result<(), SceneError> {
+        let pos = |v: f64, key: &'static str| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!("{name} = {v} must be a positive length in metres"))
+                Err(SceneError::Value {
+                    key,
+                    value: v,
+                    what: "a positive length in metres",
+                })
             }
         };
         match self.kind {
@@ -411,32 +465,35 @@ impl Scene {
         }
         pos(self.thickness_m, "thickness_m")?;
         if !(self.density_kg_m3.is_finite() && self.density_kg_m3 > 0.0) {
-            return Err(format!(
-                "density_kg_m3 = {} must be positive",
-                self.density_kg_m3
-            ));
+            return Err(SceneError::Value {
+                key: "density_kg_m3",
+                value: self.density_kg_m3,
+                what: "positive (kg/m^3)",
+            });
         }
         let nu = self.material.poisson;
         if !(nu.is_finite() && (0.0..0.5).contains(&nu)) {
-            return Err(format!(
-                "poisson = {nu} must be in [0, 0.5): the plane-stress spring formulas divide by 1 - nu^2 and 1 - nu"
-            ));
+            return Err(SceneError::Value {
+                key: "poisson",
+                value: nu,
+                what: "in [0, 0.5): the plane-stress spring formulas divide by 1 - nu^2 and 1 - nu",
+            });
         }
         for l in &self.loads {
             if !matches!(self.kind, SceneKind::Sheet { .. }) {
-                return Err("[[load]] is only for kind = \"sheet\"".into());
+                return Err(SceneError::Load("is only for kind = \"sheet\"".into()));
             }
             if l.at != "middle" && l.at != "corner" {
-                return Err(format!(
-                    "[[load]] at = \"{}\": write \"middle\" or \"corner\"",
+                return Err(SceneError::Load(format!(
+                    "at = \"{}\": write \"middle\" or \"corner\"",
                     l.at
-                ));
+                )));
             }
             if l.force_n.iter().any(|v| !v.is_finite()) {
-                return Err(format!(
-                    "[[load]] force_n = {:?} must be finite (N)",
+                return Err(SceneError::Load(format!(
+                    "force_n = {:?} must be finite (N)",
                     l.force_n
-                ));
+                )));
             }
         }
         if need_pressures || !self.pressures_pa.is_empty() {
@@ -919,7 +976,7 @@ nodes = 153
         let s = Scene::read(write(dir.path(), "s.toml", &text)).unwrap();
         assert!(s.pressures_pa.is_empty());
         assert!(s.validate(false).is_ok());
-        assert!(s.validate(true).unwrap_err().contains("empty"));
+        assert!(s.validate(true).unwrap_err().to_string().contains("empty"));
     }
 
     #[test]
@@ -928,14 +985,25 @@ nodes = 153
             parse_pressures("5000, 7300,8940").unwrap(),
             vec![5000.0, 7300.0, 8940.0]
         );
-        assert!(parse_pressures("5000,abc").unwrap_err().contains("`abc`"));
+        assert!(
+            parse_pressures("5000,abc")
+                .unwrap_err()
+                .to_string()
+                .contains("`abc`")
+        );
         assert!(
             parse_pressures("5000,-1")
                 .unwrap_err()
+                .to_string()
                 .contains("pressure 2")
         );
         assert!(parse_pressures("").is_err());
-        assert!(validate_pressures(&[]).unwrap_err().contains("empty"));
+        assert!(
+            validate_pressures(&[])
+                .unwrap_err()
+                .to_string()
+                .contains("empty")
+        );
         assert!(validate_pressures(&[1.0, f64::NAN]).is_err());
     }
 

@@ -299,22 +299,22 @@ impl NewtonWorkspace {
                 values[k] += shift * dmax;
             }
         }
-        let lu = self.factor(values).ok()?;
+        let lu = self.factor(values)?;
         let mut rhs = faer::Mat::<f64>::from_fn(r.len(), 1, |i, _| r[i]);
         lu.solve_in_place(rhs.as_mut());
         let d: Vec<f64> = (0..r.len()).map(|i| rhs[(i, 0)]).collect();
         d.iter().all(|v| v.is_finite()).then_some(d)
     }
 
-    fn factor(&mut self, values: Vec<f64>) -> Result<Lu<usize, f64>, String> {
+    /// The LU factors of the tangent, or `None` when it is singular (the
+    /// caller then reports the failed Newton step).
+    fn factor(&mut self, values: Vec<f64>) -> Option<Lu<usize, f64>> {
         let mat = SparseColMat::new(self.symbolic.clone(), values);
         if self.symbolic_lu.is_none() {
-            self.symbolic_lu =
-                Some(SymbolicLu::try_new(mat.symbolic()).map_err(|e| format!("{e:?}"))?);
+            self.symbolic_lu = Some(SymbolicLu::try_new(mat.symbolic()).ok()?);
         }
         let sym = self.symbolic_lu.clone().expect("set above");
-        Lu::try_new_with_symbolic(sym, mat.as_ref())
-            .map_err(|e| format!("singular tangent ({e:?})"))
+        Lu::try_new_with_symbolic(sym, mat.as_ref()).ok()
     }
 }
 

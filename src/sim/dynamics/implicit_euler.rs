@@ -120,10 +120,10 @@ impl ImplicitEuler {
             let stale = ws.lu.as_ref().is_none_or(|(_, lu_h)| *lu_h != h);
             if stale || gn > 0.25 * last_gn {
                 ws.assemble(d, &xn, h)?;
-                ws.factor(h).map_err(fail)?;
+                ws.factor(h).map_err(|e| fail(e.to_string()))?;
             }
             last_gn = gn;
-            let dx = ws.solve(&g).map_err(fail)?;
+            let dx = ws.solve(&g).map_err(|e| fail(e.to_string()))?;
             for i in 0..n {
                 xn[i] -= dx[i];
             }
@@ -227,23 +227,25 @@ impl ImplicitWorkspace {
     }
 
     /// Factorises the assembled `J` (for step `h`).
-    fn factor(&mut self, h: f64) -> Result<(), String> {
+    fn factor(&mut self, h: f64) -> Result<(), LinearError> {
         let mat = SparseColMat::new(self.symbolic.clone(), self.values.clone());
         if self.symbolic_lu.is_none() {
-            self.symbolic_lu =
-                Some(SymbolicLu::try_new(mat.symbolic()).map_err(|e| format!("{e:?}"))?);
+            self.symbolic_lu = Some(
+                SymbolicLu::try_new(mat.symbolic())
+                    .map_err(|e| LinearError::Symbolic(format!("{e:?}")))?,
+            );
         }
         let sym = self.symbolic_lu.clone().expect("set above");
         let lu = Lu::try_new_with_symbolic(sym, mat.as_ref())
-            .map_err(|e| format!("singular system ({e:?})"))?;
+            .map_err(|e| LinearError::Singular(format!("{e:?}")))?;
         self.lu = Some((lu, h));
         Ok(())
     }
 
     /// Solves `J d = g` (g a nodal force residual) with the last
     /// factorisation; returns nodal corrections.
-    fn solve(&mut self, g: &[Vector3<f64>]) -> Result<Vec<Vector3<f64>>, String> {
-        let (lu, _) = self.lu.as_ref().ok_or("no factorisation")?;
+    fn solve(&mut self, g: &[Vector3<f64>]) -> Result<Vec<Vector3<f64>>, LinearError> {
+        let (lu, _) = self.lu.as_ref().ok_or(LinearError::NotFactorised)?;
         let mut rhs = faer::Mat::<f64>::zeros(self.dofs.len, 1);
         for (i, b) in self.dofs.basis.iter().enumerate() {
             for (a, u) in b.iter().enumerate() {
@@ -258,8 +260,22 @@ impl ImplicitWorkspace {
             }
         }
         if out.iter().any(|v| !v.iter().all(|c| c.is_finite())) {
-            return Err("singular system (non-finite Newton step)".into());
+            return Err(LinearError::Singular("non-finite Newton step".into()));
         }
         Ok(out)
     }
+}
+
+/// Why the linear system of a Newton step could not be solved.
+#[derive(Debug, Clone, thiserror::Error)]
+enum LinearError {
+    /// The symbolic analysis of the sparsity pattern failed.
+    #[error("symbolic factorisation failed ({0})")]
+    Symbolic(String),
+    /// The numeric factorisation met a singular matrix.
+    #[error("singular system ({0})")]
+    Singular(String),
+    /// A solve before any factorisation.
+    #[error("no factorisation")]
+    NotFactorised,
 }
