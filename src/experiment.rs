@@ -189,6 +189,26 @@ impl Experiment {
         Ok(e)
     }
 
+    /// Only the `[specimen]` of an experiment file (the other tables are
+    /// not read, so a file for a simulation or a fit needs no photos).
+    pub fn read_specimen(path: impl AsRef<Path>) -> Result<Specimen, InputError> {
+        #[derive(Deserialize)]
+        struct Only {
+            specimen: Option<Specimen>,
+        }
+        let path = path.as_ref();
+        let only: Only = crate::io::read_toml(path)?;
+        let spec = only.specimen.ok_or_else(|| {
+            InputError::file(
+                path,
+                "no [specimen] table: give radius_m, thickness_m and poisson under [specimen]",
+            )
+        })?;
+        spec.validate()
+            .map_err(|e| InputError::file(path, format!("[specimen] {e}")))?;
+        Ok(spec)
+    }
+
     /// The files this experiment reads, resolved: the experiment file, the
     /// pressure log and the template image (the photos are listed by the
     /// tracker, which knows their pattern), and the photo folder.

@@ -154,9 +154,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let plan = OutputPlan::new()
         .input(&args.input)
         .inputs(&args.to_heights);
-    let sides = [&out.curve, &out.residuals, &out.svg, &out.png, &out.models];
-    super::guard(plan.output_as("-o", &out.material).outputs(sides))?;
+    super::guard(plan.output_as("-o", &out.material).outputs(out.sides()))?;
     let set = settings(&args)?;
+    let exp = args.to_heights.as_ref();
+    let specimen = exp.map(Experiment::read_specimen).transpose()?;
     let table = Table::read(&args.input)?;
     let opts = LoadOptions {
         stress_measure: args.stress_measure,
@@ -182,8 +183,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     })?;
     let files = fit_outputs(&fitted, &loaded, &set, &input, args.samples);
     let mut summary = files.summary.clone();
-    if let Some(exp) = &args.to_heights {
-        summary.push_str(&to_heights(&args.input, &table, exp, &mut fitted)?);
+    if let (Some(exp), Some(spec)) = (&args.to_heights, &specimen) {
+        summary.push_str(&to_heights(&args.input, &table, exp, spec, &mut fitted)?);
     }
     // Render everything before writing anything.
     let mut files_out = vec![
@@ -209,27 +210,23 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .failed()?;
     }
     print!("{summary}");
-    for w in &fitted.warnings {
-        eprintln!("warning: {w}");
-    }
-    let names: Vec<String> = files_out
+    fitted
+        .warnings
         .iter()
-        .map(|f| f.0.display().to_string())
-        .collect();
-    println!("wrote {}", names.join(", "));
+        .for_each(|w| eprintln!("warning: {w}"));
+    let names = files_out.iter().map(|f| f.0.display().to_string());
+    println!("wrote {}", names.collect::<Vec<_>>().join(", "));
     Ok(())
 }
 
-/// `--to-heights`: corrects the law to the heights of `table` (the input
-/// `input`) on the specimen of the experiment file `exp`; returns the line
-/// for the summary.
+/// `--to-heights`: the law corrected to the heights of `table`; the summary line.
 fn to_heights(
     input: &Path,
     table: &Table,
     exp: &Path,
+    specimen: &bulge::Specimen,
     fitted: &mut bulge::fit::FittedMaterial,
 ) -> Result<String, Failure> {
-    let e = Experiment::read(exp)?;
     let Some(measured) = inverse::Measured::from_table(table)? else {
         return Err(Failure::BadInput(anyhow!(
             "{}: --to-heights needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv",
@@ -237,7 +234,7 @@ fn to_heights(
         )));
     };
     let r = fitted
-        .refine_to_heights(&e.specimen, &measured, &Default::default())
+        .refine_to_heights(specimen, &measured, &Default::default())
         .map_err(|err| {
             Failure::Failed(anyhow!(
                 "{}: the law could not be corrected to the heights: {err}",

@@ -34,6 +34,17 @@ pub struct FitPaths {
 }
 
 impl FitPaths {
+    /// The side files (every path but the material).
+    pub fn sides(&self) -> [&Path; 5] {
+        [
+            &self.curve,
+            &self.residuals,
+            &self.svg,
+            &self.png,
+            &self.models,
+        ]
+    }
+
     /// The paths beside `material`.
     pub fn new(material: &Path) -> Self {
         let stem = material

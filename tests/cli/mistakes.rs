@@ -260,3 +260,32 @@ fn material_files_are_strict() {
     }
     assert!(!d.join("s.csv").exists());
 }
+
+/// `fit --to-heights` needs only the experiment's `[specimen]`: a file
+/// without one is refused naming the table, not a photo key.
+#[test]
+fn to_heights_names_the_missing_specimen() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("e.toml"), "[photos]\ndir = \"photos\"\n").unwrap();
+    let heights = crate::util::repo().join("data/demo/heights.csv");
+    let exp = crate::util::repo().join("data/demo/experiment.toml");
+    bulge_in(
+        d,
+        &[
+            "stress",
+            heights.to_str().unwrap(),
+            "--experiment",
+            exp.to_str().unwrap(),
+            "-o",
+            "ss.csv",
+        ],
+    )
+    .ok();
+    bulge_in(
+        d,
+        &["fit", "ss.csv", "--to-heights", "e.toml", "-o", "m.toml"],
+    )
+    .bad_input(&["e.toml", "no [specimen] table", "radius_m"]);
+    assert!(!d.join("m.toml").exists());
+}

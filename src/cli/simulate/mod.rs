@@ -1,7 +1,7 @@
 //! `bulge simulate`: material -> simulated bubble heights with the
 //! mass-spring membrane models (see `docs/simulate.md`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::anyhow;
 
@@ -10,12 +10,13 @@ use bulge::io::OutputPlan;
 
 mod axisym;
 mod dynamic;
+mod scene;
 mod statics;
 
-use bulge::experiment::Experiment;
-use bulge::material::Material;
+use scene::{build_scene, load_scene};
+
 use bulge::sim::mesh::Mesh;
-use bulge::sim::scene::{MeshSize, Scene, SceneKind};
+use bulge::sim::scene::{Scene, SceneKind};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
 
@@ -108,55 +109,6 @@ fn parse_choice(s: &str) -> Result<Choice, String> {
     }
 }
 
-fn build_scene(args: &Args) -> anyhow::Result<Scene> {
-    let (scene, origin) = load_scene(args)?;
-    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
-    Ok(scene)
-}
-
-/// Reads the scene (a scene file, or `--experiment` + `--material`), applies
-/// the overriding flags, and returns it with the name of where it came from;
-/// the static and dynamic paths validate it each their own way.
-fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
-    let material = match &args.material {
-        Some(p) => Some(Material::read(p)?),
-        None => None,
-    };
-    let mut scene = if let Some(path) = &args.scene {
-        let mut s = Scene::read(path)?;
-        if let Some(m) = material {
-            s.material = m;
-        }
-        s
-    } else if let Some(exp) = &args.experiment {
-        let e = Experiment::read(exp)?;
-        let m = material.ok_or_else(|| {
-            anyhow!("--experiment needs --material material.toml (the material to simulate)")
-        })?;
-        if (m.poisson - e.specimen.poisson).abs() > 1e-12 {
-            eprintln!(
-                "note: the material's poisson = {} is used; the specimen says {}",
-                m.poisson, e.specimen.poisson
-            );
-        }
-        if e.specimen.prebulge_height_m > 0.0 {
-            eprintln!("note: the simulated disc starts flat; prebulge_height_m is not modelled");
-        }
-        if args.pressures.is_none() {
-            return Err(anyhow!(
-                "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"
-            ));
-        }
-        Scene::from_specimen(&e.specimen, m, Vec::new())
-    } else {
-        return Err(anyhow!(
-            "give a scene file (bulge simulate scene.toml) or --experiment FILE --material FILE --pressures P1,P2,..."
-        ));
-    };
-    let origin = apply_overrides(&mut scene, args)?;
-    Ok((scene, origin))
-}
-
 /// A model of the `--model` list: a spring model or the exact
 /// axisymmetric solution.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -165,37 +117,6 @@ pub enum Choice {
     Spring(SpringModel),
     /// The exact axisymmetric solution (disc only).
     Axisym,
-}
-
-/// Applies the flags that override a scene (pressures, mesh size, symmetry,
-/// density) and returns the name of where the scene came from, for messages.
-fn apply_overrides(scene: &mut Scene, args: &Args) -> anyhow::Result<String> {
-    if let Some(p) = &args.pressures {
-        scene.pressures_pa = p.clone();
-    }
-    if let Some(h) = args.edge_length {
-        scene.mesh.size = Some(MeshSize::EdgeLength(h));
-    }
-    if let Some(n) = args.nodes {
-        scene.mesh.size = Some(MeshSize::Nodes(n));
-    }
-    if let Some(a) = args.accuracy {
-        scene.mesh.size = Some(MeshSize::Accuracy(a));
-    }
-    if args.full {
-        scene.mesh.symmetry = false;
-    }
-    scene.mesh.max_nodes = args.max_nodes.unwrap_or(scene.mesh.max_nodes);
-    if let Some(d) = args.density {
-        scene.density_kg_m3 = d;
-    }
-    Ok(args
-        .scene
-        .as_deref()
-        .or(args.experiment.as_deref())
-        .unwrap_or(Path::new("command line"))
-        .display()
-        .to_string())
 }
 
 fn describe(mesh: &Mesh, scene: &Scene) -> String {
