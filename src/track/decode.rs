@@ -1,0 +1,275 @@
+//! The decoding pipeline: photos decoded in parallel (rayon) over the
+//! region only, matched in order by the [`super::tracker`] as they arrive.
+
+use std::path::Path;
+
+use super::image::{Decoded, Gray};
+use super::matcher::{EdgeFit, EdgeSettings};
+use super::tracker::{Located, Tracker};
+use super::*;
+
+/// The sequential half of [`track`]: the reference photo, the template, then
+/// every frame's region in order from `rx`.
+pub(super) fn match_frames(
+    setup: &Setup,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+    reference: &Frame,
+    rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
+) -> Result<Tracked, TrackError> {
+    let n = setup.frames.len();
+    // Decoded photos that arrived before their turn.
+    let mut early = std::collections::BTreeMap::new();
+    let mut take = |i: usize| -> Result<Decoded, TrackError> {
+        if let Some(d) = early.remove(&i) {
+            return d;
+        }
+        loop {
+            match rx.recv() {
+                Ok((k, d)) if k == i => return d,
+                Ok((k, d)) => {
+                    early.insert(k, d);
+                }
+                Err(_) => {
+                    return Err(TrackError::OpenCv(format!(
+                        "the decoding of photo {} stopped early",
+                        setup.frames[i].path.display()
+                    )));
+                }
+            }
+        }
+    };
+    let full = take(setup.reference_frame)?;
+    let (width, height) = (full.width, full.height);
+    // The reference arrives cropped to `reference_box` (or whole).
+    let [bx, by] = match reference_box(setup) {
+        Some(b) => [b[0], b[1]],
+        None => [0, 0],
+    };
+    let roi = check_rect(&reference.path, setup.roi, width, height)?;
+    let templ: Gray = match &setup.template {
+        TemplateSource::File(p) => image::read_gray(p, None)?.crop,
+        TemplateSource::Rect(r) => {
+            let [x, y, w, h] = check_rect(&reference.path, *r, width, height)?;
+            full.crop.crop(x - bx, y - by, w, h)
+        }
+    };
+    let ref_crop = full.crop.crop(roi[0] - bx, roi[1] - by, roi[2], roi[3]);
+    drop(full);
+    if templ.width > roi[2] || templ.height > roi[3] {
+        return Err(TrackError::TemplateLargerThanRegion {
+            experiment: setup.experiment.clone(),
+            tw: templ.width,
+            th: templ.height,
+            roi: setup.roi,
+        });
+    }
+    let (tmin, tmax) = templ
+        .data
+        .iter()
+        .fold((255u8, 0u8), |(a, b), &v| (a.min(v), b.max(v)));
+    if tmax <= tmin {
+        return Err(TrackError::Config {
+            path: setup.experiment.clone(),
+            message: format!(
+                "the template ({}x{} px) is uniform (grey level {tmin}): it must show the border between the bubble's top and the background",
+                templ.width, templ.height
+            ),
+        });
+    }
+    let apex_in_t = setup.apex_in_template.unwrap_or([
+        (templ.width as f64 - 1.0) / 2.0,
+        (templ.height as f64 - 1.0) / 2.0,
+    ]);
+    let edge_settings = EdgeSettings {
+        half_span_px: opts.edge_span_px.unwrap_or(templ.width / 2).max(3),
+        half_window_px: opts.edge_window_px,
+    };
+    let mut state = Tracker {
+        templ: &templ,
+        opts,
+        edge_settings,
+        apex_in_t,
+        reduced: {
+            // Coarse search on a template about 64-128 px wide; 32-64 px
+            // when the edge fit refines (it needs only a seed within a few
+            // px, and OpenCV's matching then costs a fraction of decoding).
+            let min_width = if opts.refine == Refine::Edge { 32 } else { 64 };
+            let mut f = 1;
+            while templ.width / (2 * f) >= min_width && templ.height / (2 * f) >= 16 {
+                f *= 2;
+            }
+            match f {
+                1 => None,
+                f => Some((f, matcher::reduce(&templ, f)?)),
+            }
+        },
+        // A template cut from the reference photo says where the search
+        // starts: no search of the whole region for the first frame.
+        last: match &setup.template {
+            TemplateSource::Rect(r) => {
+                Some([(r[0] - roi[0] as i64) as f64, (r[1] - roi[1] as i64) as f64])
+            }
+            TemplateSource::File(_) => None,
+        },
+        prev: None,
+        curvature: 0.0,
+    };
+    let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
+    let mut skipped = Vec::new();
+    let mut locate_time = 0.0;
+    while located.len() < n {
+        let i = located.len();
+        let f = &setup.frames[i];
+        let crop_owned;
+        let crop: &Gray = if i == setup.reference_frame {
+            &ref_crop
+        } else {
+            let dec = take(i)?;
+            if (dec.width, dec.height) != (width, height) {
+                return Err(TrackError::MixedSizes {
+                    path: f.path.clone(),
+                    width: dec.width,
+                    height: dec.height,
+                    reference: reference.path.clone(),
+                    ref_width: width,
+                    ref_height: height,
+                });
+            }
+            crop_owned = dec.crop;
+            &crop_owned
+        };
+        let t0 = std::time::Instant::now();
+        let loc = state.locate(crop)?;
+        locate_time += t0.elapsed().as_secs_f64();
+        if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
+            if !opts.skip_bad_frames {
+                return Err(TrackError::LowScore {
+                    path: f.path.clone(),
+                    frame: i,
+                    score: loc.m.score,
+                    min: opts.min_score,
+                });
+            }
+            skipped.push(Skipped {
+                frame: i,
+                file: f.file.clone(),
+                score: loc.m.score,
+            });
+            state.last = None;
+            state.prev = None;
+            state.curvature = 0.0;
+            located.push(None);
+        } else {
+            // The next search starts from this frame's refined apex (the
+            // template alone slides along a flat top).
+            let (apex, _) = state.apex(&loc);
+            state.prev = state.last;
+            state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
+            state.curvature = loc.edge.map_or(0.0, |e| e.curvature);
+            located.push(Some(loc));
+        }
+        tick();
+    }
+
+    // Apex in image coordinates and its statistical uncertainty, px.
+    let apex_of = |l: &Located| -> ([f64; 2], f64, [f64; 2], [f64; 2], Option<EdgeFit>) {
+        let (off_x, off_y) = (roi[0] as f64, roi[1] as f64);
+        let shift = |p: [f64; 2]| [p[0] + off_x, p[1] + off_y];
+        let (apex, std) = state.apex(l);
+        let int = [l.m.integer[0] + apex_in_t[0], l.m.integer[1] + apex_in_t[1]];
+        let quad = [
+            l.m.quadratic[0] + apex_in_t[0],
+            l.m.quadratic[1] + apex_in_t[1],
+        ];
+        let edge = l.edge.map(|e| EdgeFit {
+            y: e.y + off_y,
+            x_vertex: e.x_vertex + off_x,
+            ..e
+        });
+        (shift(apex), std, shift(int), shift(quad), edge)
+    };
+    let mpp = setup.calibration.metres_per_pixel;
+    let (origin_row, origin_std, offset_m) = match setup.calibration.origin {
+        HeightOrigin::ClampRow(r) => (r, 0.0, 0.0),
+        HeightOrigin::Reference { prebulge_height_m } => {
+            let l = located[setup.reference_frame].as_ref().ok_or_else(|| TrackError::Config {
+                path: setup.experiment.clone(),
+                message: format!(
+                    "the reference frame {} ({}) was skipped as bad, and heights are measured from it (no clamp_row_px in [calibration]); choose another reference_frame or give clamp_row_px",
+                    setup.reference_frame, reference.file
+                ),
+            })?;
+            let (apex, std, ..) = apex_of(l);
+            (apex[1], std, prebulge_height_m)
+        }
+    };
+    let mut rows = Vec::with_capacity(n);
+    for (i, l) in located.iter().enumerate() {
+        let Some(l) = l else { continue };
+        let f = &setup.frames[i];
+        let (apex, std, int, quad, edge) = apex_of(l);
+        let is_ref_frame = matches!(setup.calibration.origin, HeightOrigin::Reference { .. })
+            && i == setup.reference_frame;
+        let std_total = if is_ref_frame {
+            0.0
+        } else {
+            std.hypot(origin_std)
+        };
+        rows.push(FrameResult {
+            frame: i,
+            file: f.file.clone(),
+            pressure_pa: f.pressure_pa,
+            apex_x_px: apex[0],
+            apex_y_px: apex[1],
+            score: l.m.score,
+            height_m: (origin_row - apex[1]) * mpp + offset_m,
+            height_std_m: std_total * mpp,
+            apex_y_std_px: std,
+            apex_integer_px: int,
+            apex_quadratic_px: quad,
+            edge,
+        });
+    }
+    Ok(Tracked {
+        rows,
+        skipped,
+        image_size: [width, height],
+        locate_seconds: locate_time,
+    })
+}
+
+/// The part of the reference photo tracking needs: the smallest rectangle
+/// holding the region and the template's rectangle (`None`, the whole photo,
+/// when either is not a rectangle of non-negative position and positive
+/// size: the checks against the photo's size then name it). When the box
+/// does not fit in the photo, neither does one of the two, which the same
+/// checks report.
+pub(super) fn reference_box(setup: &Setup) -> Option<[usize; 4]> {
+    let valid = |r: [i64; 4]| r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0;
+    let mut b = setup.roi;
+    if !valid(b) {
+        return None;
+    }
+    if let TemplateSource::Rect(t) = setup.template {
+        if !valid(t) {
+            return None;
+        }
+        let x0 = b[0].min(t[0]);
+        let y0 = b[1].min(t[1]);
+        let x1 = (b[0] + b[2]).max(t[0] + t[2]);
+        let y1 = (b[1] + b[3]).max(t[1] + t[3]);
+        b = [x0, y0, x1 - x0, y1 - y0];
+    }
+    Some(b.map(|v| v as usize))
+}
+
+/// Reads one photo and crops the region (an empty crop when the region does
+/// not fit: the size check against the reference photo then names the file).
+pub(super) fn decode_frame(path: &Path, roi: Option<[usize; 4]>) -> Result<Decoded, TrackError> {
+    let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    image::decode_gray_lenient(path, &bytes, roi)
+}

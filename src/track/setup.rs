@@ -1,0 +1,281 @@
+//! The set-up from an experiment file: the photos in natural order, the
+//! pressure log joined by file name, the region, template and calibration
+//! checked.
+
+use std::cmp::Ordering;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::*;
+use crate::experiment::Experiment;
+use crate::io::Table;
+
+/// Compares names the way people count: `img2` < `img10`.
+// Kept by hand: natord orders `img02` before `img1`, alphanumeric-sort `img2` before `img02`, lexical-sort `img002` after `img10`.
+pub fn natural_cmp(a: &str, b: &str) -> Ordering {
+    let (ab, bb) = (a.as_bytes(), b.as_bytes());
+    let (mut i, mut j) = (0, 0);
+    while i < ab.len() && j < bb.len() {
+        if ab[i].is_ascii_digit() && bb[j].is_ascii_digit() {
+            let si = i;
+            while i < ab.len() && ab[i].is_ascii_digit() {
+                i += 1;
+            }
+            let sj = j;
+            while j < bb.len() && bb[j].is_ascii_digit() {
+                j += 1;
+            }
+            let na = a[si..i].trim_start_matches('0');
+            let nb = b[sj..j].trim_start_matches('0');
+            let o = na.len().cmp(&nb.len()).then_with(|| na.cmp(nb));
+            if o != Ordering::Equal {
+                return o;
+            }
+        } else {
+            let o = ab[i].cmp(&bb[j]);
+            if o != Ordering::Equal {
+                return o;
+            }
+            i += 1;
+            j += 1;
+        }
+    }
+    (ab.len() - i).cmp(&(bb.len() - j)).then_with(|| a.cmp(b))
+}
+
+/// Shell-style match of a file name: `*` any run, `?` one character,
+/// `[abc]` / `[a-z]` / `[!abc]` one character of a set. An invalid pattern
+/// (e.g. an unclosed `[`) matches nothing.
+pub fn glob_match(pattern: &str, name: &str) -> bool {
+    glob::Pattern::new(pattern).is_ok_and(|p| p.matches(name))
+}
+
+/// The photos of a folder matching a glob, in natural order of their names.
+pub fn list_photos(dir: &Path, glob: &str) -> Result<Vec<PathBuf>, TrackError> {
+    let rd = std::fs::read_dir(dir).map_err(|e| TrackError::Unreadable {
+        path: dir.to_path_buf(),
+        reason: format!("cannot list the photo folder: {e}"),
+    })?;
+    let mut names: Vec<String> = Vec::new();
+    for entry in rd {
+        let entry = entry.map_err(|e| TrackError::Unreadable {
+            path: dir.to_path_buf(),
+            reason: format!("cannot list the photo folder: {e}"),
+        })?;
+        if entry.file_type().map(|t| t.is_dir()).unwrap_or(false) {
+            continue;
+        }
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') {
+            continue;
+        }
+        names.push(name);
+    }
+    if names.is_empty() {
+        return Err(TrackError::EmptyFolder {
+            dir: dir.to_path_buf(),
+        });
+    }
+    let pattern = glob::Pattern::new(glob).map_err(|e| TrackError::BadGlob {
+        dir: dir.to_path_buf(),
+        glob: glob.to_string(),
+        reason: e.to_string(),
+    })?;
+    names.sort_by(|a, b| natural_cmp(a, b));
+    let matched: Vec<PathBuf> = names
+        .iter()
+        .filter(|n| pattern.matches(n))
+        .map(|n| dir.join(n))
+        .collect();
+    if matched.is_empty() {
+        let examples = names
+            .iter()
+            .take(3)
+            .map(|n| format!("`{n}`"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        return Err(TrackError::GlobNoMatch {
+            dir: dir.to_path_buf(),
+            glob: glob.to_string(),
+            count: names.len(),
+            examples,
+        });
+    }
+    Ok(matched)
+}
+
+/// Reads the pressure log: file name -> pressure, Pa.
+pub fn read_pressures(csv: &Path) -> Result<HashMap<String, f64>, TrackError> {
+    let t = Table::read(csv)?;
+    let fc = t.require("file")?;
+    let pc = t.require("pressure_pa")?;
+    let mut map = HashMap::new();
+    let mut first_line = HashMap::new();
+    for r in 0..t.len() {
+        let raw = t.cell(r, fc);
+        let key = Path::new(raw)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| raw.to_string());
+        let p = t.number(r, pc)?;
+        if let Some(l) = first_line.insert(key.clone(), t.lines[r]) {
+            return Err(t
+                .error_at(
+                    r,
+                    "file",
+                    format!(
+                        "photo `{key}` already has a pressure on line {l}; keep one row per photo"
+                    ),
+                )
+                .into());
+        }
+        map.insert(key, p);
+    }
+    Ok(map)
+}
+
+/// Resolves the `[photos]`, `[calibration]` and `[pressure]` tables of an
+/// experiment into a [`Setup`]: lists the photos and joins the pressures.
+pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
+    let cfg = |message: String| TrackError::Config {
+        path: e.path.clone(),
+        message,
+    };
+    let photos = e.photos.as_ref().ok_or_else(|| {
+        cfg("no [photos] table: add one with `dir`, `glob` and `roi_px` (see docs/track.md)".into())
+    })?;
+    let cal = e.calibration.as_ref().ok_or_else(|| {
+        cfg("no [calibration] table: add `metres_per_pixel` (or `points_px` and `distance_m`) and `clamp_row_px`".into())
+    })?;
+    let pressure = e.pressure.as_ref().ok_or_else(|| {
+        cfg("no [pressure] table: add `csv = \"pressure.csv\"` (columns file,pressure_pa)".into())
+    })?;
+
+    let [x, y, w, h] = photos.roi_px;
+    if w <= 0 || h <= 0 {
+        return Err(cfg(format!(
+            "[photos] roi_px = {:?}: width and height must be positive pixel counts",
+            photos.roi_px
+        )));
+    }
+    let roi = [i64::from(x), i64::from(y), i64::from(w), i64::from(h)];
+    let template = match (&photos.template, &photos.template_rect_px) {
+        (Some(f), None) => TemplateSource::File(e.resolve(f)),
+        (None, Some(r)) => {
+            if r[2] <= 0 || r[3] <= 0 {
+                return Err(cfg(format!(
+                    "[photos] template_rect_px = {r:?}: width and height must be positive pixel counts"
+                )));
+            }
+            TemplateSource::Rect(r.map(i64::from))
+        }
+        (Some(_), Some(_)) => {
+            return Err(cfg(
+                "[photos] gives both `template` and `template_rect_px`: keep one".into(),
+            ));
+        }
+        (None, None) => {
+            return Err(cfg(
+                "[photos] needs a template: `template = \"file.png\"` or `template_rect_px = [x, y, w, h]` cut from the reference frame".into(),
+            ));
+        }
+    };
+    let scale = match (cal.metres_per_pixel, cal.points_px, cal.distance_m) {
+        (Some(s), None, None) => s,
+        (None, Some([p, q]), Some(d)) => {
+            let len = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+            if len.is_nan() || len <= 0.0 {
+                return Err(cfg(format!(
+                    "[calibration] points_px = {:?} are the same point: give two points a known distance apart",
+                    [p, q]
+                )));
+            }
+            d / len
+        }
+        (Some(_), _, _) => {
+            return Err(cfg(
+                "[calibration] gives `metres_per_pixel` and also `points_px`/`distance_m`: keep one way".into(),
+            ));
+        }
+        _ => {
+            return Err(cfg(
+                "[calibration] needs `metres_per_pixel`, or `points_px = [[x1, y1], [x2, y2]]` with `distance_m`".into(),
+            ));
+        }
+    };
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(cfg(format!(
+            "[calibration] the scale is {scale} m/px: it must be a positive length per pixel (e.g. 1.7e-4)"
+        )));
+    }
+    let origin = match cal.clamp_row_px {
+        Some(r) if r.is_finite() => HeightOrigin::ClampRow(r),
+        Some(r) => {
+            return Err(cfg(format!(
+                "[calibration] clamp_row_px = {r} is not a finite row"
+            )));
+        }
+        None => HeightOrigin::Reference {
+            prebulge_height_m: e.specimen.prebulge_height_m,
+        },
+    };
+
+    let dir = e.resolve(&photos.dir);
+    let paths = list_photos(&dir, &photos.glob)?;
+    let csv = e.resolve(&pressure.csv);
+    let pressures = read_pressures(&csv)?;
+    let mut frames = Vec::with_capacity(paths.len());
+    for p in paths {
+        let file = p
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let pressure_pa = *pressures.get(&file).ok_or_else(|| TrackError::NoPressure {
+            file: file.clone(),
+            csv: csv.clone(),
+        })?;
+        frames.push(Frame {
+            path: p,
+            file,
+            pressure_pa,
+        });
+    }
+    if photos.reference_frame >= frames.len() {
+        return Err(cfg(format!(
+            "[photos] reference_frame = {} but there are only {} photos (frames 0..{})",
+            photos.reference_frame,
+            frames.len(),
+            frames.len() - 1
+        )));
+    }
+    Ok(Setup {
+        experiment: e.path.clone(),
+        frames,
+        roi,
+        template,
+        reference_frame: photos.reference_frame,
+        apex_in_template: photos.apex_in_template_px,
+        calibration: Calibration {
+            metres_per_pixel: scale,
+            origin,
+        },
+    })
+}
+
+pub(super) fn check_rect(
+    path: &Path,
+    r: [i64; 4],
+    width: usize,
+    height: usize,
+) -> Result<[usize; 4], TrackError> {
+    let [x, y, w, h] = r;
+    if x < 0 || y < 0 || w <= 0 || h <= 0 || x + w > width as i64 || y + h > height as i64 {
+        return Err(TrackError::RegionOutside {
+            path: path.to_path_buf(),
+            roi: r,
+            width,
+            height,
+        });
+    }
+    Ok([x as usize, y as usize, w as usize, h as usize])
+}

@@ -1,0 +1,244 @@
+//! The tracking of every frame: photos decoded in parallel and matched in
+//! order, each match refined to sub-pixel precision (`track`).
+
+use rayon::prelude::*;
+
+use super::decode::{decode_frame, match_frames, reference_box};
+use super::image::{Decoded, Gray};
+use super::matcher::{EdgeFit, EdgeSettings, Match};
+use super::*;
+
+/// Systematic error of the edge fit that its residuals do not show, px: the
+/// RMS apex-row error measured on clean synthetic sequences (background
+/// texture and shading gradients across the edge; docs/track.md) is 0.015 px,
+/// rounded up. Added in quadrature to every edge-fit uncertainty.
+pub const EDGE_BIAS_FLOOR_PX: f64 = 0.02;
+
+/// Per-frame measurement in region coordinates, before calibration.
+pub(super) struct Located {
+    pub(super) m: Match,
+    pub(super) edge: Option<EdgeFit>,
+    /// Axis column from the edge's mirror symmetry and its standard error, px.
+    pub(super) axis: Option<(f64, f64)>,
+}
+
+/// Tracks every frame of `setup`; `tick` is called once per frame done.
+pub fn track(
+    setup: &Setup,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Tracked, TrackError> {
+    // The photos are decoded in parallel by rayon; OpenCV's own thread pool
+    // would only compete with it for the cores.
+    opencv::core::set_num_threads(1).map_err(|e| TrackError::OpenCv(e.to_string()))?;
+    let n = setup.frames.len();
+    let r = setup.roi;
+    let roi_req = (r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0)
+        .then(|| [r[0] as usize, r[1] as usize, r[2] as usize, r[3] as usize]);
+    // The pipeline: the rayon pool decodes the photos roughly in order
+    // (`par_bridge`), the reference photo first (its region and the
+    // template's rectangle), and sends them through a bounded channel; this thread takes
+    // them back in frame order and tracks them one by one (each search
+    // starts from the previous frame's position). No barrier stops the
+    // decoders, and memory holds only a few regions at a time.
+    // A deep queue (up to 128 MB of regions) keeps the decoders running
+    // when the matching thread waits for a core on a busy machine.
+    let crop_bytes = roi_req.map_or(1 << 20, |r| (r[2] * r[3]).max(1));
+    let depth =
+        ((128usize << 20) / crop_bytes).clamp(2 * rayon::current_num_threads().max(1) + 2, 1024);
+    let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Result<Decoded, TrackError>)>(depth);
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let reference = &setup.frames[setup.reference_frame];
+    std::thread::scope(|scope| {
+        let cancel = &cancel;
+        scope.spawn(move || {
+            // The reference photo first, cropped to the region and the
+            // template's rectangle, then the others' regions.
+            let r = setup.reference_frame;
+            let order = std::iter::once(r).chain((0..n).filter(|&i| i != r));
+            order.par_bridge().for_each(|i| {
+                if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                    return;
+                }
+                let path = &setup.frames[i].path;
+                let decoded = match (i == r, reference_box(setup)) {
+                    (true, Some(b)) => decode_frame(path, Some(b)),
+                    (true, None) => image::read_gray(path, None),
+                    (false, _) => decode_frame(path, roi_req),
+                };
+                // A closed channel means the matching stopped on an error.
+                let _ = tx.send((i, decoded));
+            });
+        });
+        let result = match_frames(setup, opts, tick, reference, rx);
+        if result.is_err() {
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        result
+    })
+}
+
+pub(super) struct Tracker<'a> {
+    pub(super) templ: &'a Gray,
+    pub(super) opts: &'a Options,
+    pub(super) edge_settings: EdgeSettings,
+    /// Apex position inside the template, px.
+    pub(super) apex_in_t: [f64; 2],
+    /// Reduction factor and reduced template for the coarse search, when the
+    /// template is wider than 128 px.
+    pub(super) reduced: Option<(usize, Gray)>,
+    /// Template position (region coordinates) in the last two tracked frames.
+    pub(super) last: Option<[f64; 2]>,
+    pub(super) prev: Option<[f64; 2]>,
+    /// Edge curvature of the last tracked frame, 1/px (0: none yet).
+    pub(super) curvature: f64,
+}
+
+impl Tracker<'_> {
+    /// Template search in `img` (full or reduced resolution): around the
+    /// position predicted from the last two frames, widened (four times the
+    /// margin, then the whole image) on a poor score or a peak on the
+    /// window's border.
+    pub(super) fn search(
+        &self,
+        img: &Gray,
+        templ: &Gray,
+        last: Option<[f64; 2]>,
+        prev: Option<[f64; 2]>,
+        margin_px: f64,
+    ) -> Result<Match, TrackError> {
+        let (tw, th) = (templ.width, templ.height);
+        let (rw, rh) = (img.width, img.height);
+        let whole = [0, 0, rw, rh];
+        let Some(last) = last else {
+            return matcher::match_in_window(img, templ, whole);
+        };
+        let vel = prev.map_or([0.0, 0.0], |p| [last[0] - p[0], last[1] - p[1]]);
+        let pred = [last[0] + vel[0], last[1] + vel[1]];
+        let margin = margin_px + 0.5 * vel[0].abs().max(vel[1].abs());
+        // The window of positions within `margin` of the prediction.
+        let window = |margin: f64| {
+            let x0 = (pred[0] - margin).floor().clamp(0.0, (rw - tw) as f64) as usize;
+            let y0 = (pred[1] - margin).floor().clamp(0.0, (rh - th) as f64) as usize;
+            let x1 = ((pred[0] + margin).ceil().max(0.0) as usize + tw).clamp(x0 + tw, rw);
+            let y1 = ((pred[1] + margin).ceil().max(0.0) as usize + th).clamp(y0 + th, rh);
+            [x0, y0, x1 - x0, y1 - y0]
+        };
+        // A good match: a high score, and a peak off the window's top and
+        // bottom borders (where the apex could have moved past). A peak on
+        // a side border with a high score is the template sliding along a
+        // flat top, which the edge fit resolves; widening would only let it
+        // slide further.
+        let good = |m: &Match, win: [usize; 4]| {
+            let (lo, hi) = (win[1], win[1] + win[3] - th);
+            let y = m.integer[1];
+            let on_border = (y <= lo as f64 && lo > 0) || (y >= hi as f64 && hi < rh - th);
+            m.score >= self.opts.min_score.max(0.8) && !on_border
+        };
+        // Widened in two steps on a poor match: four times the margin, then
+        // the whole region.
+        let wins = [window(margin), window(4.0 * margin), whole];
+        for (k, &win) in wins.iter().enumerate() {
+            if k > 0 && win == wins[k - 1] {
+                continue;
+            }
+            let m = matcher::match_in_window(img, templ, win)?;
+            if win == whole || good(&m, win) {
+                return Ok(m);
+            }
+        }
+        unreachable!("the last window is the whole region")
+    }
+
+    /// The apex of a located frame in region coordinates and its
+    /// statistical uncertainty, px, as `opts.refine` asks.
+    pub(super) fn apex(&self, l: &Located) -> ([f64; 2], f64) {
+        let t = self.apex_in_t;
+        let int = [l.m.integer[0] + t[0], l.m.integer[1] + t[1]];
+        let quad = [l.m.quadratic[0] + t[0], l.m.quadratic[1] + t[1]];
+        // Without an edge fit, the error bound of a peak on the pixel grid.
+        let grid = 0.5;
+        // The edge fit's statistical error plus its bias floor.
+        let edge_std = |e: &EdgeFit| e.y_std.hypot(EDGE_BIAS_FLOOR_PX);
+        match (self.opts.refine, l.edge) {
+            // The column from the edge's symmetry, else the parabola's
+            // vertex when the edge's curvature pins it down at all: the
+            // template sees mostly a horizontal edge, so its column follows
+            // the background texture (errors of several px measured).
+            (Refine::Edge, Some(e)) if l.axis.is_some_and(|(_, s)| s < e.x_std) => {
+                ([l.axis.map_or(e.x_vertex, |a| a.0), e.y], edge_std(&e))
+            }
+            (Refine::Edge, Some(e)) if e.x_std < 0.5 * self.edge_settings.half_span_px as f64 => {
+                ([e.x_vertex, e.y], edge_std(&e))
+            }
+            (Refine::Edge, Some(e)) => ([quad[0], e.y], edge_std(&e)),
+            (Refine::Edge, None) | (Refine::Quadratic, None) => (quad, grid),
+            (Refine::Integer, None) => (int, grid),
+            // The template's own bias is the gap to the edge fit.
+            (Refine::Quadratic, Some(e)) => (quad, edge_std(&e).hypot(quad[1] - e.y)),
+            (Refine::Integer, Some(e)) => (int, edge_std(&e).hypot(int[1] - e.y)),
+        }
+    }
+
+    pub(super) fn locate(&self, crop: &Gray) -> Result<Located, TrackError> {
+        let margin = self.opts.search_margin_px as f64;
+        let m = match &self.reduced {
+            None => self.search(crop, self.templ, self.last, self.prev, margin)?,
+            Some((f, small_t)) => {
+                // Coarse search at 1/f resolution, then the full-resolution
+                // match in a window of +-(f + 2) px around it.
+                let f = *f;
+                let fl = f as f64;
+                let small = matcher::reduce(crop, f)?;
+                let down = |p: [f64; 2]| [p[0] / fl, p[1] / fl];
+                let mc = self.search(
+                    &small,
+                    small_t,
+                    self.last.map(down),
+                    self.prev.map(down),
+                    (margin / fl).max(2.0),
+                )?;
+                if self.opts.refine == Refine::Edge {
+                    // The edge fit needs a seed within a few px, not the
+                    // full-resolution match: report the coarse one scaled up.
+                    let up = |p: [f64; 2]| [p[0] * fl, p[1] * fl];
+                    Match {
+                        integer: up(mc.integer),
+                        quadratic: up(mc.quadratic),
+                        score: mc.score,
+                    }
+                } else {
+                    let (tw, th) = (self.templ.width, self.templ.height);
+                    let r = f + 2;
+                    let cx = (mc.quadratic[0] * fl).round() as i64;
+                    let cy = (mc.quadratic[1] * fl).round() as i64;
+                    let x0 = (cx - r as i64).clamp(0, (crop.width - tw) as i64) as usize;
+                    let y0 = (cy - r as i64).clamp(0, (crop.height - th) as i64) as usize;
+                    let x1 = (x0 + tw + 2 * r).min(crop.width);
+                    let y1 = (y0 + th + 2 * r).min(crop.height);
+                    matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?
+                }
+            }
+        };
+        // The edge fit runs in every mode: in the integer and quadratic modes
+        // it only serves to state their uncertainty.
+        let apex = [
+            m.quadratic[0] + self.apex_in_t[0],
+            m.quadratic[1] + self.apex_in_t[1],
+        ];
+        let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
+        let edge = matcher::edge_fit_in(
+            &mut cols,
+            apex[0],
+            apex[1],
+            self.curvature,
+            self.edge_settings,
+        );
+        // The axis over the whole region's width (less the slope margin).
+        let axis = edge.and_then(|e| {
+            let half = (crop.width / 2).saturating_sub(1);
+            matcher::axis_fit_in(&mut cols, &e, half)
+        });
+        Ok(Located { m, edge, axis })
+    }
+}

@@ -1,0 +1,207 @@
+//! What tracking is told (set-up, options) and what it finds (per frame,
+//! the heights table).
+
+use std::path::PathBuf;
+
+use super::matcher::EdgeFit;
+
+/// One photo to track.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Path of the photo.
+    pub path: PathBuf,
+    /// Its file name (the key into the pressure log).
+    pub file: String,
+    /// Pressure at the photo, Pa.
+    pub pressure_pa: f64,
+}
+
+/// Where heights are measured from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeightOrigin {
+    /// The clamp plane is this image row, px.
+    ClampRow(f64),
+    /// Heights relative to the reference frame's apex, plus the pre-bulge
+    /// height `h0` of the specimen.
+    Reference {
+        /// Apex height at the reference frame, m.
+        prebulge_height_m: f64,
+    },
+}
+
+/// Pixels to metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Calibration {
+    /// Scale, m per px.
+    pub metres_per_pixel: f64,
+    /// Origin of heights.
+    pub origin: HeightOrigin,
+}
+
+/// Where the template comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TemplateSource {
+    /// An image file.
+    File(PathBuf),
+    /// A rectangle `[x, y, w, h]` of the reference frame.
+    Rect([i64; 4]),
+}
+
+/// Everything `track` needs, resolved from the experiment file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setup {
+    /// The experiment file (for error messages).
+    pub experiment: PathBuf,
+    /// Photos in natural order, with their pressures.
+    pub frames: Vec<Frame>,
+    /// Region where the apex moves, `[x, y, w, h]` px.
+    pub roi: [i64; 4],
+    /// The template.
+    pub template: TemplateSource,
+    /// Index of the reference frame.
+    pub reference_frame: usize,
+    /// Apex position inside the template, px (None: its centre).
+    pub apex_in_template: Option<[f64; 2]>,
+    /// Pixels to metres.
+    pub calibration: Calibration,
+}
+
+/// How the apex position is refined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum Refine {
+    /// The integer-pixel peak of the match score (OpenCV's minMaxLoc alone).
+    Integer,
+    /// A 2-D quadratic fit of the 3x3 scores around the peak.
+    Quadratic,
+    /// Template match, then the edge fit: the row from a parabola through the
+    /// top edge near the apex, the column from the edge's mirror symmetry.
+    Edge,
+}
+
+impl Refine {
+    /// The name as settings files and the command line spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Refine::Integer => "integer",
+            Refine::Quadratic => "quadratic",
+            Refine::Edge => "edge",
+        }
+    }
+}
+
+/// Settings of a tracking run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Refinement of the apex position.
+    pub refine: Refine,
+    /// Frames whose best score is below this are bad.
+    pub min_score: f64,
+    /// Leave bad frames out (and report them) instead of failing.
+    pub skip_bad_frames: bool,
+    /// Margin of the search window around the predicted position, px.
+    pub search_margin_px: usize,
+    /// Half-width of the edge fit's span of columns, px (`None`: half the
+    /// template width).
+    pub edge_span_px: Option<usize>,
+    /// Half-height of each column's edge window, px.
+    pub edge_window_px: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            refine: Refine::Edge,
+            min_score: 0.5,
+            skip_bad_frames: false,
+            search_margin_px: 8,
+            edge_span_px: None,
+            edge_window_px: 4,
+        }
+    }
+}
+
+/// The result for one frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameResult {
+    /// Index of the photo in natural order (0-based).
+    pub frame: usize,
+    /// File name.
+    pub file: String,
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// Apex column, px (image coordinates).
+    pub apex_x_px: f64,
+    /// Apex row, px (image coordinates).
+    pub apex_y_px: f64,
+    /// TM_CCOEFF_NORMED at the best match.
+    pub score: f64,
+    /// Apex height above the clamp plane, m (`h + h0`, with `h0` the pre-bulge height).
+    pub height_m: f64,
+    /// 1-sigma uncertainty of `height_m` from the image measurement alone, m.
+    pub height_std_m: f64,
+    /// Statistical uncertainty of `apex_y_px`, px.
+    pub apex_y_std_px: f64,
+    /// Apex by the integer match, px (image coordinates).
+    pub apex_integer_px: [f64; 2],
+    /// Apex by the quadratic peak fit, px (image coordinates).
+    pub apex_quadratic_px: [f64; 2],
+    /// The edge fit, when it succeeded (image coordinates).
+    pub edge: Option<EdgeFit>,
+}
+
+/// A frame left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Skipped {
+    /// Frame index.
+    pub frame: usize,
+    /// File name.
+    pub file: String,
+    /// Its best score.
+    pub score: f64,
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tracked {
+    /// One row per tracked frame, in frame order.
+    pub rows: Vec<FrameResult>,
+    /// Frames left out with `skip_bad_frames`.
+    pub skipped: Vec<Skipped>,
+    /// Image size, px.
+    pub image_size: [usize; 2],
+    /// Time spent matching and fitting (the sequential part), s.
+    pub locate_seconds: f64,
+}
+
+impl Tracked {
+    /// `heights.csv`: `frame,file,pressure_pa,apex_x_px,apex_y_px,score,
+    /// height_m,height_std_m`, one row per tracked frame.
+    pub fn heights_csv(&self) -> crate::io::CsvOut {
+        use crate::io::fmt_num;
+        let mut out = crate::io::CsvOut::new(&[
+            "frame",
+            "file",
+            "pressure_pa",
+            "apex_x_px",
+            "apex_y_px",
+            "score",
+            "height_m",
+            "height_std_m",
+        ]);
+        for r in &self.rows {
+            out.row(&[
+                r.frame.to_string(),
+                r.file.clone(),
+                fmt_num(Some(r.pressure_pa)),
+                fmt_num(Some(r.apex_x_px)),
+                fmt_num(Some(r.apex_y_px)),
+                format!("{:.4}", r.score),
+                fmt_num(Some(r.height_m)),
+                fmt_num(Some(r.height_std_m)),
+            ]);
+        }
+        out
+    }
+}
