@@ -21,7 +21,7 @@ mod closed_loop;
 use bulge::fit::FitModel;
 use bulge::pipeline::{Settings, describe_stress};
 use bulge::sim::springs::SpringModel;
-use closed_loop::{Case, Drawn};
+use closed_loop::{Case, Drawn, HeightModel, TP, VAN_GELDER};
 
 fn cases() -> Vec<Case> {
     let specimen = Specimen {
@@ -169,12 +169,12 @@ fn main() {
         for d in &drawn {
             match closed_loop::evaluate(d, &s) {
                 Ok(out) => {
-                    let tp = out.max_abs("tp");
+                    let tp = out.max_abs(TP);
                     cells.push(format!("{:.2}", tp * 100.0));
                     worst[0] = worst[0].max(tp);
-                    worst[1] = worst[1].max(out.max_abs("van-gelder"));
-                    worst[2] = worst[2].max(out.max_abs("axisym"));
-                    let r = out.rms("tp");
+                    worst[1] = worst[1].max(out.max_abs(VAN_GELDER));
+                    worst[2] = worst[2].max(out.max_abs(HeightModel::Axisym));
+                    let r = out.rms(TP);
                     let n = out.errors[0].1.len();
                     sq = (sq.0 + r * r * n as f64, sq.1 + n);
                 }
@@ -226,10 +226,10 @@ fn main() {
         for d in &drawn {
             match closed_loop::evaluate(d, &s) {
                 Ok(out) => {
-                    w[0] = w[0].max(out.max_abs("tp"));
-                    w[1] = w[1].max(out.max_abs("van-gelder"));
-                    w[2] = w[2].max(out.max_abs("axisym"));
-                    let r = out.rms("tp");
+                    w[0] = w[0].max(out.max_abs(TP));
+                    w[1] = w[1].max(out.max_abs(VAN_GELDER));
+                    w[2] = w[2].max(out.max_abs(HeightModel::Axisym));
+                    let r = out.rms(TP);
                     let n = out.errors[0].1.len();
                     sq = (sq.0 + r * r * n as f64, sq.1 + n);
                 }

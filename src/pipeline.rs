@@ -38,7 +38,7 @@ use crate::sim::DiscSolver;
 use crate::sim::SimError;
 use crate::sim::scene::{MeshSize, Scene};
 use crate::sim::solve::{self, Solver};
-use crate::sim::springs::SpringModel;
+use crate::sim::springs::{HeightModel, SpringModel};
 #[cfg(feature = "opencv")]
 use crate::track::{self, Setup, TemplateSource, TrackError, Tracked};
 
@@ -781,8 +781,8 @@ pub struct SimPoint {
 /// The heights of one model at every pressure.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelRun {
-    /// `tp`, `van-gelder`, ..., or `axisym`.
-    pub model: String,
+    /// The spring model, or the axisymmetric reference.
+    pub model: HeightModel,
     /// `newton`, `dr` or `shooting`.
     pub solver: String,
     /// Solved nodes (0 for the axisymmetric reference).
@@ -901,7 +901,7 @@ pub fn simulate_stage(
             }
         };
         runs.push(ModelRun {
-            model: model.name().to_string(),
+            model: HeightModel::Spring(model),
             solver: settings.solver.name().to_string(),
             nodes: mesh.nodes.len(),
             points,
@@ -955,7 +955,7 @@ pub fn axisym_run(
         tick();
     }
     Ok(ModelRun {
-        model: "axisym".into(),
+        model: HeightModel::Axisym,
         solver: "shooting".into(),
         nodes: 0,
         points,
@@ -986,7 +986,7 @@ pub fn simulated_csv(runs: &[ModelRun]) -> CsvOut {
                 out.row(&[
                     fmt_num(Some(p.pressure_pa)),
                     fmt_num(Some(h)),
-                    r.model.clone(),
+                    r.model.to_string(),
                     r.solver.clone(),
                     r.nodes.to_string(),
                     p.iterations.to_string(),
@@ -1008,7 +1008,8 @@ pub struct Comparison {
     pub measured_m: Option<f64>,
     /// Its standard deviation, m.
     pub measured_std_m: Option<f64>,
-    /// Simulated height per model (order of the runs), m.
+    /// Simulated height per model, in the order of [`RunOutput::runs`]
+    /// (by model: [`RunOutput::rel_errors_of`]), m.
     pub simulated_m: Vec<Option<f64>>,
 }
 
@@ -1143,6 +1144,24 @@ impl RunOutput {
             .filter(|p| p.height_m.is_none())
             .map(|p| p.pressure_pa)
             .collect()
+    }
+
+    /// The run of one model, if it was simulated.
+    pub fn run_of(&self, model: HeightModel) -> Option<&ModelRun> {
+        self.runs.iter().find(|r| r.model == model)
+    }
+
+    /// One model's row of the error table: per compared pressure,
+    /// `(pressure_pa, (simulated - measured) / measured)`, the error `None`
+    /// where either height is missing; `None` when the model was not run.
+    pub fn rel_errors_of(&self, model: HeightModel) -> Option<Vec<(f64, Option<f64>)>> {
+        let k = self.runs.iter().position(|r| r.model == model)?;
+        Some(
+            self.comparison
+                .iter()
+                .map(|c| (c.pressure_pa, c.rel_errors()[k]))
+                .collect(),
+        )
     }
 }
 

@@ -52,8 +52,8 @@ mod tests {
             .map(|e| e.abs())
             .fold(0.0, f64::max);
         assert!(track_max < 0.005, "tracking error {track_max}");
-        let tp = o.max_abs("tp");
-        let vg = o.max_abs("van-gelder");
+        let tp = o.max_abs(TP);
+        let vg = o.max_abs(VAN_GELDER);
         assert!(tp < 0.02, "TP MSS worst error {tp}");
         assert!(tp < vg, "TP {tp} vs Van Gelder {vg}");
         let cap_only = Settings {
@@ -61,7 +61,7 @@ mod tests {
             ..Settings::default()
         };
         let o_cap = evaluate(&d, &cap_only).unwrap();
-        let tp_cap = o_cap.max_abs("tp");
+        let tp_cap = o_cap.max_abs(TP);
         assert!(
             tp_cap > 0.01 && tp_cap > 2.0 * tp,
             "TP without the correction {tp_cap}, with {tp}"

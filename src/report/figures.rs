@@ -10,6 +10,7 @@ use crate::fit::quartic;
 use crate::material::{Model, StrainMeasure};
 use crate::mechanics::Point;
 use crate::pipeline::{Comparison, FitOut, ModelRun};
+use crate::sim::HeightModel;
 
 /// Height against pressure (kPa, mm), and the relative error per model.
 pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figure {
@@ -36,14 +37,22 @@ pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figu
             .iter()
             .filter_map(|p| p.height_m.map(|h| (p.pressure_pa * 1e-3, h * 1e3)))
             .collect();
-        let s = Series::line(r.model.clone(), line).color(k + 1);
-        top = top.with(if r.model == "axisym" { s.dashed() } else { s });
+        let s = Series::line(r.model.to_string(), line).color(k + 1);
+        top = top.with(if r.model == HeightModel::Axisym {
+            s.dashed()
+        } else {
+            s
+        });
         let e: Vec<(f64, f64)> = rows
             .iter()
             .filter_map(|row| row.rel_errors()[k].map(|e| (row.pressure_pa * 1e-3, e * 100.0)))
             .collect();
-        let s = Series::line(r.model.clone(), e).color(k + 1);
-        bottom = bottom.with(if r.model == "axisym" { s.dashed() } else { s });
+        let s = Series::line(r.model.to_string(), e).color(k + 1);
+        bottom = bottom.with(if r.model == HeightModel::Axisym {
+            s.dashed()
+        } else {
+            s
+        });
     }
     Figure::new(
         "Apex height against pressure: measured and simulated",

@@ -152,7 +152,7 @@ impl Report {
             let solved = r.points.iter().filter(|p| p.height_m.is_some()).count();
             s.push_str(&format!(
                 "<tr><td style=\"text-align:left\">{}</td><td style=\"text-align:left\">{}</td><td>{}</td><td>{} of {}</td><td>{:.3}</td></tr>",
-                esc(&r.model),
+                esc(r.model.name()),
                 esc(&r.solver),
                 if r.nodes == 0 { "-".to_string() } else { r.nodes.to_string() },
                 solved,

@@ -140,7 +140,7 @@ pub fn html(rows: &[Comparison], runs: &[ModelRun], flag: f64) -> String {
     for r in runs {
         s.push_str(&format!(
             "<th>{} (mm)</th><th>error (%)</th>",
-            esc(&r.model)
+            esc(r.model.name())
         ));
     }
     s.push_str("</tr></thead><tbody>\n");
@@ -217,7 +217,7 @@ mod tests {
 
     fn run(name: &str) -> ModelRun {
         ModelRun {
-            model: name.into(),
+            model: name.parse().expect("a model name"),
             solver: "newton".into(),
             nodes: 3,
             points: vec![],

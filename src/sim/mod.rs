@@ -40,7 +40,7 @@ pub mod vtk;
 
 pub use disc::{DiscSolver, SceneSolver, SweepPoint, SweepStop};
 pub use mesh::{Constraint, Mesh};
-pub use springs::{Membrane, SpringModel};
+pub use springs::{HeightModel, Membrane, SpringModel, UnknownHeightModel};
 
 /// Errors of the membrane solver.
 #[derive(Debug, Clone, thiserror::Error)]

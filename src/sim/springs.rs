@@ -99,6 +99,65 @@ impl SpringModel {
     }
 }
 
+/// A model that gives simulated heights: a spring model, or the exact
+/// axisymmetric solution of the same material. Keys the runs of a simulation
+/// and the rows of the error table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HeightModel {
+    /// A mass-spring model on a triangle mesh.
+    Spring(SpringModel),
+    /// The exact axisymmetric membrane ([`crate::axisym`]); discs only.
+    Axisym,
+}
+
+impl HeightModel {
+    /// Name used on the command line, in column names and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            HeightModel::Spring(m) => m.name(),
+            HeightModel::Axisym => "axisym",
+        }
+    }
+
+    /// The spring model, if it is one.
+    pub fn spring(self) -> Option<SpringModel> {
+        match self {
+            HeightModel::Spring(m) => Some(m),
+            HeightModel::Axisym => None,
+        }
+    }
+}
+
+impl std::fmt::Display for HeightModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A model name that is none of bulge's.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{0}` is not one of tp, tp-paper, van-gelder, lloyd, axisym")]
+pub struct UnknownHeightModel(pub String);
+
+impl std::str::FromStr for HeightModel {
+    type Err = UnknownHeightModel;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim() {
+            "axisym" => Ok(HeightModel::Axisym),
+            other => SpringModel::parse(other)
+                .map(HeightModel::Spring)
+                .ok_or_else(|| UnknownHeightModel(s.trim().to_string())),
+        }
+    }
+}
+
+impl From<SpringModel> for HeightModel {
+    fn from(m: SpringModel) -> Self {
+        HeightModel::Spring(m)
+    }
+}
+
 /// `E` as a function of a triangle's stretch (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ModulusLaw {

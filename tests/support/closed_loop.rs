@@ -13,8 +13,14 @@ use bulge::axisym;
 use bulge::experiment::{Experiment, Specimen};
 use bulge::material::Material;
 use bulge::pipeline::{self, PipelineError, Settings, Tracking};
+pub use bulge::sim::{HeightModel, SpringModel};
 use bulge::track::image::Encoding;
 use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame, Truth};
+
+/// TP MSS, the key of its errors.
+pub const TP: HeightModel = HeightModel::Spring(SpringModel::Tp);
+/// Van Gelder, the key of its errors.
+pub const VAN_GELDER: HeightModel = HeightModel::Spring(SpringModel::VanGelder);
 
 /// A synthetic experiment to draw.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,17 +109,17 @@ pub struct Outcome {
     /// Per model (in the order of the runs): relative errors
     /// `simulated / true - 1` at every pressure below the limit point
     /// (`None` where the model found no equilibrium).
-    pub errors: Vec<(String, Vec<Option<f64>>)>,
+    pub errors: Vec<(HeightModel, Vec<Option<f64>>)>,
     /// Relative errors of the measured (tracked) heights against the truth.
     pub tracking_errors: Vec<f64>,
 }
 
 impl Outcome {
     /// Largest absolute error of a model; infinite when a pressure was not solved.
-    pub fn max_abs(&self, model: &str) -> f64 {
+    pub fn max_abs(&self, model: HeightModel) -> f64 {
         self.errors
             .iter()
-            .find(|(m, _)| m == model)
+            .find(|(m, _)| *m == model)
             .map(|(_, e)| {
                 e.iter()
                     .map(|e| e.map_or(f64::INFINITY, f64::abs))
@@ -123,10 +129,10 @@ impl Outcome {
     }
 
     /// Root-mean-square error of a model over the solved pressures.
-    pub fn rms(&self, model: &str) -> f64 {
+    pub fn rms(&self, model: HeightModel) -> f64 {
         self.errors
             .iter()
-            .find(|(m, _)| m == model)
+            .find(|(m, _)| *m == model)
             .map(|(_, e)| {
                 let v: Vec<f64> = e.iter().flatten().copied().collect();
                 (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt()
@@ -163,7 +169,7 @@ pub fn evaluate(d: &Drawn, settings: &Settings) -> Result<Outcome, PipelineError
                     _ => None,
                 })
                 .collect();
-            (r.model.clone(), e)
+            (r.model, e)
         })
         .collect();
     let tracking_errors = d

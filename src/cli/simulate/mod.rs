@@ -18,7 +18,8 @@ use scene::{build_scene, load_scene};
 use bulge::sim::mesh::Mesh;
 use bulge::sim::scene::{Scene, SceneKind};
 use bulge::sim::solve::Solver;
-use bulge::sim::springs::SpringModel;
+use bulge::sim::springs::HeightModel;
+use std::str::FromStr;
 
 /// Flags of `bulge simulate`.
 #[derive(Debug, clap::Args)]
@@ -43,8 +44,8 @@ pub struct Args {
     /// tp (TP MSS force form, default), tp-paper (eq 11 with the eq 16
     /// switch), van-gelder (eq 1), lloyd (eq 4), axisym (the exact
     /// axisymmetric membrane solution, disc only; solver `shooting`).
-    #[arg(long, default_value = "tp", value_delimiter = ',', value_parser = parse_choice)]
-    pub model: Vec<Choice>,
+    #[arg(long, default_value = "tp", value_delimiter = ',', value_parser = HeightModel::from_str)]
+    pub model: Vec<HeightModel>,
     /// Quasi-static solvers, comma-separated: newton (sparse LU, default) or
     /// dr (dynamic relaxation with kinetic damping).
     #[arg(long, default_value = "newton", value_enum, value_delimiter = ',')]
@@ -98,25 +99,6 @@ fn parse_pressure(s: &str) -> Result<f64, String> {
     s.trim()
         .parse()
         .map_err(|_| format!("`{}` is not a pressure in Pa", s.trim()))
-}
-
-fn parse_choice(s: &str) -> Result<Choice, String> {
-    match s.trim() {
-        "axisym" => Ok(Choice::Axisym),
-        m => SpringModel::parse(m)
-            .map(Choice::Spring)
-            .ok_or_else(|| format!("`{m}` is not one of tp, tp-paper, van-gelder, lloyd, axisym")),
-    }
-}
-
-/// A model of the `--model` list: a spring model or the exact
-/// axisymmetric solution.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Choice {
-    /// A mass-spring model.
-    Spring(SpringModel),
-    /// The exact axisymmetric solution (disc only).
-    Axisym,
 }
 
 fn describe(mesh: &Mesh, scene: &Scene) -> String {

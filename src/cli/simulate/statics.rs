@@ -5,13 +5,13 @@ use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 
-use super::{Args, Choice, build_scene, describe, finish};
+use super::{Args, build_scene, describe, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::{CsvOut, fmt_num, write_atomic};
 use bulge::sim::disc::mesh_for_accuracy;
 use bulge::sim::scene::{MeshSize, SceneKind};
 use bulge::sim::solve::Options;
-use bulge::sim::springs::SpringModel;
+use bulge::sim::springs::{HeightModel, SpringModel};
 use bulge::sim::{SceneSolver, SimError, vtk};
 
 /// Runs `bulge simulate` (quasi-static).
@@ -21,11 +21,11 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
         .model
         .iter()
         .filter_map(|c| match c {
-            Choice::Spring(m) => Some(*m),
-            Choice::Axisym => None,
+            HeightModel::Spring(m) => Some(*m),
+            HeightModel::Axisym => None,
         })
         .collect();
-    let axisym = args.model.contains(&Choice::Axisym);
+    let axisym = args.model.contains(&HeightModel::Axisym);
     if args.profile.is_some() && !axisym {
         return Err(Failure::BadInput(anyhow!(
             "--profile writes the axisym meridian: add axisym to --model"

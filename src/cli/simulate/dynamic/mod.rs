@@ -7,12 +7,12 @@ use anyhow::{Context, anyhow};
 
 mod runs;
 
-use super::{Args, Choice, describe, finish};
+use super::{Args, describe, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::write_atomic;
 use bulge::sim::dynamics::{DampingLaw, Integrator, StepPolicy};
 use bulge::sim::scene::{Scene, SceneKind};
-use bulge::sim::springs::SpringModel;
+use bulge::sim::springs::{HeightModel, SpringModel};
 
 /// Flags of the dynamic runs (used with --dynamic).
 #[derive(Debug, Clone, clap::Args)]
@@ -78,8 +78,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .model
         .iter()
         .map(|c| match c {
-            Choice::Spring(m) => Ok(*m),
-            Choice::Axisym => Err(anyhow!(
+            HeightModel::Spring(m) => Ok(*m),
+            HeightModel::Axisym => Err(anyhow!(
                 "--dynamic integrates the spring models; axisym is a static solution: drop it from --model"
             )),
         })
