@@ -108,6 +108,24 @@ impl Table {
             .iter()
             .map(str::to_string)
             .collect();
+        if let [one] = headers.as_slice()
+            && (one.contains(';') || one.contains('\t'))
+        {
+            return Err(InputError {
+                path: path.to_path_buf(),
+                line: Some(1),
+                column: None,
+                message: format!(
+                    "the header `{one}` is one column: the values are separated by {}, not commas; save the file as comma-separated values with decimal points (header `{}`)",
+                    if one.contains(';') {
+                        "semicolons"
+                    } else {
+                        "tabs"
+                    },
+                    one.replace([';', '\t'], ",")
+                ),
+            });
+        }
         let mut index = HashMap::new();
         for (i, h) in headers.iter().enumerate() {
             if index.insert(h.clone(), i).is_some() {
@@ -441,15 +459,20 @@ pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Input
 /// valid one.
 pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
     let line = e.span().map(|s| {
-        let end = s.start.min(text.len());
+        let mut end = s.start.min(text.len());
+        if e.message().starts_with("missing field") {
+            // The span starts just before the table's header: name its line.
+            end += text[end..].len() - text[end..].trim_start().len();
+        }
         // a span never splits a character, but a byte offset might
         let end = (0..=end)
             .rev()
             .find(|&i| text.is_char_boundary(i))
             .unwrap_or(0);
-        text[..end].lines().count().max(1) as u64
+        text[..end].matches('\n').count() as u64 + 1
     });
-    let mut message = format!("invalid TOML: {}", e.message().trim_end());
+    let at = e.span().map_or(0, |s| s.start.min(text.len()));
+    let mut message = plain_toml_message(e.message().trim_end(), text, at);
     if let Some(hint) = did_you_mean(e.message()) {
         message.push_str(&format!("; did you mean `{hint}`?"));
     }
@@ -459,6 +482,75 @@ pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
         column: None,
         message,
     }
+}
+
+/// serde's data errors in the words of the file: the key and its table
+/// named, Rust's type names (`usize`, `f64`) said as what the value must be.
+/// A syntax error stays "invalid TOML".
+fn plain_toml_message(message: &str, text: &str, at: usize) -> String {
+    let at = (0..=at)
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
+    let before = &text[..at];
+    let table = before
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('['))
+        .map(|l| l.split(']').next().unwrap_or(l).to_string() + "]");
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("");
+    let key = line
+        .split_once('=')
+        .map(|(k, _)| k.trim().trim_matches('"'))
+        .filter(|k| !k.is_empty() && !k.starts_with('['));
+    let within = table
+        .as_deref()
+        .map_or(String::new(), |t| format!(" in {t}"));
+    if let Some(field) = message
+        .strip_prefix("missing field `")
+        .and_then(|r| r.split('`').next())
+    {
+        // The span of a missing key starts just before its table's header.
+        let header = text[at..]
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty() && !l.starts_with('#'))
+            .filter(|l| l.starts_with('['))
+            .map(|l| l.split(']').next().unwrap_or(l).to_string() + "]");
+        let within = header.map_or(within, |t| format!(" in {t}"));
+        return format!(
+            "missing key `{field}`{within}: add `{field} = ...` (see the file formats in docs/)"
+        );
+    }
+    if let Some(rest) = message.strip_prefix("invalid length ") {
+        let (found, expected) = rest.rsplit_once(", expected ").unwrap_or((rest, ""));
+        let expected = expected
+            .strip_prefix("an array of length ")
+            .map_or(expected.to_string(), |n| format!("a list of {n} values"));
+        let what = key.map_or(String::from("a list"), |k| format!("`{k}`"));
+        return format!("{what}{within} must be {expected}, not {found}");
+    }
+    let data = ["invalid type: ", "invalid value: "];
+    if let Some(rest) = data.iter().find_map(|p| message.strip_prefix(p)) {
+        let (found, expected) = rest.rsplit_once(", expected ").unwrap_or((rest, ""));
+        let expected = match expected.trim() {
+            "usize" | "u64" | "u32" | "u16" | "u8" => "a whole number >= 0".to_string(),
+            "i64" | "i32" | "i16" | "i8" => "a whole number".to_string(),
+            "f64" | "f32" => "a number".to_string(),
+            other => other.to_string(),
+        };
+        let what = key.map_or(String::from("a value"), |k| format!("`{k}`"));
+        return format!("{what}{within} must be {expected}, not {found}");
+    }
+    if message.starts_with("unknown field") || message.starts_with("unknown variant") {
+        return match key {
+            Some(k) => format!("`{k}`{within}: {message}"),
+            None => format!("{message}{within}"),
+        };
+    }
+    format!("invalid TOML: {message}")
 }
 
 /// The suggestion for serde's "unknown field `x`, expected one of `a`, `b`"

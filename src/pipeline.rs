@@ -28,7 +28,7 @@ use crate::experiment::Experiment;
 use crate::experiment::Specimen;
 use crate::fit::data::Loaded;
 use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
-use crate::io::{CsvOut, InputError, Table, fmt_num};
+use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
 use crate::material::Material;
 use crate::mechanics::{
     self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
@@ -914,6 +914,60 @@ pub fn simulate_stage(
     Ok(runs)
 }
 
+/// Warnings for the pressures asked for above the measured ones: the fitted
+/// law is extrapolated there; past the law's limit point (the pressure
+/// maximum of the exact inflation) a pressure-controlled bubble snaps through.
+pub fn extrapolation_warnings(
+    spec: &Specimen,
+    material: &Material,
+    measured: &[Point],
+    pressures: &[f64],
+) -> Vec<String> {
+    let top = measured
+        .iter()
+        .map(|p| p.pressure_pa)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let above: Vec<f64> = pressures
+        .iter()
+        .copied()
+        .filter(|&p| top.is_finite() && p > top * (1.0 + 1e-9))
+        .collect();
+    if above.is_empty() {
+        return Vec::new();
+    }
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|&p| fmt_short(p))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut out = vec![format!(
+        "{} Pa above the largest measured pressure ({} Pa): the fitted law is extrapolated there and no measured height checks it",
+        list(&above),
+        fmt_short(top)
+    )];
+    let opts = axisym::Options {
+        n_profile: 2,
+        ..axisym::Options::default()
+    };
+    if let Ok(Some(lp)) = axisym::limit_point(material, spec, &opts) {
+        let past: Vec<f64> = above
+            .iter()
+            .copied()
+            .filter(|&p| p > lp.pressure_pa)
+            .collect();
+        if !past.is_empty() {
+            out.push(format!(
+                "{} Pa past the limit point of the fitted law ({} Pa, apex {} m): a pressure-controlled bubble snaps through there, so no height the springs give there is one a real bubble holds",
+                list(&past),
+                fmt_short(lp.pressure_pa),
+                fmt_short(lp.height_m)
+            ));
+        }
+    }
+    out
+}
+
 /// The exact axisymmetric reference of `material` at `pressures`.
 pub fn axisym_run(
     spec: &Specimen,
@@ -1286,6 +1340,9 @@ pub fn run_observed(
     // 4. simulate
     let t = Instant::now();
     let pressures_pa = pressures(settings, &stress.points);
+    for w in extrapolation_warnings(spec, &fit.material, &stress.points, &pressures_pa) {
+        note(Stage::Simulate, w);
+    }
     let n_runs = settings.models.len() + usize::from(settings.axisym);
     obs.start(Stage::Simulate, (n_runs * pressures_pa.len()) as u64);
     let runs = simulate_stage(spec, settings, &fit.material, &pressures_pa, &|| obs.tick())
@@ -1332,4 +1389,44 @@ pub fn run_observed(
         timings,
         notes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::Model;
+
+    /// A neo-Hookean disc's pressure peaks at `P = 3.758347 C1 t / a`
+    /// (Yang & Feng 1970; see docs/theory.md): 3507.8 Pa here.
+    #[test]
+    fn pressures_above_the_measurements_and_the_limit_point_are_flagged() {
+        let spec = Specimen {
+            radius_m: 0.0375,
+            thickness_m: 3.5e-4,
+            poisson: 0.45,
+            prebulge_height_m: 0.0,
+        };
+        let material = Material {
+            model: Model::NeoHookean { c1_pa: 1.0e5 },
+            poisson: 0.5,
+            fit: None,
+        };
+        let measured: Vec<Point> = [500.0, 1000.0, 2000.0]
+            .map(|p| Point {
+                pressure_pa: p,
+                height_m: 0.01,
+                height_std_m: None,
+            })
+            .to_vec();
+        let none = extrapolation_warnings(&spec, &material, &measured, &[500.0, 2000.0]);
+        assert!(none.is_empty(), "{none:?}");
+        let w = extrapolation_warnings(&spec, &material, &measured, &[1500.0, 3000.0, 3600.0]);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(w[0].starts_with("3000, 3600 Pa above the largest measured pressure (2000 Pa)"));
+        assert!(
+            w[1].starts_with("3600 Pa past the limit point of the fitted law (3507.79"),
+            "{}",
+            w[1]
+        );
+    }
 }

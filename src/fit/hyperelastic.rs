@@ -42,6 +42,7 @@ use super::stats::Stats;
 use crate::material::Model;
 use argmin::core::{Error as ArgminError, Jacobian, Operator};
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Which hyperelastic model to fit.
@@ -256,39 +257,51 @@ impl Problem<'_> {
             .collect()
     }
 
-    /// Residuals (scaled) and Jacobian (scaled) at `x`.
+    /// Residuals (scaled) and Jacobian (scaled) at `x`; the points in
+    /// parallel (in chunks: a few points are one task).
     fn eval(&self, x: &DVector<f64>, want_jac: bool) -> (DVector<f64>, DMatrix<f64>) {
         let p = self.kind.n_params();
         let n = self.stretch.len();
         let xu = self.unscale(x);
-        let mut r = DVector::zeros(n);
-        let mut jac = DMatrix::zeros(if want_jac { n } else { 0 }, p);
-        let mut g = vec![0.0; p];
         let gent_ok = !matches!(self.kind, Kind::Gent) || xu[1] > self.jm_min;
-        for (i, &l) in self.stretch.iter().enumerate() {
-            let mut v = nominal_and_grad(self.kind, &xu, l, &mut g);
-            let factor = match self.measure {
-                StressMeasure::Nominal => 1.0,
-                StressMeasure::Cauchy => l,
-            };
-            v *= factor;
-            r[i] = if gent_ok {
-                v / self.scale - self.target[i]
-            } else {
-                f64::NAN
-            };
-            if want_jac {
-                for k in 0..p {
-                    // d(v/scale)/d(x_k) with x_k = xu_k / scale for stress parameters.
-                    let s = if self.kind.is_stress(k) {
-                        1.0
-                    } else {
-                        1.0 / self.scale
-                    };
-                    jac[(i, k)] = factor * g[k] * s;
+        // d(v/scale)/d(x_k) with x_k = xu_k / scale for stress parameters.
+        let col_scale: Vec<f64> = (0..p)
+            .map(|k| {
+                if self.kind.is_stress(k) {
+                    1.0
+                } else {
+                    1.0 / self.scale
                 }
-            }
-        }
+            })
+            .collect();
+        // Row i: the residual, then the Jacobian's row.
+        let mut rows = vec![0.0; n * (p + 1)];
+        rows.par_chunks_mut(p + 1)
+            .with_min_len(1024)
+            .enumerate()
+            .for_each(|(i, row)| {
+                let l = self.stretch[i];
+                let (head, g) = row.split_at_mut(1);
+                let factor = match self.measure {
+                    StressMeasure::Nominal => 1.0,
+                    StressMeasure::Cauchy => l,
+                };
+                let v = nominal_and_grad(self.kind, &xu, l, g) * factor;
+                head[0] = if gent_ok {
+                    v / self.scale - self.target[i]
+                } else {
+                    f64::NAN
+                };
+                for (gk, s) in g.iter_mut().zip(&col_scale) {
+                    *gk *= factor * s;
+                }
+            });
+        let r = DVector::from_iterator(n, rows.iter().step_by(p + 1).copied());
+        let jac = if want_jac {
+            DMatrix::from_fn(n, p, |i, k| rows[i * (p + 1) + 1 + k])
+        } else {
+            DMatrix::zeros(0, p)
+        };
         (r, jac)
     }
 }
@@ -321,6 +334,21 @@ pub struct Equibiaxial {
 }
 
 impl Equibiaxial {
+    /// At most `n` points, evenly spaced in index (so in stretch, the rows
+    /// being sorted), the first and the last kept.
+    pub fn thinned(&self, n: usize) -> Equibiaxial {
+        let len = self.stretch.len();
+        if len <= n || n < 2 {
+            return self.clone();
+        }
+        let idx: Vec<usize> = (0..n).map(|k| k * (len - 1) / (n - 1)).collect();
+        Equibiaxial {
+            stretch: idx.iter().map(|&i| self.stretch[i]).collect(),
+            stress_pa: idx.iter().map(|&i| self.stress_pa[i]).collect(),
+            measure: self.measure,
+        }
+    }
+
     /// Model stress at stretch `l` in the measure of this data set, from the
     /// general energy of [`crate::material`].
     pub fn predict(&self, model: &Model, l: f64) -> f64 {
@@ -408,6 +436,13 @@ const OGDEN_ALPHAS: [f64; 10] = [-6.0, -4.0, -2.0, -1.0, 0.5, 1.0, 2.0, 3.0, 5.0
 const GENT_RATIOS: [f64; 7] = [1.02, 1.1, 1.5, 3.0, 10.0, 30.0, 100.0];
 /// LM iteration cap per start.
 const MAX_ITERS: u64 = 200;
+/// Above this many points the starts run on an evenly spaced subset of this
+/// size (see [`fit`]).
+const MAX_START_POINTS: usize = 1000;
+/// LM iteration cap of the polish on every point: it starts at a minimum of
+/// a dense subset, so it converges in a few iterations unless the data do
+/// not determine every parameter, when more iterations only crawl.
+const MAX_POLISH_ITERS: u64 = 20;
 
 /// Fits `kind` to `data` (see the module docs for the method).
 pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
@@ -424,7 +459,7 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         return Err(FitError::ZeroStress);
     }
     let jm_min = data.stretch.iter().map(|&l| j_of(l)).fold(0.0f64, f64::max);
-    let problem = || Problem {
+    let full = || Problem {
         kind,
         stretch: &data.stretch,
         target: data.stress_pa.iter().map(|s| s / scale).collect(),
@@ -432,13 +467,31 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         scale,
         jm_min,
     };
-    let starts = starting_points(kind, data, scale, jm_min)?;
+    // Many points: the starts run on an evenly spaced subset (the curve is
+    // as well resolved, the cost of a start no longer grows with the data),
+    // then the chosen end point is polished on every point.
+    let sub = (data.stretch.len() > MAX_START_POINTS).then(|| data.thinned(MAX_START_POINTS));
+    let starts_data = sub.as_ref().unwrap_or(data);
+    let problem = || Problem {
+        kind,
+        stretch: &starts_data.stretch,
+        target: starts_data.stress_pa.iter().map(|s| s / scale).collect(),
+        measure: data.measure,
+        scale,
+        jm_min,
+    };
+    let starts = starting_points(kind, starts_data, scale, jm_min)?;
     let n_starts = starts.len();
     let mut ends: Vec<(f64, lm::LmResult)> = Vec::new();
     let mut total_iterations = 0;
     let mut last_err = None;
-    for x0 in starts {
-        let run = match lm::minimize(problem(), x0, MAX_ITERS) {
+    // The starts are independent: run in parallel, kept in their order.
+    let runs: Vec<_> = starts
+        .into_par_iter()
+        .map(|x0| lm::minimize(problem(), x0, MAX_ITERS))
+        .collect();
+    for run in runs {
+        let run = match run {
             Ok(r) => r,
             Err(e) => {
                 last_err = Some(e.to_string());
@@ -459,8 +512,25 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         )));
     }
     ends.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let run = select_end_point(kind, data, &problem(), ends);
-    let pb = problem();
+    let mut run = select_end_point(kind, starts_data, &problem(), ends);
+    if sub.is_some() {
+        // The polish starts at the chosen end point: on a subset as dense
+        // as this one it moves little, and LM never raises the RSS.
+        match lm::minimize(full(), run.x.clone(), MAX_POLISH_ITERS) {
+            Ok(polished) => {
+                total_iterations += polished.iterations;
+                run = polished;
+            }
+            Err(e) => {
+                return Err(FitError::Solver(format!(
+                    "{}: the polish on all {} points failed ({e})",
+                    kind.label(),
+                    data.stretch.len()
+                )));
+            }
+        }
+    }
+    let pb = full();
     let xu = pb.unscale(&run.x);
     let model = kind.model(&xu);
     let residuals_pa = data.residuals(&model);
@@ -827,6 +897,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Many points (the starts on a subset, the polish on all): a Gent
+    /// material is recovered from 20 000 exact points, as from few.
+    #[test]
+    fn many_points_are_fitted_through_a_subset_and_polished() {
+        let truth = Model::Gent {
+            mu_pa: 3.0e5,
+            jm: 40.0,
+        };
+        let h = truth.hyperelastic().unwrap();
+        let n = 20_000;
+        let stretch: Vec<f64> = (0..n)
+            .map(|i| 1.0 + 2.5 * (i + 1) as f64 / n as f64)
+            .collect();
+        let data = Equibiaxial {
+            stress_pa: stretch.iter().map(|&l| h.equibiaxial_nominal(l)).collect(),
+            stretch,
+            measure: StressMeasure::Nominal,
+        };
+        assert_eq!(
+            data.thinned(MAX_START_POINTS).stretch.len(),
+            MAX_START_POINTS
+        );
+        let f = fit(Kind::Gent, &data).unwrap();
+        let Model::Gent { mu_pa, jm } = f.model else {
+            panic!("{:?}", f.model)
+        };
+        assert!((mu_pa / 3.0e5 - 1.0).abs() < 1e-6, "mu {mu_pa}");
+        assert!((jm / 40.0 - 1.0).abs() < 1e-5, "jm {jm}");
+        assert_eq!(f.residuals_pa.len(), n);
     }
 
     /// Data generated by a known model are fitted back to it.

@@ -73,6 +73,9 @@ pub enum Style {
     Scatter,
 }
 
+/// Most points of a series drawn (see `Series::stride`).
+const MAX_DRAWN: usize = 5000;
+
 /// One data series.
 #[derive(Debug, Clone)]
 pub struct Series {
@@ -126,11 +129,27 @@ impl Series {
         self
     }
 
+    /// Every `stride()`-th point is drawn: a figure of a million markers is
+    /// a file of hundreds of megabytes that shows no more than a few
+    /// thousand would.
+    fn stride(&self) -> usize {
+        self.points.len().div_ceil(MAX_DRAWN).max(1)
+    }
+
+    /// The legend entry, saying when only some points are drawn.
+    fn label(&self) -> String {
+        match self.stride() {
+            1 => self.name.clone(),
+            k => format!("{} (1 in {k} of {} drawn)", self.name, self.points.len()),
+        }
+    }
+
     fn finite(&self) -> impl Iterator<Item = (usize, (f64, f64))> + '_ {
         self.points
             .iter()
             .copied()
             .enumerate()
+            .step_by(self.stride())
             .filter(|(_, (x, y))| x.is_finite() && y.is_finite())
     }
 }
@@ -480,9 +499,9 @@ fn draw_panel<DB: DrawingBackend>(
             legend = true;
             match s.style {
                 Style::Scatter => anno
-                    .label(s.name.as_str())
+                    .label(s.label())
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled())),
-                _ => anno.label(s.name.as_str()).legend(move |(x, y)| {
+                _ => anno.label(s.label()).legend(move |(x, y)| {
                     PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))
                 }),
             };
@@ -524,6 +543,34 @@ mod tests {
             ))
             .zero_line();
         Figure::new("Test figure", vec![fit, res])
+    }
+
+    /// A million markers draw as a few thousand, and the legend says so.
+    #[test]
+    fn large_series_are_thinned_and_labelled() {
+        let pts: Vec<(f64, f64)> = (0..1_000_000)
+            .map(|i| (i as f64, (i as f64).sqrt()))
+            .collect();
+        let small = Figure::new(
+            "small",
+            vec![Panel::new("x", "y").with(Series::scatter("data", pts[..5000].to_vec()))],
+        )
+        .to_svg()
+        .unwrap();
+        let big = Figure::new(
+            "big",
+            vec![Panel::new("x", "y").with(Series::scatter("data", pts))],
+        )
+        .to_svg()
+        .unwrap();
+        assert!(big.contains("data (1 in 200 of 1000000 drawn)"));
+        assert!(!small.contains("drawn)"));
+        assert!(
+            big.len() < 2 * small.len(),
+            "{} vs {} bytes",
+            big.len(),
+            small.len()
+        );
     }
 
     #[test]

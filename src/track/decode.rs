@@ -7,6 +7,7 @@ use super::image::{Decoded, Gray};
 use super::matcher::{EdgeFit, EdgeSettings};
 use super::tracker::{Located, Tracker};
 use super::*;
+use crate::io::fmt_short;
 
 /// The sequential half of [`track`]: the reference photo, the template, then
 /// every frame's region in order from `rx`.
@@ -81,6 +82,7 @@ pub(super) fn match_frames(
         (templ.width as f64 - 1.0) / 2.0,
         (templ.height as f64 - 1.0) / 2.0,
     ]);
+    check_apex_in_template(setup, apex_in_t, &templ)?;
     let edge_settings = EdgeSettings {
         half_span_px: opts.edge_span_px.unwrap_or(templ.width / 2).max(3),
         half_window_px: opts.edge_window_px,
@@ -231,6 +233,9 @@ pub(super) fn match_frames(
             edge,
         });
     }
+    if let HeightOrigin::ClampRow(clamp) = setup.calibration.origin {
+        check_above_clamp(setup, clamp, &rows)?;
+    }
     Ok(Tracked {
         rows,
         skipped,
@@ -272,4 +277,46 @@ pub(super) fn decode_frame(path: &Path, roi: Option<[usize; 4]>) -> Result<Decod
         reason: e.to_string(),
     })?;
     image::decode_gray_lenient(path, &bytes, roi)
+}
+
+/// The apex's position in the template must lie on the template (pixel
+/// centres from 0 to size - 1, half a pixel of slack at each border).
+fn check_apex_in_template(setup: &Setup, apex: [f64; 2], templ: &Gray) -> Result<(), TrackError> {
+    let inside = |v: f64, n: usize| v.is_finite() && (-0.5..=n as f64 - 0.5).contains(&v);
+    if inside(apex[0], templ.width) && inside(apex[1], templ.height) {
+        return Ok(());
+    }
+    Err(TrackError::Config {
+        path: setup.experiment.clone(),
+        message: format!(
+            "[photos] apex_in_template_px = [{}, {}] lies outside the template ({}x{} px): it is the apex's position inside the template, counted from its top-left pixel; give x in 0..{} and y in 0..{}, or remove the key to take the template's centre",
+            fmt_short(apex[0]),
+            fmt_short(apex[1]),
+            templ.width,
+            templ.height,
+            templ.width - 1,
+            templ.height - 1
+        ),
+    })
+}
+
+/// A bubble's apex stands above the clamp plane: a frame whose apex lies
+/// below the clamp row (rows grow downward) by more than three standard
+/// deviations and a pixel means the clamp row is wrong, not a negative height.
+fn check_above_clamp(setup: &Setup, clamp: f64, rows: &[FrameResult]) -> Result<(), TrackError> {
+    let below = rows
+        .iter()
+        .find(|r| r.apex_y_px - clamp > 3.0 * r.apex_y_std_px + 1.0);
+    let Some(r) = below else { return Ok(()) };
+    Err(TrackError::Config {
+        path: setup.experiment.clone(),
+        message: format!(
+            "[calibration] clamp_row_px = {} lies above the apex of frame {} ({}, apex at row {:.1}): its height would be {} m, below the clamp plane. The clamp row is the image row of the clamp plane, below the bubble's top (rows grow downward); measure it on a photo, or remove it to measure heights from the reference frame",
+            fmt_short(clamp),
+            r.frame,
+            r.file,
+            r.apex_y_px,
+            fmt_short(r.height_m)
+        ),
+    })
 }

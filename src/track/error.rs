@@ -82,6 +82,14 @@ pub enum TrackError {
         /// The pressure log.
         csv: PathBuf,
     },
+    /// The photo folder does not exist or cannot be listed.
+    #[error("{}: cannot list the photo folder: {reason}; fix `dir` in [photos] (a folder, relative to the experiment file) or put the photos there", dir.display())]
+    PhotoFolder {
+        /// The folder.
+        dir: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
     /// The photo folder is empty.
     #[error("{}: the photo folder is empty; put the photos there or fix `dir` in [photos]", dir.display())]
     EmptyFolder {
@@ -118,7 +126,7 @@ pub enum TrackError {
     },
     /// The template was not found well enough in a frame.
     #[error(
-        "{}: frame {frame}: the best template match scores {score:.3} < --min-score {min:.3}; the apex is not where the template says (check the photo), or lower --min-score, or pass --skip-bad-frames to leave such frames out",
+        "{}: frame {frame}: the best template match scores {score:.3} < --min-score {min:.3}; the apex is not where the template says, or the photo is damaged (open it to check), or lower --min-score, or pass --skip-bad-frames to leave such frames out",
         path.display()
     )]
     LowScore {

@@ -97,11 +97,15 @@ pub fn read_gray(path: &Path, roi: Option<[usize; 4]>) -> Result<Decoded, TrackE
 /// Decodes encoded bytes (named `path` in errors): a truncated file, bytes
 /// OpenCV cannot decode and an empty image are refused.
 fn decode_checked(path: &Path, bytes: &[u8]) -> Result<Mat, TrackError> {
+    if bytes.is_empty() {
+        return Err(TrackError::Unreadable {
+            path: path.to_path_buf(),
+            reason: "the file is empty (0 bytes)".into(),
+        });
+    }
     check_complete(path, bytes)?;
-    let mat = decode_mat(bytes).map_err(|e| TrackError::Unreadable {
-        path: path.to_path_buf(),
-        reason: format!("OpenCV cannot decode it: {e}"),
-    })?;
+    // OpenCV's own message (an assertion in imdecode) says nothing a user can act on.
+    let mat = decode_mat(bytes).unwrap_or_default();
     if mat.empty() || mat.rows() <= 0 || mat.cols() <= 0 {
         return Err(TrackError::Unreadable {
             path: path.to_path_buf(),

@@ -52,15 +52,19 @@ pub fn glob_match(pattern: &str, name: &str) -> bool {
 
 /// The photos of a folder matching a glob, in natural order of their names.
 pub fn list_photos(dir: &Path, glob: &str) -> Result<Vec<PathBuf>, TrackError> {
-    let rd = std::fs::read_dir(dir).map_err(|e| TrackError::Unreadable {
-        path: dir.to_path_buf(),
-        reason: format!("cannot list the photo folder: {e}"),
+    let rd = std::fs::read_dir(dir).map_err(|e| TrackError::PhotoFolder {
+        dir: dir.to_path_buf(),
+        reason: if e.kind() == std::io::ErrorKind::NotFound {
+            "it does not exist".into()
+        } else {
+            e.to_string()
+        },
     })?;
     let mut names: Vec<String> = Vec::new();
     for entry in rd {
-        let entry = entry.map_err(|e| TrackError::Unreadable {
-            path: dir.to_path_buf(),
-            reason: format!("cannot list the photo folder: {e}"),
+        let entry = entry.map_err(|e| TrackError::PhotoFolder {
+            dir: dir.to_path_buf(),
+            reason: e.to_string(),
         })?;
         if entry.file_type().map(|t| t.is_dir()).unwrap_or(false) {
             continue;

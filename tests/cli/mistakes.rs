@@ -289,3 +289,132 @@ fn to_heights_names_the_missing_specimen() {
     .bad_input(&["e.toml", "no [specimen] table", "radius_m"]);
     assert!(!d.join("m.toml").exists());
 }
+
+/// The demo experiment copied into `d` (photos, pressure log and
+/// experiment file), with `edit` applied to the experiment file's text.
+fn demo_copy(d: &std::path::Path, edit: impl Fn(&str) -> String) {
+    let src = crate::util::repo().join("data/demo");
+    fs::create_dir_all(d.join("photos")).unwrap();
+    for e in fs::read_dir(src.join("photos")).unwrap() {
+        let e = e.unwrap();
+        fs::copy(e.path(), d.join("photos").join(e.file_name())).unwrap();
+    }
+    fs::copy(src.join("pressure.csv"), d.join("pressure.csv")).unwrap();
+    let text = fs::read_to_string(src.join("experiment.toml")).unwrap();
+    fs::write(d.join("experiment.toml"), edit(&text)).unwrap();
+}
+
+fn replace_line(text: &str, key: &str, line: &str) -> String {
+    text.lines()
+        .map(|l| if l.starts_with(key) { line } else { l })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Set-up values that would give nonsense heights are refused with the key,
+/// the value and the fix: an apex outside its template, a clamp row above
+/// the bubble (negative heights).
+#[test]
+fn tracking_nonsense_set_up_is_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| {
+        replace_line(
+            t,
+            "apex_in_template_px",
+            "apex_in_template_px = [500, -300]",
+        )
+    });
+    bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"]).bad_input(&[
+        "experiment.toml",
+        "apex_in_template_px = [500, -300]",
+        "outside the template (64x32 px)",
+    ]);
+    assert!(!d.join("h.csv").exists());
+
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| replace_line(t, "clamp_row_px", "clamp_row_px = 10"));
+    bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"]).bad_input(&[
+        "clamp_row_px = 10",
+        "frame 0 (frame_001.jpg",
+        "below the clamp plane",
+    ]);
+    assert!(!d.join("h.csv").exists());
+}
+
+/// Damaged photos and a missing folder are named for what they are: an
+/// empty file is empty (not an OpenCV assertion), a folder that does not
+/// exist is a folder to fix (not a file to replace).
+#[test]
+fn empty_photos_and_missing_folders_are_named() {
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| t.to_string());
+    fs::write(d.join("photos/frame_003.jpg"), "").unwrap();
+    let run = bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"])
+        .bad_input(&["frame_003.jpg", "the file is empty (0 bytes)"]);
+    assert!(!run.stderr.contains("Assertion"), "{}", run.stderr);
+
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| t.replace("dir = \"photos\"", "dir = \"nothere\""));
+    bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"]).bad_input(&[
+        "nothere",
+        "does not exist",
+        "fix `dir` in [photos]",
+    ]);
+    assert!(!d.join("h.csv").exists());
+}
+
+/// A value of the wrong type or a missing key is said in the words of the
+/// file (the key, its table, what it must be), not in Rust's type names,
+/// and a semicolon- or tab-separated table gets the reason it reads as one
+/// column.
+#[test]
+fn file_messages_speak_of_keys_and_separators() {
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| {
+        replace_line(t, "reference_frame", "reference_frame = -1")
+    });
+    let run = bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"]).bad_input(&[
+        "experiment.toml, line 14",
+        "`reference_frame` in [photos] must be a whole number >= 0",
+    ]);
+    assert!(!run.stderr.contains("usize"), "{}", run.stderr);
+
+    demo_copy(d, |t| {
+        t.lines()
+            .filter(|l| !l.starts_with("radius_m"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    let run = bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"])
+        .bad_input(&["line 3", "missing key `radius_m` in [specimen]"]);
+    assert!(!run.stderr.contains("invalid TOML"), "{}", run.stderr);
+
+    demo_copy(d, |t| replace_line(t, "roi_px", "roi_px = [1, 2, 3]"));
+    bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"])
+        .bad_input(&["`roi_px` in [photos] must be a list of 4 values, not 3"]);
+
+    demo_copy(d, |t| t.to_string());
+    fs::write(d.join("h.csv"), "pressure_pa;height_m\n100;0,001\n").unwrap();
+    bulge_in(
+        d,
+        &[
+            "stress",
+            "h.csv",
+            "--experiment",
+            "experiment.toml",
+            "-o",
+            "s.csv",
+        ],
+    )
+    .bad_input(&[
+        "h.csv, line 1",
+        "separated by semicolons",
+        "pressure_pa,height_m",
+    ]);
+    assert!(!d.join("s.csv").exists());
+}

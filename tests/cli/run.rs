@@ -436,3 +436,33 @@ fn a_partial_run_exits_1() {
     let manifest = fs::read_to_string(dir.path().join("out/manifest.toml")).unwrap();
     assert!(manifest.contains("status = \"partial\""), "{manifest}");
 }
+
+/// Pressures asked for above the measured ones (the photos reach 5000 Pa)
+/// carry a warning in the terminal output and in the report.
+#[test]
+fn pressures_above_the_measured_ones_are_flagged() {
+    let dir = tempdir();
+    synth(dir.path(), 6);
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--pressures",
+            "2000,9000",
+            "--no-refine",
+        ],
+    );
+    assert!(
+        r.stderr
+            .contains("9000 Pa above the largest measured pressure (5000 Pa)"),
+        "{}",
+        r.stderr
+    );
+    let report = fs::read_to_string(dir.path().join("out/report.html")).unwrap();
+    assert!(report.contains("extrapolated"), "report lacks the warning");
+    let summary = fs::read_to_string(dir.path().join("out/summary.md")).unwrap();
+    assert!(summary.contains("above the largest measured pressure"));
+}
