@@ -162,8 +162,8 @@ pub fn static_run(
     }
 }
 
-/// A dynamic run from rest with `integ` at `step_factor` of Verlet's
-/// estimated step limit until the motion settles to `tol` or `t_cap` s.
+/// A dynamic run from rest with `integ` at `step_factor` of its estimated
+/// step limit (of symplectic Euler's for the implicit integrators) until the motion settles to `tol` or `t_cap` s.
 #[allow(clippy::too_many_arguments)]
 pub fn dynamic_run(
     mem: &mut Membrane,
@@ -179,7 +179,13 @@ pub fn dynamic_run(
     let out = (|| -> Result<(f64, usize, bool, f64), String> {
         let mut d = Dynamics::new(mem, mesh, damping).map_err(|e| e.to_string())?;
         let est = d.estimate_step(&mesh.nodes).map_err(|e| e.to_string())?;
-        let dt = step_factor * est.limit(Integrator::Verlet);
+        // explicit integrators at a share of their own limit; the implicit
+        // ones at multiples of symplectic Euler's (the conservative one)
+        let dt = if integ.is_explicit() {
+            step_factor * est.limit(integ)
+        } else {
+            step_factor * est.limit(Integrator::SymplecticEuler)
+        };
         // XPBD's projections are serial and it settles to its own (compliant,
         // under-iterated) state: at most 3000 steps
         let t_cap = if integ == Integrator::Xpbd {

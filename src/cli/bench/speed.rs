@@ -11,7 +11,8 @@ use bulge::sim::dynamics::{DampingLaw, Integrator};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::{Membrane, SpringModel};
 
-/// Step of each integrator, as a multiple of Verlet's estimated limit.
+/// Step of each integrator, as a multiple of its own estimated limit (of
+/// symplectic Euler's for the implicit ones).
 fn step_factor(integ: Integrator) -> f64 {
     match integ {
         Integrator::Xpbd => 10.0,

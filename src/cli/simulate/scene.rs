@@ -8,12 +8,22 @@ use anyhow::anyhow;
 use super::Args;
 use bulge::experiment::Experiment;
 use bulge::material::Material;
-use bulge::sim::scene::{MeshSize, Scene};
+use bulge::sim::scene::{MeshSize, Scene, SceneKind};
 
-/// The scene, validated for a static run (pressures required).
+/// The scene, validated for a static run: pressures required, except for a
+/// sheet with nodal loads, which is solved once under its loads alone
+/// (pressure 0).
 pub(super) fn build_scene(args: &Args) -> anyhow::Result<Scene> {
-    let (scene, origin) = load_scene(args)?;
-    scene.validate(true).map_err(|m| anyhow!("{origin}: {m}"))?;
+    let (mut scene, origin) = load_scene(args)?;
+    let loads_only = matches!(scene.kind, SceneKind::Sheet { .. })
+        && !scene.loads.is_empty()
+        && scene.pressures_pa.is_empty();
+    scene
+        .validate(!loads_only)
+        .map_err(|m| anyhow!("{origin}: {m}"))?;
+    if loads_only {
+        scene.pressures_pa = vec![0.0];
+    }
     Ok(scene)
 }
 

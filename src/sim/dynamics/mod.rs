@@ -36,7 +36,7 @@ use super::SimError;
 use super::mesh::Mesh;
 use super::par::ParForces;
 use super::solve::load_norm;
-use super::springs::Membrane;
+use super::springs::{Membrane, SpringModel};
 
 mod damping;
 mod explicit_euler;
@@ -169,11 +169,21 @@ impl Default for DynOptions {
     }
 }
 
+fn limit_text(dt_crit_s: &f64) -> String {
+    if dt_crit_s.is_finite() {
+        format!("Its estimated step limit at the start was {dt_crit_s:.3e} s")
+    } else {
+        "It has no stability limit, but a step this large outruns its Newton solve".to_string()
+    }
+}
+
 fn divergence_hint(integrator: &str, h_s: &f64, dt_crit_s: &f64) -> &'static str {
     if integrator == "explicit-euler" && h_s <= dt_crit_s {
         ", but explicit Euler also amplifies every slow mode its dashpots leave undamped (|1 + h lambda| > 1 for an undamped oscillation; a bubble's transverse modes are carried by tension, not by the springs' stretch): use symplectic-euler, verlet or implicit-euler"
-    } else {
+    } else if dt_crit_s.is_finite() {
         "; use a smaller time step or implicit-euler"
+    } else {
+        ": use a smaller time step"
     }
 }
 
@@ -210,8 +220,36 @@ trait Step {
     ) -> Result<StepCost, DynError>;
 }
 
-/// Share of the step limit used when sub-stepping.
+/// Share of the step limit used when sub-stepping, with damping.
 pub const STEP_SAFETY: f64 = 0.9;
+/// Share of the step limit used without damping (the stiffest mode's damping
+/// ratio below [`UNDAMPED_ZETA`]): undamped, the stiffest frequency rises as
+/// the membrane inflates and Verlet meets a nonlinear resonance below its
+/// linear limit; from rest, steps of 0.8 to 0.95 of the limit estimated at
+/// rest diverged on the inflated disc, 0.75 held.
+pub const STEP_SAFETY_UNDAMPED: f64 = 0.7;
+/// Below this damping ratio of the stiffest mode a run counts as undamped.
+pub const UNDAMPED_ZETA: f64 = 0.05;
+
+/// The least damping (fraction of critical) at which TP MSS's dynamics are
+/// trusted: its forces are not conservative (see
+/// [`non_conservative_warning`]); on the paper's latex disc at 5 kPa a run
+/// diverged at 0.001 and held at 0.003.
+pub const TP_MIN_DAMPING: f64 = 0.01;
+
+/// A warning when TP MSS runs with less damping than [`TP_MIN_DAMPING`]:
+/// its forces are not the gradient of an energy (its stiffness matrix is not
+/// symmetric, 3.8 % on the paper's inflated latex disc), so the undamped
+/// system can flutter and diverge whatever the step.
+pub fn non_conservative_warning(model: SpringModel, damping: DampingLaw) -> Option<String> {
+    let tp = matches!(model, SpringModel::Tp | SpringModel::TpPaper);
+    match damping {
+        DampingLaw::Critical(z) if tp && z < TP_MIN_DAMPING => Some(format!(
+            "TP MSS's forces are not conservative (its stiffness is not symmetric: 3.8 % on the paper's inflated latex disc), so with damping {z} < {TP_MIN_DAMPING} its dynamics can flutter and diverge at any time step"
+        )),
+        _ => None,
+    }
+}
 
 /// Errors of a dynamic run.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -244,7 +282,8 @@ pub enum DynError {
     NoStableStep,
     /// The watch fired.
     #[error(
-        "{integrator} diverged at t = {t_s:.4e} s (step {step}, sub-step {h_s:.3e} s): {what}. Its estimated step limit at the start was {dt_crit_s:.3e} s{}. No result was written for this run",
+        "{integrator} diverged at t = {t_s:.4e} s (step {step}, sub-step {h_s:.3e} s): {what}. {}{}. No result was written for this run",
+        limit_text(.dt_crit_s),
         divergence_hint(.integrator, .h_s, .dt_crit_s)
     )]
     Diverged {
@@ -473,30 +512,30 @@ impl<'a> Dynamics<'a> {
             if integ == Integrator::ExplicitEuler && (dt_crit.is_nan() || dt_crit <= 0.0) {
                 return Err(DynError::NoStableStep);
             }
-            if opts.dt_s > STEP_SAFETY * dt_crit {
-                match opts.policy {
-                    StepPolicy::Substep => {
-                        substeps = (opts.dt_s / (STEP_SAFETY * dt_crit)).ceil() as usize
-                    }
-                    StepPolicy::Refuse => {
-                        return Err(DynError::StepTooLarge {
-                            integrator: integ.name(),
-                            dt_s: opts.dt_s,
-                            dt_crit_s: dt_crit,
-                            omega_rad_s: est.omega_max,
-                            zeta: est.zeta,
-                            suggest_s: STEP_SAFETY * dt_crit,
-                        });
-                    }
-                    StepPolicy::Unchecked => {}
+            let safe = est.safety() * dt_crit;
+            match opts.policy {
+                StepPolicy::Substep if opts.dt_s > safe => {
+                    substeps = (opts.dt_s / safe).ceil() as usize
                 }
+                // Refused: exactly the steps above the limit it prints.
+                StepPolicy::Refuse if opts.dt_s > dt_crit => {
+                    return Err(DynError::StepTooLarge {
+                        integrator: integ.name(),
+                        dt_s: opts.dt_s,
+                        dt_crit_s: dt_crit,
+                        omega_rad_s: est.omega_max,
+                        zeta: est.zeta,
+                        suggest_s: safe,
+                    });
+                }
+                _ => {}
             }
             if substeps.saturating_mul(steps) > 50_000_000 {
                 return Err(DynError::BadParameter(format!(
                     "the end time {} s needs {} sub-steps of {:.3e} s (the stable limit of {}); at most 5e7 are allowed: shorten the run, coarsen the mesh or use implicit-euler",
                     opts.t_end_s,
                     substeps.saturating_mul(steps),
-                    STEP_SAFETY * dt_crit,
+                    opts.dt_s / substeps as f64,
                     integ.name()
                 )));
             }

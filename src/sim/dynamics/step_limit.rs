@@ -9,11 +9,16 @@
 //! * explicit Euler: `|1 + h lambda| < 1`, i.e. `h < 2 zeta / w` for
 //!   `zeta < 1` (no stable step at all without damping), `h < 2 / (w (zeta +
 //!   sqrt(zeta^2 - 1)))` above;
-//! * symplectic Euler and the position Verlet of Sudhamani & Merriliance
-//!   (2019) (drift-kick-drift with the damping evaluated at the step's start
-//!   velocity) have the same characteristic polynomial,
+//! * symplectic Euler (the damping evaluated at the step's start velocity):
 //!   `det = 1 - 2 zeta w h`, `trace = 2 - (w h)^2 - 2 zeta w h`, stable for
 //!   `h < (2 / w) (sqrt(1 + zeta^2) - zeta)` (the classical `2 / w` undamped);
+//! * position Verlet with the dashpots split off symmetrically: the step is
+//!   `D V D` with `V` the undamped drift-kick-drift (`det V = 1`, `trace V =
+//!   2 - (w h)^2`) and `D = diag(1, r)` half a step of damping by the midpoint
+//!   rule, `r = 1 - a + a^2 / 2`, `a = zeta w h`. Then `det = r^2`, `trace =
+//!   (1 + r^2)(1 - (w h)^2 / 2)`, and the step is stable for `w h <= 2` and
+//!   `|r| <= 1`, i.e. `h <= min(2 / w, 4 / c)` with `c = 2 zeta w` the largest
+//!   damping rate of `M^-1 C`;
 //! * implicit Euler and XPBD: no step limit (they are unconditionally stable;
 //!   their error grows with the step instead).
 //!
@@ -42,6 +47,18 @@ pub struct StepEstimate {
 }
 
 impl StepEstimate {
+    /// The share of [`StepEstimate::limit`] a run steps at:
+    /// [`super::STEP_SAFETY`] when the stiffest mode is damped,
+    /// [`super::STEP_SAFETY_UNDAMPED`] below a damping ratio of
+    /// [`super::UNDAMPED_ZETA`].
+    pub fn safety(&self) -> f64 {
+        if self.zeta < super::UNDAMPED_ZETA {
+            super::STEP_SAFETY_UNDAMPED
+        } else {
+            super::STEP_SAFETY
+        }
+    }
+
     /// The stable step limit of an integrator, s (infinite for the implicit
     /// ones; 0 for explicit Euler without damping).
     pub fn limit(&self, integrator: Integrator) -> f64 {
@@ -57,9 +74,7 @@ impl StepEstimate {
                         2.0 / (w * (z + (z * z - 1.0).sqrt()))
                     }
                 }
-                Integrator::SymplecticEuler | Integrator::Verlet => {
-                    2.0 / w * ((1.0 + z * z).sqrt() - z)
-                }
+                Integrator::SymplecticEuler => 2.0 / w * ((1.0 + z * z).sqrt() - z),
                 _ => f64::INFINITY,
             }
         };
@@ -73,6 +88,19 @@ impl StepEstimate {
         };
         if !integrator.is_explicit() {
             return f64::INFINITY;
+        }
+        if integrator == Integrator::Verlet {
+            let w = if self.omega_max > 0.0 {
+                2.0 / self.omega_max
+            } else {
+                f64::INFINITY
+            };
+            let c = if self.damping_rate > 0.0 {
+                4.0 / self.damping_rate
+            } else {
+                f64::INFINITY
+            };
+            return w.min(c);
         }
         stiff.min(damped)
     }

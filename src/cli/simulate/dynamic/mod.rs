@@ -23,13 +23,15 @@ pub struct DynArgs {
     #[arg(long)]
     pub dynamic: bool,
     /// Integrators (with --dynamic), comma-separated: explicit-euler,
-    /// symplectic-euler, verlet (Sudhamani & Merriliance's position Verlet, default),
+    /// symplectic-euler, verlet (position Verlet, the dashpots split off symmetrically:
+    /// second order with damping; default),
     /// implicit-euler (Newton + sparse LU), xpbd (needs van-gelder or lloyd
     /// and a linear material).
     #[arg(long, default_value = "verlet", value_enum, value_delimiter = ',')]
     pub integrator: Vec<Integrator>,
     /// Time step in s. Default: 0.9 of Verlet's stable step estimated for the
-    /// mesh at rest. An explicit integrator given a larger step sub-steps (or
+    /// mesh at rest (0.7 without damping: the stiffest frequency rises as
+    /// the membrane inflates). An explicit integrator given a larger step sub-steps (or
     /// refuses, see --step-policy).
     #[arg(long)]
     pub dt: Option<f64>,
@@ -130,6 +132,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
     for &model in &models {
         for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
             eprintln!("warning ({}): {w}", model.name());
+        }
+        if let Some(w) = bulge::sim::dynamics::non_conservative_warning(model, damping) {
+            eprintln!(
+                "warning ({}): {w}; raise --damping or use --model van-gelder or lloyd",
+                model.name()
+            );
         }
     }
 

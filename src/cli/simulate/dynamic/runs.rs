@@ -112,7 +112,7 @@ pub(super) fn run(pl: &Plan) -> Result<Done, Failure> {
                             .estimate_step(&mesh.nodes)
                             .map_err(|e| anyhow!("{e}"))
                             .failed()?;
-                        0.9 * est.limit(Integrator::Verlet)
+                        est.safety() * est.limit(Integrator::Verlet)
                     }
                 };
                 let opts = DynOptions {
