@@ -228,6 +228,8 @@ pub const STEP_SAFETY: f64 = 0.9;
 /// linear limit; from rest, steps of 0.8 to 0.95 of the limit estimated at
 /// rest diverged on the inflated disc, 0.75 held.
 pub const STEP_SAFETY_UNDAMPED: f64 = 0.7;
+/// Re-estimates of the stable step along a sub-stepped explicit run.
+pub const RECHECKS: usize = 25;
 /// Below this damping ratio of the stiffest mode a run counts as undamped.
 pub const UNDAMPED_ZETA: f64 = 0.05;
 
@@ -339,9 +341,11 @@ pub struct DynRun {
     pub substeps: usize,
     /// Step actually integrated, s.
     pub h_s: f64,
-    /// The step estimate at the start state (`None` for implicit Euler and XPBD
-    /// unless asked for).
+    /// The last step estimate: at the start, or at the last re-estimate along
+    /// the run (`None` for implicit Euler and XPBD unless asked for).
     pub estimate: Option<StepEstimate>,
+    /// How often the step was re-estimated along the run.
+    pub rechecks: usize,
     /// Force evaluations.
     pub force_evaluations: usize,
     /// Newton iterations (implicit Euler), summed.
@@ -505,8 +509,10 @@ impl<'a> Dynamics<'a> {
         let mut estimate = None;
         let mut substeps = 1;
         let mut dt_crit = f64::INFINITY;
+        let mut mode = None;
         if integ.is_explicit() && opts.policy != StepPolicy::Unchecked {
-            let est = self.estimate_step(x)?;
+            let (est, u) = self.estimate_step_from(x, None)?;
+            mode = Some(u);
             dt_crit = est.limit(integ);
             estimate = Some(est);
             if integ == Integrator::ExplicitEuler && (dt_crit.is_nan() || dt_crit <= 0.0) {
@@ -540,7 +546,14 @@ impl<'a> Dynamics<'a> {
                 )));
             }
         }
-        let h = opts.dt_s / substeps as f64;
+        let mut h = opts.dt_s / substeps as f64;
+        // Under the substep policy the step is re-estimated along the run
+        // (the power iteration warm-started from the last stiffest mode), a
+        // few dozen times: the stiffest frequency rises as a membrane
+        // inflates, and a step safe at rest may not stay so.
+        let recheck = (opts.policy == StepPolicy::Substep && dt_crit.is_finite())
+            .then(|| steps.div_ceil(RECHECKS).max(1));
+        let mut rechecks = 0usize;
         let n = x.len();
         let x0 = self.mesh.nodes.clone();
         let mut f = vec![Vector3::zeros(); n];
@@ -575,8 +588,32 @@ impl<'a> Dynamics<'a> {
         };
         let mut steps_done = steps;
         for step in 0..steps {
+            if let Some(every) = recheck
+                && step > 0
+                && step % every == 0
+            {
+                let (est, u) = self.estimate_step_from(x, mode.as_deref())?;
+                mode = Some(u);
+                rechecks += 1;
+                evals += 2 * est.iterations;
+                let lim = est.limit(integ);
+                if lim.is_finite() && lim > 0.0 && h > est.safety() * lim {
+                    let more = (opts.dt_s / (est.safety() * lim)).ceil() as usize;
+                    if more.saturating_mul(steps) > 50_000_000 {
+                        return Err(DynError::BadParameter(format!(
+                            "at t = {:.4e} s the stable step of {} fell to {lim:.3e} s: the run would need more than 5e7 sub-steps; shorten it, coarsen the mesh or use implicit-euler",
+                            step as f64 * opts.dt_s,
+                            integ.name()
+                        )));
+                    }
+                    substeps = more.max(substeps);
+                    h = opts.dt_s / substeps as f64;
+                }
+                dt_crit = dt_crit.min(lim);
+                estimate = Some(est);
+            }
             for sub in 0..substeps {
-                let t = (step * substeps + sub) as f64 * h;
+                let t = step as f64 * opts.dt_s + sub as f64 * h;
                 let cost = stepper.step(self, x, v, h, t)?;
                 evals += cost.force_evaluations;
                 newton_its += cost.newton_iterations;
@@ -649,6 +686,7 @@ impl<'a> Dynamics<'a> {
             substeps,
             h_s: h,
             estimate,
+            rechecks,
             force_evaluations: evals,
             newton_iterations: newton_its,
             residual,

@@ -110,20 +110,30 @@ impl Dynamics<'_> {
     /// The stiffest mode at `x` by power iteration on `M^-1/2 K M^-1/2`
     /// (`K v` by central differences of the forces): its eigenvalue
     /// `omega^2`, the iterations taken and the unit mode `u` (mass-scaled).
-    fn stiffest(&self, x: &[Point3<f64>]) -> Result<(f64, usize, Vec<Vector3<f64>>), DynError> {
+    fn stiffest(
+        &self,
+        x: &[Point3<f64>],
+        start: Option<&[Vector3<f64>]>,
+    ) -> Result<(f64, usize, Vec<Vector3<f64>>), DynError> {
         let n = x.len();
         let m = &self.membrane;
         let sqm: Vec<f64> = m.masses.iter().map(|&mi| mi.sqrt()).collect();
-        // deterministic pseudo-random start vector
-        let mut u: Vec<Vector3<f64>> = (0..n)
-            .map(|i| {
-                Vector3::new(
-                    pseudo_random(i, 1),
-                    pseudo_random(i, 2),
-                    pseudo_random(i, 3),
-                )
-            })
-            .collect();
+        // the last mode when re-estimating along a run (it converges in a
+        // few iterations), else a deterministic pseudo-random start vector
+        let warm = start.is_some_and(|s| s.len() == n);
+        let mut u: Vec<Vector3<f64>> = match start {
+            Some(s) if warm => s.to_vec(),
+            _ => (0..n)
+                .map(|i| {
+                    Vector3::new(
+                        pseudo_random(i, 1),
+                        pseudo_random(i, 2),
+                        pseudo_random(i, 3),
+                    )
+                })
+                .collect(),
+        };
+        let (min_it, window) = if warm { (6, 3) } else { (30, 10) };
         m.project(&mut u);
         normalise(&mut u);
         let mut xp = x.to_vec();
@@ -162,8 +172,8 @@ impl Dynamics<'_> {
                 break;
             }
             history.push(lambda);
-            if it >= 30 {
-                let old = history[it - 10];
+            if it >= min_it {
+                let old = history[it - window];
                 if (lambda - old).abs() <= 1e-4 * lambda.abs() {
                     break;
                 }
@@ -175,10 +185,21 @@ impl Dynamics<'_> {
     /// Power-iteration estimate of the stiffest and the most damped modes at
     /// positions `x` (see the module docs).
     pub fn estimate_step(&self, x: &[Point3<f64>]) -> Result<StepEstimate, DynError> {
+        self.estimate_step_from(x, None).map(|(e, _)| e)
+    }
+
+    /// [`Dynamics::estimate_step`] with the power iteration started from
+    /// `start` (the stiffest mode of an earlier estimate, as returned here),
+    /// for re-estimating the step along a run.
+    pub fn estimate_step_from(
+        &self,
+        x: &[Point3<f64>],
+        start: Option<&[Vector3<f64>]>,
+    ) -> Result<(StepEstimate, Vec<Vector3<f64>>), DynError> {
         let n = x.len();
         let m = &self.membrane;
         let sqm: Vec<f64> = m.masses.iter().map(|&mi| mi.sqrt()).collect();
-        let (lambda, iterations, u) = self.stiffest(x)?;
+        let (lambda, iterations, u) = self.stiffest(x, start)?;
         let mut w = vec![Vector3::zeros(); n];
         let omega_max = lambda.max(0.0).sqrt();
         // damping ratio of that mode: u . M^-1/2 C M^-1/2 u / (2 w)
@@ -222,13 +243,16 @@ impl Dynamics<'_> {
             .map(|i| s[i] / m.masses[i])
             .fold(0.0, f64::max)
             .sqrt();
-        Ok(StepEstimate {
-            omega_max,
-            zeta,
-            damping_rate: damping_rate.max(0.0),
-            omega_gershgorin,
-            iterations,
-        })
+        Ok((
+            StepEstimate {
+                omega_max,
+                zeta,
+                damping_rate: damping_rate.max(0.0),
+                omega_gershgorin,
+                iterations,
+            },
+            u,
+        ))
     }
 
     /// A velocity field along the stiffest mode at `x` (power iteration as
@@ -242,7 +266,7 @@ impl Dynamics<'_> {
             .iter()
             .map(|&mi| mi.sqrt().max(f64::MIN_POSITIVE))
             .collect();
-        let (lambda, _, u) = self.stiffest(x)?;
+        let (lambda, _, u) = self.stiffest(x, None)?;
         let omega = lambda.max(0.0).sqrt();
         let amp = 1e-6 * self.size_m * omega;
         let vmax = (0..n)
