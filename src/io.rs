@@ -459,16 +459,15 @@ pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, Input
 /// valid one.
 pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
     let line = e.span().map(|s| {
-        let mut end = s.start.min(text.len());
+        // a span never splits a character, but a byte offset might
+        let mut end = (0..=s.start.min(text.len()))
+            .rev()
+            .find(|&i| text.is_char_boundary(i))
+            .unwrap_or(0);
         if e.message().starts_with("missing field") {
             // The span starts just before the table's header: name its line.
             end += text[end..].len() - text[end..].trim_start().len();
         }
-        // a span never splits a character, but a byte offset might
-        let end = (0..=end)
-            .rev()
-            .find(|&i| text.is_char_boundary(i))
-            .unwrap_or(0);
         text[..end].matches('\n').count() as u64 + 1
     });
     let at = e.span().map_or(0, |s| s.start.min(text.len()));
@@ -487,18 +486,34 @@ pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
 /// serde's data errors in the words of the file: the key and its table
 /// named, Rust's type names (`usize`, `f64`) said as what the value must be.
 /// A syntax error stays "invalid TOML".
+/// `[name]` or `[[name]]` when `line` is a table header (not the continuation
+/// of a multi-line array such as `[1.0, 2.0],`).
+fn table_header(line: &str) -> Option<String> {
+    let l = line.trim();
+    let double = l.starts_with("[[");
+    let inner = l.strip_prefix(if double { "[[" } else { "[" })?;
+    let (name, _) = inner.split_once(']')?;
+    let name = name.trim();
+    let ok = name.starts_with(|c: char| c.is_alphabetic() || c == '"')
+        && name
+            .chars()
+            .all(|c| c.is_alphanumeric() || "_-.\" ".contains(c));
+    ok.then(|| {
+        if double {
+            format!("[[{name}]]")
+        } else {
+            format!("[{name}]")
+        }
+    })
+}
+
 fn plain_toml_message(message: &str, text: &str, at: usize) -> String {
     let at = (0..=at)
         .rev()
         .find(|&i| text.is_char_boundary(i))
         .unwrap_or(0);
     let before = &text[..at];
-    let table = before
-        .lines()
-        .rev()
-        .map(str::trim)
-        .find(|l| l.starts_with('['))
-        .map(|l| l.split(']').next().unwrap_or(l).to_string() + "]");
+    let table = before.lines().rev().find_map(table_header);
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let line = text[line_start..].lines().next().unwrap_or("");
     let key = line
@@ -517,8 +532,7 @@ fn plain_toml_message(message: &str, text: &str, at: usize) -> String {
             .lines()
             .map(str::trim)
             .find(|l| !l.is_empty() && !l.starts_with('#'))
-            .filter(|l| l.starts_with('['))
-            .map(|l| l.split(']').next().unwrap_or(l).to_string() + "]");
+            .and_then(table_header);
         let within = header.map_or(within, |t| format!(" in {t}"));
         return format!(
             "missing key `{field}`{within}: add `{field} = ...` (see the file formats in docs/)"
@@ -684,6 +698,45 @@ pub fn fmt_short(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Table headers are told from the rows of a multi-line array.
+    #[test]
+    fn table_headers_are_not_array_rows() {
+        assert_eq!(table_header("[photos]").as_deref(), Some("[photos]"));
+        assert_eq!(
+            table_header("  [[load]] # a load").as_deref(),
+            Some("[[load]]")
+        );
+        assert_eq!(table_header("[1.0, 2.0],"), None);
+        assert_eq!(table_header("[3.5]"), None);
+        assert_eq!(table_header("roi_px = [1, 2, 3, 4]"), None);
+    }
+
+    /// A wrong value inside a table after a multi-line array names the
+    /// table, not a row of the array.
+    #[test]
+    fn toml_messages_name_the_table_past_multi_line_arrays() {
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct Cal {
+            points_px: Vec<[f64; 2]>,
+            clamp_row_px: f64,
+        }
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct File {
+            calibration: Cal,
+        }
+        let text = "[calibration]\npoints_px = [\n  [1.0, 2.0],\n  [3.0, 4.0],\n]\nclamp_row_px = \"low\"\n";
+        let e = toml::from_str::<File>(text).unwrap_err();
+        let m = toml_error(Path::new("e.toml"), text, &e);
+        assert_eq!(m.line, Some(6), "{m}");
+        assert!(
+            m.message
+                .contains("`clamp_row_px` in [calibration] must be a number"),
+            "{m}"
+        );
+    }
 
     #[test]
     fn missing_column_names_file_and_found_columns() {
