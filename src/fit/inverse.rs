@@ -111,6 +111,9 @@ pub struct Refined {
     pub iterations: u64,
     /// Axisymmetric solves spent.
     pub solves: usize,
+    /// What the correction was held to, if anything (a quartic's implied
+    /// stress kept increasing over its strain range).
+    pub constraint: Option<String>,
 }
 
 impl Refined {
@@ -159,6 +162,9 @@ impl Refined {
         }
         if let Some(v) = Refined::rms(&self.after) {
             t.insert("height_rms_after".into(), v.into());
+        }
+        if let Some(c) = &self.constraint {
+            t.insert("constraint".into(), c.clone().into());
         }
         t.insert("iterations".into(), (self.iterations as i64).into());
         t.insert("axisym_solves".into(), (self.solves as i64).into());
@@ -284,7 +290,19 @@ struct Problem<'a> {
     /// `Some(x0)`: the unknown is one factor on `x0`'s stress-like
     /// parameters (the first stage, robust from a start far off).
     scale_of: Option<Vec<f64>>,
+    /// A quartic's strain range, over which its implied stress must rise.
+    monotone: Option<[f64; 2]>,
 }
+
+/// Strains of the range at which a quartic's implied-stress slope is held
+/// non-negative.
+const MONOTONE_SAMPLES: usize = 24;
+/// Weight of a negative slope (in units of the law's `c_0`) against the
+/// relative height errors.
+const MONOTONE_WEIGHT: f64 = 10.0;
+/// The slope asked for, in units of `c_0`: a small cushion, so that what the
+/// penalty leaves of a violation stays on the rising side.
+const MONOTONE_MARGIN: f64 = 0.02;
 
 impl Problem<'_> {
     fn material(&self, x: &[f64]) -> Material {
@@ -314,11 +332,36 @@ impl Problem<'_> {
             .collect()
     }
 
+    /// Per sampled strain, `min(0, dS/deps / c_0 - margin)` with `S = E(eps)
+    /// eps` the quartic's implied stress: zero wherever the stress rises.
+    fn softening(&self, x: &[f64]) -> Vec<f64> {
+        let Some([lo, hi]) = self.monotone else {
+            return Vec::new();
+        };
+        let Model::Quartic {
+            coefficients_pa, ..
+        } = self.material(x).model
+        else {
+            return Vec::new();
+        };
+        let unit = coefficients_pa.first().map_or(1.0, |c| c.abs().max(1.0));
+        (0..MONOTONE_SAMPLES)
+            .map(|k| {
+                let eps = lo + (hi - lo) * k as f64 / (MONOTONE_SAMPLES - 1) as f64;
+                let slope: f64 = coefficients_pa
+                    .iter()
+                    .enumerate()
+                    .map(|(j, c)| (j + 1) as f64 * c * eps.powi(j as i32))
+                    .sum();
+                MONOTONE_WEIGHT * (slope / unit - MONOTONE_MARGIN).min(0.0)
+            })
+            .collect()
+    }
+
     fn residuals(&self, x: &[f64]) -> DVector<f64> {
-        DVector::from_iterator(
-            self.points.len(),
-            self.errors(x).into_iter().map(|e| e.unwrap_or(f64::NAN)),
-        )
+        let heights = self.errors(x).into_iter().map(|e| e.unwrap_or(f64::NAN));
+        let soft = self.softening(x);
+        DVector::from_iterator(self.points.len() + soft.len(), heights.chain(soft))
     }
 }
 
@@ -334,7 +377,10 @@ impl Jacobian for Problem<'_> {
     type Param = DVector<f64>;
     type Jacobian = DMatrix<f64>;
     fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
-        let (n, p) = (self.points.len(), x.len());
+        let (n, p) = (
+            self.points.len() + self.softening(x.as_slice()).len(),
+            x.len(),
+        );
         let mut jac = DMatrix::zeros(n, p);
         let r0 = std::cell::OnceCell::new();
         for k in 0..p {
@@ -400,6 +446,12 @@ pub fn refine(
         opts: &opts.axisym,
         solves: &solves,
         scale_of: None,
+        monotone: match &material.model {
+            Model::Quartic { strain_range, .. } if strain_range[1] > strain_range[0] => {
+                Some(*strain_range)
+            }
+            _ => None,
+        },
     };
     let before = problem.errors(&x0);
     if let Some(i) = before.iter().position(Option::is_none) {
@@ -443,6 +495,11 @@ pub fn refine(
         after,
         iterations,
         solves: solves.load(Ordering::Relaxed),
+        constraint: problem.monotone.map(|[lo, hi]| {
+            format!(
+                "the implied stress E(eps)*eps kept increasing over the strain range [{lo:.6}, {hi:.6}] (a penalty on a slope below {MONOTONE_MARGIN} c0 at {MONOTONE_SAMPLES} strains, weight {MONOTONE_WEIGHT})"
+            )
+        }),
     })
 }
 

@@ -240,6 +240,9 @@ pub struct RefinedRecord {
     /// The law fitted to the stress/strain points, before the correction.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cap_law: Option<Model>,
+    /// What the correction was held to, if anything.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub constraint: Option<String>,
 }
 
 impl RefinedRecord {
@@ -252,6 +255,7 @@ impl RefinedRecord {
             iterations: r.iterations,
             axisym_solves: r.solves,
             cap_law: Some(cap.clone()),
+            constraint: r.constraint.clone(),
         }
     }
 }

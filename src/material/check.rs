@@ -560,6 +560,7 @@ mod tests {
                     iterations: 3,
                     axisym_solves: 40,
                     cap_law: Some(Model::NeoHookean { c1_pa: 1.0e5 }),
+                    constraint: None,
                 }),
                 ..Default::default()
             };

@@ -408,7 +408,30 @@ fn to_heights_corrects_the_law_to_the_measured_heights() {
     )
     .ok();
     let fixed = read_material(&d.join("fixed.toml"));
-    assert!(fixed.fit.as_ref().unwrap().refined.is_some());
+    let refined = fixed.fit.as_ref().unwrap().refined.as_ref().unwrap();
+    assert!(refined.constraint.is_some(), "{refined:?}");
+    // The corrected quartic stays physical: its implied stress E(eps) eps
+    // rises over the whole strain range (no snap-through inside the data).
+    let Model::Quartic {
+        coefficients_pa,
+        strain_range: [lo, hi],
+        ..
+    } = &fixed.model
+    else {
+        panic!("{:?}", fixed.model)
+    };
+    for k in 0..=400 {
+        let eps = lo + (hi - lo) * k as f64 / 400.0;
+        let slope: f64 = coefficients_pa
+            .iter()
+            .enumerate()
+            .map(|(j, c)| (j + 1) as f64 * c * eps.powi(j as i32))
+            .sum();
+        assert!(
+            slope > 0.0,
+            "implied stress falls at strain {eps}: slope {slope}"
+        );
+    }
     let measured = columns(&d.join("ss.csv"), "pressure_pa", "height_m");
     let pressures: Vec<String> = measured.iter().map(|m| m.0.to_string()).collect();
     let rms = |material: &str| {
