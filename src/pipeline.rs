@@ -946,22 +946,16 @@ pub fn extrapolation_warnings(
         list(&above),
         fmt_short(top)
     )];
-    let opts = axisym::Options {
-        n_profile: 2,
-        ..axisym::Options::default()
-    };
-    if let Ok(Some(lp)) = axisym::limit_point(material, spec, &opts) {
-        let past: Vec<f64> = above
-            .iter()
-            .copied()
-            .filter(|&p| p > lp.pressure_pa)
-            .collect();
+    if let Some((limit_pa, limit_m)) =
+        crate::sim::hard::disc_limit_point(material, spec.radius_m, spec.thickness_m)
+    {
+        let past: Vec<f64> = above.iter().copied().filter(|&p| p > limit_pa).collect();
         if !past.is_empty() {
             out.push(format!(
                 "{} Pa past the limit point of the fitted law ({} Pa, apex {} m): a pressure-controlled bubble snaps through there, so no height the springs give there is one a real bubble holds",
                 list(&past),
-                fmt_short(lp.pressure_pa),
-                fmt_short(lp.height_m)
+                fmt_short(limit_pa),
+                fmt_short(limit_m)
             ));
         }
     }

@@ -244,7 +244,19 @@ struct Problem<'a> {
     jm_min: f64,
 }
 
-impl Problem<'_> {
+impl<'a> Problem<'a> {
+    /// The least-squares problem of `kind` on `data`, stresses over `scale`.
+    fn on(kind: Kind, data: &'a Equibiaxial, scale: f64, jm_min: f64) -> Self {
+        Problem {
+            kind,
+            stretch: &data.stretch,
+            target: data.stress_pa.iter().map(|s| s / scale).collect(),
+            measure: data.measure,
+            scale,
+            jm_min,
+        }
+    }
+
     fn unscale(&self, x: &DVector<f64>) -> Vec<f64> {
         (0..x.len())
             .map(|k| {
@@ -459,27 +471,12 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         return Err(FitError::ZeroStress);
     }
     let jm_min = data.stretch.iter().map(|&l| j_of(l)).fold(0.0f64, f64::max);
-    let full = || Problem {
-        kind,
-        stretch: &data.stretch,
-        target: data.stress_pa.iter().map(|s| s / scale).collect(),
-        measure: data.measure,
-        scale,
-        jm_min,
-    };
     // Many points: the starts run on an evenly spaced subset (the curve is
     // as well resolved, the cost of a start no longer grows with the data),
     // then the chosen end point is polished on every point.
     let sub = (data.stretch.len() > MAX_START_POINTS).then(|| data.thinned(MAX_START_POINTS));
     let starts_data = sub.as_ref().unwrap_or(data);
-    let problem = || Problem {
-        kind,
-        stretch: &starts_data.stretch,
-        target: starts_data.stress_pa.iter().map(|s| s / scale).collect(),
-        measure: data.measure,
-        scale,
-        jm_min,
-    };
+    let problem = || Problem::on(kind, starts_data, scale, jm_min);
     let starts = starting_points(kind, starts_data, scale, jm_min)?;
     let n_starts = starts.len();
     let mut ends: Vec<(f64, lm::LmResult)> = Vec::new();
@@ -516,7 +513,11 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
     if sub.is_some() {
         // The polish starts at the chosen end point: on a subset as dense
         // as this one it moves little, and LM never raises the RSS.
-        match lm::minimize(full(), run.x.clone(), MAX_POLISH_ITERS) {
+        match lm::minimize(
+            Problem::on(kind, data, scale, jm_min),
+            run.x.clone(),
+            MAX_POLISH_ITERS,
+        ) {
             Ok(polished) => {
                 total_iterations += polished.iterations;
                 run = polished;
@@ -530,7 +531,7 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
             }
         }
     }
-    let pb = full();
+    let pb = Problem::on(kind, data, scale, jm_min);
     let xu = pb.unscale(&run.x);
     let model = kind.model(&xu);
     let residuals_pa = data.residuals(&model);

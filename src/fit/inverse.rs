@@ -35,6 +35,7 @@ use rayon::prelude::*;
 use super::FitError;
 use super::hyperelastic::Kind;
 use super::lm;
+use super::quartic;
 use crate::axisym;
 use crate::experiment::Specimen;
 use crate::material::{Material, Model};
@@ -348,20 +349,20 @@ impl Problem<'_> {
         (0..MONOTONE_SAMPLES)
             .map(|k| {
                 let eps = lo + (hi - lo) * k as f64 / (MONOTONE_SAMPLES - 1) as f64;
-                let slope: f64 = coefficients_pa
-                    .iter()
-                    .enumerate()
-                    .map(|(j, c)| (j + 1) as f64 * c * eps.powi(j as i32))
-                    .sum();
+                let slope = quartic::implied_stress_slope(&coefficients_pa, eps);
                 MONOTONE_WEIGHT * (slope / unit - MONOTONE_MARGIN).min(0.0)
             })
             .collect()
     }
 
+    /// The heights' relative errors, then the softening penalties.
+    fn n_residuals(&self) -> usize {
+        self.points.len() + self.monotone.map_or(0, |_| MONOTONE_SAMPLES)
+    }
+
     fn residuals(&self, x: &[f64]) -> DVector<f64> {
         let heights = self.errors(x).into_iter().map(|e| e.unwrap_or(f64::NAN));
-        let soft = self.softening(x);
-        DVector::from_iterator(self.points.len() + soft.len(), heights.chain(soft))
+        DVector::from_iterator(self.n_residuals(), heights.chain(self.softening(x)))
     }
 }
 
@@ -377,10 +378,7 @@ impl Jacobian for Problem<'_> {
     type Param = DVector<f64>;
     type Jacobian = DMatrix<f64>;
     fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
-        let (n, p) = (
-            self.points.len() + self.softening(x.as_slice()).len(),
-            x.len(),
-        );
+        let (n, p) = (self.n_residuals(), x.len());
         let mut jac = DMatrix::zeros(n, p);
         let r0 = std::cell::OnceCell::new();
         for k in 0..p {

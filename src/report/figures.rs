@@ -37,22 +37,21 @@ pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figu
             .iter()
             .filter_map(|p| p.height_m.map(|h| (p.pressure_pa * 1e-3, h * 1e3)))
             .collect();
-        let s = Series::line(r.model.to_string(), line).color(k + 1);
-        top = top.with(if r.model == HeightModel::Axisym {
-            s.dashed()
-        } else {
-            s
-        });
+        // the exact reference dashed, the spring models solid
+        let series = |points| {
+            let s = Series::line(r.model.to_string(), points).color(k + 1);
+            if r.model == HeightModel::Axisym {
+                s.dashed()
+            } else {
+                s
+            }
+        };
+        top = top.with(series(line));
         let e: Vec<(f64, f64)> = rows
             .iter()
             .filter_map(|row| row.rel_errors()[k].map(|e| (row.pressure_pa * 1e-3, e * 100.0)))
             .collect();
-        let s = Series::line(r.model.to_string(), e).color(k + 1);
-        bottom = bottom.with(if r.model == HeightModel::Axisym {
-            s.dashed()
-        } else {
-            s
-        });
+        bottom = bottom.with(series(e));
     }
     Figure::new(
         "Apex height against pressure: measured and simulated",

@@ -18,10 +18,13 @@ pub fn disc_limit_point(
     radius_m: f64,
     thickness_m: f64,
 ) -> Option<(f64, f64)> {
+    // The exact solution takes the Poisson ratio from the material (and
+    // needs none for the incompressible hyperelastic models, whose 0.5 a
+    // specimen refuses): the specimen's is not used.
     let spec = Specimen {
         radius_m,
         thickness_m,
-        poisson: material.poisson,
+        poisson: 0.0,
         prebulge_height_m: 0.0,
     };
     crate::axisym::limit_point(material, &spec, &crate::axisym::Options::default())

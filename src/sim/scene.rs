@@ -441,6 +441,22 @@ impl Scene {
         Ok(scene)
     }
 
+    /// Whether the scene needs a pressure list: every scene but a sheet
+    /// with nodal loads, which its loads alone can deform.
+    pub fn needs_pressures(&self) -> bool {
+        !matches!(self.kind, SceneKind::Sheet { .. }) || self.loads.is_empty()
+    }
+
+    /// The pressures to solve at: the list, or one state at pressure 0
+    /// under the nodal loads alone when there is no list.
+    pub fn pressures_to_solve(&self) -> Vec<f64> {
+        if self.pressures_pa.is_empty() && !self.loads.is_empty() {
+            vec![0.0]
+        } else {
+            self.pressures_pa.clone()
+        }
+    }
+
     /// Checks lengths, loads and (when `need_pressures`) the pressure list.
     pub fn validate(&self, need_pressures: bool) -> Result<(), SceneError> {
         let pos = |v: f64, key: &'static str| {

@@ -13,7 +13,7 @@ mod dynamic;
 mod scene;
 mod statics;
 
-use scene::{build_scene, load_scene};
+use scene::build_scene;
 
 use bulge::sim::mesh::Mesh;
 use bulge::sim::scene::{Scene, SceneKind};

@@ -8,29 +8,22 @@ use anyhow::anyhow;
 use super::Args;
 use bulge::experiment::Experiment;
 use bulge::material::Material;
-use bulge::sim::scene::{MeshSize, Scene, SceneKind};
+use bulge::sim::scene::{MeshSize, Scene};
 
-/// The scene, validated for a static run: pressures required, except for a
-/// sheet with nodal loads, which is solved once under its loads alone
-/// (pressure 0).
+/// The scene, validated: pressures required, except for a sheet with nodal
+/// loads (solved under its loads alone when it has no pressure list, see
+/// [`Scene::pressures_to_solve`]).
 pub(super) fn build_scene(args: &Args) -> anyhow::Result<Scene> {
-    let (mut scene, origin) = load_scene(args)?;
-    let loads_only = matches!(scene.kind, SceneKind::Sheet { .. })
-        && !scene.loads.is_empty()
-        && scene.pressures_pa.is_empty();
+    let (scene, origin) = load_scene(args)?;
     scene
-        .validate(!loads_only)
+        .validate(scene.needs_pressures())
         .map_err(|m| anyhow!("{origin}: {m}"))?;
-    if loads_only {
-        scene.pressures_pa = vec![0.0];
-    }
     Ok(scene)
 }
 
 /// Reads the scene (a scene file, or `--experiment` + `--material`), applies
-/// the overriding flags, and returns it with the name of where it came from;
-/// the static and dynamic paths validate it each their own way.
-pub(super) fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
+/// the overriding flags, and returns it with the name of where it came from.
+fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
     let material = match &args.material {
         Some(p) => Some(Material::read(p)?),
         None => None,

@@ -79,7 +79,8 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
     let mut failures: Vec<String> = Vec::new();
     let mut table = Vec::new();
     let runs = models.len() * args.solver.len() + usize::from(axisym);
-    let n_p = scene.pressures_pa.len();
+    let pressures = scene.pressures_to_solve();
+    let n_p = pressures.len();
     let pb = crate::cli::progress((runs * n_p) as u64, "simulate");
     let mut profile_out = None;
     if axisym {
@@ -100,7 +101,7 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
                 .map_err(|e| anyhow!("{e}"))
                 .bad_input()?;
             let (m, sv) = (model.name(), solver.name());
-            let swept = s.sweep(&scene.pressures_pa, |s, q| {
+            let swept = s.sweep(&pressures, |s, q| {
                 pb.inc(1);
                 let mut row = vec![
                     fmt_num(Some(q.pressure_pa)),

@@ -169,6 +169,29 @@ impl Default for DynOptions {
     }
 }
 
+/// Most (sub-)steps one run may take.
+const MAX_STEPS: usize = 50_000_000;
+
+/// The refusal of a run that would need more than [`MAX_STEPS`] sub-steps
+/// (`at_s`: the time at which a re-estimate of the step asked for them).
+fn too_many_substeps(
+    opts: &DynOptions,
+    substeps: usize,
+    steps: usize,
+    at_s: Option<f64>,
+) -> DynError {
+    let when = at_s.map_or(String::new(), |t| {
+        format!("at t = {t:.4e} s the stable step fell: ")
+    });
+    DynError::BadParameter(format!(
+        "{when}the end time {} s needs {} sub-steps of {:.3e} s (the stable limit of {}); at most 5e7 are allowed: shorten the run, coarsen the mesh or use implicit-euler",
+        opts.t_end_s,
+        substeps.saturating_mul(steps),
+        opts.dt_s / substeps as f64,
+        opts.integrator.name()
+    ))
+}
+
 fn limit_text(dt_crit_s: &f64) -> String {
     if dt_crit_s.is_finite() {
         format!("Its estimated step limit at the start was {dt_crit_s:.3e} s")
@@ -496,7 +519,7 @@ impl<'a> Dynamics<'a> {
             )));
         }
         let steps = (opts.t_end_s / opts.dt_s).round().max(1.0) as usize;
-        if steps > 50_000_000 {
+        if steps > MAX_STEPS {
             return Err(DynError::BadParameter(format!(
                 "the end time {} s over the time step {} s is {steps} steps; at most 5e7 are allowed",
                 opts.t_end_s, opts.dt_s
@@ -536,14 +559,8 @@ impl<'a> Dynamics<'a> {
                 }
                 _ => {}
             }
-            if substeps.saturating_mul(steps) > 50_000_000 {
-                return Err(DynError::BadParameter(format!(
-                    "the end time {} s needs {} sub-steps of {:.3e} s (the stable limit of {}); at most 5e7 are allowed: shorten the run, coarsen the mesh or use implicit-euler",
-                    opts.t_end_s,
-                    substeps.saturating_mul(steps),
-                    opts.dt_s / substeps as f64,
-                    integ.name()
-                )));
+            if substeps.saturating_mul(steps) > MAX_STEPS {
+                return Err(too_many_substeps(opts, substeps, steps, None));
             }
         }
         let mut h = opts.dt_s / substeps as f64;
@@ -582,7 +599,7 @@ impl<'a> Dynamics<'a> {
         let mut stepper: Box<dyn Step> = match integ {
             Integrator::ExplicitEuler => Box::new(ExplicitEuler::new(n)),
             Integrator::SymplecticEuler => Box::new(SymplecticEuler::new(n)),
-            Integrator::Verlet => Box::new(Verlet::new(n)),
+            Integrator::Verlet => Box::new(Verlet::new(n, self.damping.iter().any(|&c| c > 0.0))),
             Integrator::ImplicitEuler => Box::new(ImplicitEuler::new(self, opts)),
             Integrator::Xpbd => Box::new(Xpbd::new(x, self.mesh.edges.len(), opts.xpbd_iterations)),
         };
@@ -599,12 +616,9 @@ impl<'a> Dynamics<'a> {
                 let lim = est.limit(integ);
                 if lim.is_finite() && lim > 0.0 && h > est.safety() * lim {
                     let more = (opts.dt_s / (est.safety() * lim)).ceil() as usize;
-                    if more.saturating_mul(steps) > 50_000_000 {
-                        return Err(DynError::BadParameter(format!(
-                            "at t = {:.4e} s the stable step of {} fell to {lim:.3e} s: the run would need more than 5e7 sub-steps; shorten it, coarsen the mesh or use implicit-euler",
-                            step as f64 * opts.dt_s,
-                            integ.name()
-                        )));
+                    if more.saturating_mul(steps) > MAX_STEPS {
+                        let at_s = step as f64 * opts.dt_s;
+                        return Err(too_many_substeps(opts, more, steps, Some(at_s)));
                     }
                     substeps = more.max(substeps);
                     h = opts.dt_s / substeps as f64;

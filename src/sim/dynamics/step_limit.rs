@@ -62,47 +62,40 @@ impl StepEstimate {
     /// The stable step limit of an integrator, s (infinite for the implicit
     /// ones; 0 for explicit Euler without damping).
     pub fn limit(&self, integrator: Integrator) -> f64 {
+        // `limit_of(x)`: `x / rate`, infinite when the rate is not positive
+        let limit_of = |x: f64, rate: f64| if rate > 0.0 { x / rate } else { f64::INFINITY };
         let by_mode = |w: f64, z: f64| -> f64 {
             if w.is_nan() || w <= 0.0 {
                 return f64::INFINITY;
             }
-            match integrator {
-                Integrator::ExplicitEuler => {
-                    if z < 1.0 {
-                        2.0 * z / w
-                    } else {
-                        2.0 / (w * (z + (z * z - 1.0).sqrt()))
-                    }
+            if integrator == Integrator::ExplicitEuler {
+                if z < 1.0 {
+                    2.0 * z / w
+                } else {
+                    2.0 / (w * (z + (z * z - 1.0).sqrt()))
                 }
-                Integrator::SymplecticEuler => 2.0 / w * ((1.0 + z * z).sqrt() - z),
-                _ => f64::INFINITY,
+            } else {
+                2.0 / w * ((1.0 + z * z).sqrt() - z)
             }
         };
-        let stiff = by_mode(self.omega_max, self.zeta);
-        // the most damped mode: its rate c = 2 zeta w; with w <= omega_max its
-        // limit is at least that of w = omega_max with the same c
-        let damped = if self.damping_rate > 0.0 && self.omega_max > 0.0 {
-            by_mode(self.omega_max, self.damping_rate / (2.0 * self.omega_max))
-        } else {
-            f64::INFINITY
-        };
-        if !integrator.is_explicit() {
-            return f64::INFINITY;
+        match integrator {
+            Integrator::ImplicitEuler | Integrator::Xpbd => f64::INFINITY,
+            Integrator::Verlet => {
+                limit_of(2.0, self.omega_max).min(limit_of(4.0, self.damping_rate))
+            }
+            Integrator::ExplicitEuler | Integrator::SymplecticEuler => {
+                let stiff = by_mode(self.omega_max, self.zeta);
+                // the most damped mode: its rate c = 2 zeta w; with w <=
+                // omega_max its limit is at least that of w = omega_max with
+                // the same c
+                let damped = if self.damping_rate > 0.0 && self.omega_max > 0.0 {
+                    by_mode(self.omega_max, self.damping_rate / (2.0 * self.omega_max))
+                } else {
+                    f64::INFINITY
+                };
+                stiff.min(damped)
+            }
         }
-        if integrator == Integrator::Verlet {
-            let w = if self.omega_max > 0.0 {
-                2.0 / self.omega_max
-            } else {
-                f64::INFINITY
-            };
-            let c = if self.damping_rate > 0.0 {
-                4.0 / self.damping_rate
-            } else {
-                f64::INFINITY
-            };
-            return w.min(c);
-        }
-        stiff.min(damped)
     }
 }
 

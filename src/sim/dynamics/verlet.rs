@@ -22,14 +22,17 @@ use super::{DynError, Dynamics, Step, StepCost};
 pub(super) struct Verlet {
     f: Vec<Vector3<f64>>,
     v_mid: Vec<Vector3<f64>>,
+    /// Whether any dashpot acts (else the damping half-steps are skipped).
+    damped: bool,
 }
 
 impl Verlet {
-    /// A stepper for `n` nodes.
-    pub(super) fn new(n: usize) -> Verlet {
+    /// A stepper for `n` nodes, with or without dashpots.
+    pub(super) fn new(n: usize, damped: bool) -> Verlet {
         Verlet {
             f: vec![Vector3::zeros(); n],
             v_mid: vec![Vector3::zeros(); n],
+            damped,
         }
     }
 
@@ -61,7 +64,7 @@ impl Step for Verlet {
         _t: f64,
     ) -> Result<StepCost, DynError> {
         let n = x.len();
-        let damped = d.damping.iter().any(|&c| c > 0.0);
+        let damped = self.damped;
         if damped {
             self.damp(d, x, v, 0.5 * h);
         }

@@ -7,11 +7,11 @@ use anyhow::{Context, anyhow};
 
 mod runs;
 
-use super::{Args, describe, finish};
+use super::{Args, build_scene, describe, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::write_atomic;
 use bulge::sim::dynamics::{DampingLaw, Integrator, StepPolicy};
-use bulge::sim::scene::{Scene, SceneKind};
+use bulge::sim::scene::SceneKind;
 use bulge::sim::springs::{HeightModel, SpringModel};
 
 /// Flags of the dynamic runs (used with --dynamic).
@@ -62,16 +62,6 @@ pub struct DynArgs {
     pub trace: Option<PathBuf>,
 }
 
-fn build_scene(args: &Args) -> anyhow::Result<Scene> {
-    let (scene, origin) = super::load_scene(args)?;
-    // a sheet may be loaded by its nodal loads alone
-    let need_p = !matches!(scene.kind, SceneKind::Sheet { .. }) || scene.loads.is_empty();
-    scene
-        .validate(need_p)
-        .map_err(|m| anyhow!("{origin}: {m}"))?;
-    Ok(scene)
-}
-
 /// Runs `bulge simulate --dynamic`.
 pub fn run(args: Args) -> Result<(), Failure> {
     let d = args.dynamic.clone();
@@ -114,11 +104,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .build_mesh()
         .context("building the mesh")
         .bad_input()?;
-    let pressures: Vec<f64> = if scene.pressures_pa.is_empty() {
-        vec![0.0]
-    } else {
-        scene.pressures_pa.clone()
-    };
+    let pressures = scene.pressures_to_solve();
     if matches!(scene.kind, SceneKind::Sheet { .. })
         && pressures.iter().all(|&p| p == 0.0)
         && scene.loads.iter().all(|l| l.force_n[2] == 0.0)
