@@ -59,6 +59,20 @@ impl StepEstimate {
         }
     }
 
+    /// The share of [`StepEstimate::limit`] above which a running step is
+    /// split again when the step is re-estimated along the run: a margin
+    /// above [`StepEstimate::safety`], so that a frequency that rises by a
+    /// few per cent does not halve the step, and every change of step (which
+    /// breaks Verlet's conservation of a modified energy) is rare. Without
+    /// damping it stays below Verlet's resonance at `h w = sqrt(2)`.
+    pub fn resplit(&self) -> f64 {
+        if self.zeta < super::UNDAMPED_ZETA {
+            super::STEP_RESPLIT_UNDAMPED
+        } else {
+            super::STEP_RESPLIT
+        }
+    }
+
     /// The stable step limit of an integrator, s (infinite for the implicit
     /// ones; 0 for explicit Euler without damping).
     pub fn limit(&self, integrator: Integrator) -> f64 {

@@ -30,8 +30,9 @@ pub struct DynArgs {
     #[arg(long, default_value = "verlet", value_enum, value_delimiter = ',')]
     pub integrator: Vec<Integrator>,
     /// Time step in s. Default: 0.9 of Verlet's stable step estimated for the
-    /// mesh at rest (0.7 without damping: the stiffest frequency rises as
-    /// the membrane inflates). An explicit integrator given a larger step sub-steps (or
+    /// mesh at rest (0.5 without damping: Verlet's nonlinear resonances lie
+    /// below its limit and the stiffest frequency rises as the membrane
+    /// inflates). An explicit integrator given a larger step sub-steps (or
     /// refuses, see --step-policy).
     #[arg(long)]
     pub dt: Option<f64>,
