@@ -25,6 +25,8 @@
 //! its Hessian in `(l1, l2)`, computed exactly with second-order dual numbers
 //! (no finite differences), for the fits and the axisymmetric shooting.
 
+use nalgebra::SVector;
+use num_dual::{Dual2SVec, DualNum};
 use serde::{Deserialize, Serialize};
 
 mod check;
@@ -202,17 +204,63 @@ pub struct EnergyDerivatives {
 impl Hyperelastic<'_> {
     /// Energy and derivatives at in-plane stretches `(l1, l2)`, both > 0.
     pub fn derivatives(&self, l1: f64, l2: f64) -> EnergyDerivatives {
-        let w = self.energy(D2::var(l1, 0), D2::var(l2, 1));
+        let th = self.params();
+        let (w, g, h) = self.derivatives_with(&th, l1, l2);
         EnergyDerivatives {
-            w: w.v,
-            grad: w.g,
-            hess: w.h,
+            w,
+            grad: g,
+            hess: h,
+        }
+    }
+
+    /// As [`Hyperelastic::derivatives`], with the parameters `th` (in the
+    /// order of [`Hyperelastic::params`]) and the stretches of any dual
+    /// number type: the derivatives of `W`, `P_i` and `dP_i/dl_j` with
+    /// respect to whatever `th`, `l1` and `l2` carry come out exactly
+    /// (forward-mode automatic differentiation).
+    pub fn derivatives_with<T: DualNum<f64> + Copy>(
+        &self,
+        th: &[T],
+        l1: T,
+        l2: T,
+    ) -> (T, [T; 2], [[T; 2]; 2]) {
+        let (w, g, h) = num_dual::hessian(
+            |v: SVector<Dual2SVec<T, f64, 2>, 2>| {
+                let th: Vec<Dual2SVec<T, f64, 2>> =
+                    th.iter().map(|&p| Dual2SVec::from_re(p)).collect();
+                self.energy(&th, v[0], v[1])
+            },
+            &SVector::from([l1, l2]),
+        );
+        (
+            w,
+            [g[0], g[1]],
+            [[h[(0, 0)], h[(0, 1)]], [h[(1, 0)], h[(1, 1)]]],
+        )
+    }
+
+    /// The model's parameters in a fixed order: `[c1]`, `[c1, c2]`,
+    /// `[c1, c2, c3]`, `[mu_1.., alpha_1..]`, `[mu, jm]`.
+    pub fn params(&self) -> Vec<f64> {
+        match self.0 {
+            Model::NeoHookean { c1_pa } => vec![*c1_pa],
+            Model::MooneyRivlin { c1_pa, c2_pa } => vec![*c1_pa, *c2_pa],
+            Model::Yeoh {
+                c1_pa,
+                c2_pa,
+                c3_pa,
+            } => vec![*c1_pa, *c2_pa, *c3_pa],
+            Model::Ogden { mu_pa, alpha } => mu_pa.iter().chain(alpha).copied().collect(),
+            Model::Gent { mu_pa, jm } => vec![*mu_pa, *jm],
+            Model::Linear { .. } | Model::Quartic { .. } => {
+                unreachable!("Hyperelastic is only built for hyperelastic models")
+            }
         }
     }
 
     /// Strain energy only, Pa.
     pub fn w(&self, l1: f64, l2: f64) -> f64 {
-        self.energy(D2::cst(l1), D2::cst(l2)).v
+        self.energy(&self.params(), l1, l2)
     }
 
     /// Equibiaxial nominal stress `P = dW/dl1 (l, l)`, Pa.
@@ -225,148 +273,39 @@ impl Hyperelastic<'_> {
         l * self.equibiaxial_nominal(l)
     }
 
-    fn energy(&self, l1: D2, l2: D2) -> D2 {
+    /// `W(l1, l2)` with the parameters `th` (see [`Hyperelastic::params`]),
+    /// incompressible: `l3 = 1 / (l1 l2)`.
+    fn energy<T: DualNum<f64> + Copy>(&self, th: &[T], l1: T, l2: T) -> T {
         let l3 = (l1 * l2).recip();
         let i1 = || l1 * l1 + l2 * l2 + l3 * l3 - 3.0;
         match self.0 {
-            Model::NeoHookean { c1_pa } => i1() * *c1_pa,
-            Model::MooneyRivlin { c1_pa, c2_pa } => {
+            Model::NeoHookean { .. } => i1() * th[0],
+            Model::MooneyRivlin { .. } => {
                 let i2 = (l1 * l1).recip() + (l2 * l2).recip() + (l3 * l3).recip() - 3.0;
-                i1() * *c1_pa + i2 * *c2_pa
+                i1() * th[0] + i2 * th[1]
             }
-            Model::Yeoh {
-                c1_pa,
-                c2_pa,
-                c3_pa,
-            } => {
+            Model::Yeoh { .. } => {
                 let j = i1();
-                j * *c1_pa + j * j * *c2_pa + j * j * j * *c3_pa
+                j * th[0] + j * j * th[1] + j * j * j * th[2]
             }
-            Model::Ogden { mu_pa, alpha } => {
-                let mut w = D2::cst(0.0);
-                for (m, a) in mu_pa.iter().zip(alpha) {
-                    w = w + (l1.powf(*a) + l2.powf(*a) + l3.powf(*a) - 3.0) * (m / a);
+            Model::Ogden { mu_pa, .. } => {
+                let n = mu_pa.len();
+                let mut w = T::from(0.0);
+                for k in 0..n {
+                    let (m, a) = (th[k], th[n + k]);
+                    let pow = |l: T| (a * l.ln()).exp();
+                    w += (pow(l1) + pow(l2) + pow(l3) - 3.0) * m / a;
                 }
                 w
             }
-            Model::Gent { mu_pa, jm } => {
-                (D2::cst(1.0) - i1() * (1.0 / jm)).ln() * (-mu_pa * jm / 2.0)
+            Model::Gent { .. } => {
+                let (mu, jm) = (th[0], th[1]);
+                -(T::from(1.0) - i1() / jm).ln() * mu * jm * 0.5
             }
             Model::Linear { .. } | Model::Quartic { .. } => {
                 unreachable!("Hyperelastic is only built for hyperelastic models")
             }
         }
-    }
-}
-
-/// Second-order dual number in two variables: value, gradient and Hessian.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct D2 {
-    v: f64,
-    g: [f64; 2],
-    h: [[f64; 2]; 2],
-}
-
-impl D2 {
-    fn cst(v: f64) -> Self {
-        Self {
-            v,
-            g: [0.0; 2],
-            h: [[0.0; 2]; 2],
-        }
-    }
-    fn var(v: f64, i: usize) -> Self {
-        let mut d = Self::cst(v);
-        d.g[i] = 1.0;
-        d
-    }
-    /// Applies a scalar function with value `f`, slope `f1` and curvature `f2`.
-    fn chain(self, f: f64, f1: f64, f2: f64) -> Self {
-        let mut out = Self::cst(f);
-        for i in 0..2 {
-            out.g[i] = f1 * self.g[i];
-            for j in 0..2 {
-                out.h[i][j] = f2 * self.g[i] * self.g[j] + f1 * self.h[i][j];
-            }
-        }
-        out
-    }
-    fn recip(self) -> Self {
-        let x = self.v;
-        self.chain(1.0 / x, -1.0 / (x * x), 2.0 / (x * x * x))
-    }
-    fn powf(self, p: f64) -> Self {
-        let x = self.v;
-        self.chain(
-            x.powf(p),
-            p * x.powf(p - 1.0),
-            p * (p - 1.0) * x.powf(p - 2.0),
-        )
-    }
-    fn ln(self) -> Self {
-        let x = self.v;
-        self.chain(x.ln(), 1.0 / x, -1.0 / (x * x))
-    }
-}
-
-impl std::ops::Add for D2 {
-    type Output = D2;
-    fn add(self, o: D2) -> D2 {
-        let mut r = self;
-        r.v += o.v;
-        for i in 0..2 {
-            r.g[i] += o.g[i];
-            for j in 0..2 {
-                r.h[i][j] += o.h[i][j];
-            }
-        }
-        r
-    }
-}
-
-impl std::ops::Sub for D2 {
-    type Output = D2;
-    fn sub(self, o: D2) -> D2 {
-        self + o * -1.0
-    }
-}
-
-impl std::ops::Sub<f64> for D2 {
-    type Output = D2;
-    fn sub(mut self, c: f64) -> D2 {
-        self.v -= c;
-        self
-    }
-}
-
-impl std::ops::Mul<f64> for D2 {
-    type Output = D2;
-    fn mul(mut self, c: f64) -> D2 {
-        self.v *= c;
-        for i in 0..2 {
-            self.g[i] *= c;
-            for j in 0..2 {
-                self.h[i][j] *= c;
-            }
-        }
-        self
-    }
-}
-
-impl std::ops::Mul for D2 {
-    type Output = D2;
-    fn mul(self, o: D2) -> D2 {
-        let mut r = D2::cst(self.v * o.v);
-        for i in 0..2 {
-            r.g[i] = self.g[i] * o.v + self.v * o.g[i];
-            for j in 0..2 {
-                r.h[i][j] = self.h[i][j] * o.v
-                    + self.g[i] * o.g[j]
-                    + self.g[j] * o.g[i]
-                    + self.v * o.h[i][j];
-            }
-        }
-        r
     }
 }
 

@@ -28,33 +28,33 @@
 //!   pole, where the stress stage's cap formulas and the fit live) `eps_m` is
 //!   the strain of the fit, so the fitted law is reproduced exactly there.
 
+use num_dual::DualNum;
+
 use crate::material::{Hyperelastic, Material, Model, StrainMeasure};
 
-/// Nominal stresses and their derivatives at one pair of stretches.
+/// Nominal stresses and their derivatives at one pair of stretches, of any
+/// dual number type `T` (`f64` for the plain solve).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Stress {
+pub struct Stress<T = f64> {
     /// `P1, P2`, Pa.
-    pub p: [f64; 2],
+    pub p: [T; 2],
     /// `dp[i][j] = dP_i / dl_j`, Pa.
-    pub dp: [[f64; 2]; 2],
+    pub dp: [[T; 2]; 2],
 }
 
-/// A material reduced to what the membrane equations need.
+/// The form of a law; its parameters are [`Law::params`].
 #[derive(Debug, Clone)]
-pub enum Law<'a> {
+enum Form<'a> {
     /// Incompressible hyperelastic energy.
     Hyper(Hyperelastic<'a>),
-    /// Linear plane stress, `P_i = c (e_i + nu e_j)`, `c = E/(1 - nu^2)`.
+    /// Linear plane stress, `P_i = E/(1 - nu^2) (e_i + nu e_j)`; parameter `[E]`.
     Linear {
-        /// `E / (1 - nu^2)`, Pa.
-        c: f64,
         /// Poisson ratio.
         nu: f64,
     },
-    /// Secant modulus polynomial at the equibiaxial-equivalent strain.
+    /// Secant modulus polynomial at the equibiaxial-equivalent strain;
+    /// parameters `[c_0, c_1, ..]` of `E(eps)`, Pa.
     Quartic {
-        /// `c_k / (1 - nu^2)`, Pa.
-        c: Vec<f64>,
         /// Poisson ratio.
         nu: f64,
         /// Strain measure the polynomial takes.
@@ -62,6 +62,14 @@ pub enum Law<'a> {
         /// Strain range the argument is clamped to.
         range: [f64; 2],
     },
+}
+
+/// A material reduced to what the membrane equations need: a form and its
+/// parameters.
+#[derive(Debug, Clone)]
+pub struct Law<'a> {
+    form: Form<'a>,
+    params: Vec<f64>,
 }
 
 impl<'a> Law<'a> {
@@ -82,9 +90,9 @@ impl<'a> Law<'a> {
                         "young_pa = {young_pa} must be a positive modulus in Pa"
                     )));
                 }
-                Law::Linear {
-                    c: young_pa / (1.0 - nu * nu),
-                    nu,
+                Law {
+                    form: Form::Linear { nu },
+                    params: vec![*young_pa],
                 }
             }
             Model::Quartic {
@@ -109,14 +117,13 @@ impl<'a> Law<'a> {
                         coefficients_pa[0]
                     )));
                 }
-                Law::Quartic {
-                    c: coefficients_pa
-                        .iter()
-                        .map(|c| c / (1.0 - nu * nu))
-                        .collect(),
-                    nu,
-                    measure: *strain_measure,
-                    range: [lo, hi],
+                Law {
+                    form: Form::Quartic {
+                        nu,
+                        measure: *strain_measure,
+                        range: [lo, hi],
+                    },
+                    params: coefficients_pa.clone(),
                 }
             }
             m => {
@@ -131,57 +138,70 @@ impl<'a> Law<'a> {
                         m.name()
                     )));
                 }
-                Law::Hyper(h)
+                Law {
+                    form: Form::Hyper(h),
+                    params: h.params(),
+                }
             }
         };
         Ok(law)
+    }
+
+    /// The law's parameters: `[E]` (linear), the coefficients of `E(eps)`
+    /// (quartic), or [`Hyperelastic::params`].
+    pub fn params(&self) -> &[f64] {
+        &self.params
     }
 
     /// Nominal stresses and derivatives; `None` outside the law's domain
     /// (non-positive stretch, non-finite values, or a quartic modulus `E <= 0`).
     #[inline]
     pub fn stress(&self, l1: f64, l2: f64) -> Option<Stress> {
-        if !(l1 > 0.0 && l2 > 0.0) {
+        self.stress_with(&self.params, l1, l2)
+    }
+
+    /// As [`Law::stress`] with the parameters `th` (in the order of
+    /// [`Law::params`]) and the stretches of any dual number type: the
+    /// derivatives of the stresses with respect to what `th`, `l1` and `l2`
+    /// carry come out exactly.
+    #[inline]
+    pub fn stress_with<T: DualNum<f64> + Copy>(&self, th: &[T], l1: T, l2: T) -> Option<Stress<T>> {
+        if !(l1.re() > 0.0 && l2.re() > 0.0) {
             return None;
         }
-        let s = match self {
-            Law::Hyper(h) => {
-                let d = h.derivatives(l1, l2);
-                Stress {
-                    p: d.grad,
-                    dp: d.hess,
-                }
+        let s = match &self.form {
+            Form::Hyper(h) => {
+                let (_, grad, hess) = h.derivatives_with(th, l1, l2);
+                Stress { p: grad, dp: hess }
             }
-            Law::Linear { c, nu } => {
+            Form::Linear { nu } => {
+                let c = th[0] / (1.0 - nu * nu);
                 let (e1, e2) = (l1 - 1.0, l2 - 1.0);
                 Stress {
-                    p: [c * (e1 + nu * e2), c * (e2 + nu * e1)],
-                    dp: [[*c, c * nu], [c * nu, *c]],
+                    p: [c * (e1 + e2 * *nu), c * (e2 + e1 * *nu)],
+                    dp: [[c, c * *nu], [c * *nu, c]],
                 }
             }
-            Law::Quartic {
-                c,
-                nu,
-                measure,
-                range,
-            } => {
+            Form::Quartic { nu, measure, range } => {
                 let (m, m1, m2) = mean_strain(*measure, *range, l1, l2);
                 // Horner for E(m)/(1 - nu^2) and its slope.
-                let (mut e, mut de) = (0.0, 0.0);
-                for ck in c.iter().rev() {
+                let (mut e, mut de) = (T::from(0.0), T::from(0.0));
+                for ck in th.iter().rev() {
                     de = de * m + e;
-                    e = e * m + ck;
+                    e = e * m + *ck;
                 }
-                if e <= 0.0 {
+                let k = 1.0 / (1.0 - nu * nu);
+                let (e, de) = (e * k, de * k);
+                if e.re() <= 0.0 {
                     return None;
                 }
                 let (e1, e2) = (l1 - 1.0, l2 - 1.0);
-                let (f1, f2) = (e1 + nu * e2, e2 + nu * e1);
+                let (f1, f2) = (e1 + e2 * *nu, e2 + e1 * *nu);
                 Stress {
                     p: [e * f1, e * f2],
                     dp: [
-                        [de * m1 * f1 + e, de * m2 * f1 + e * nu],
-                        [de * m1 * f2 + e * nu, de * m2 * f2 + e],
+                        [de * m1 * f1 + e, de * m2 * f1 + e * *nu],
+                        [de * m1 * f2 + e * *nu, de * m2 * f2 + e],
                     ],
                 }
             }
@@ -189,22 +209,17 @@ impl<'a> Law<'a> {
         let ok =
             s.p.iter()
                 .chain(s.dp.iter().flatten())
-                .all(|v| v.is_finite());
+                .all(|v| v.re().is_finite());
         ok.then_some(s)
     }
 
     /// Quartic modulus `E(eps_m)` at the mean strain of `(l1, l2)`, Pa; `None`
     /// for the other laws. Used to name the strain in an error.
     pub fn quartic_modulus(&self, l1: f64, l2: f64) -> Option<(f64, f64)> {
-        match self {
-            Law::Quartic {
-                c,
-                nu,
-                measure,
-                range,
-            } => {
+        match &self.form {
+            Form::Quartic { measure, range, .. } => {
                 let (m, _, _) = mean_strain(*measure, *range, l1, l2);
-                let e = c.iter().rev().fold(0.0, |acc, ck| acc * m + ck) * (1.0 - nu * nu);
+                let e = self.params.iter().rev().fold(0.0, |acc, ck| acc * m + ck);
                 Some((m, e))
             }
             _ => None,
@@ -223,16 +238,22 @@ impl<'a> Law<'a> {
 /// The quartic's argument: the strain of `sqrt(l1 l2)`, clamped to the
 /// fitted range, with its derivatives in `l1`, `l2` (zero where clamped).
 #[inline]
-fn mean_strain(measure: StrainMeasure, range: [f64; 2], l1: f64, l2: f64) -> (f64, f64, f64) {
+fn mean_strain<T: DualNum<f64> + Copy>(
+    measure: StrainMeasure,
+    range: [f64; 2],
+    l1: T,
+    l2: T,
+) -> (T, T, T) {
     let lm = (l1 * l2).sqrt();
     let (m, m1, m2) = match measure {
-        StrainMeasure::Engineering => (lm - 1.0, 0.5 * lm / l1, 0.5 * lm / l2),
-        StrainMeasure::Log => (0.5 * (l1 * l2).ln(), 0.5 / l1, 0.5 / l2),
+        StrainMeasure::Engineering => (lm - 1.0, lm * 0.5 / l1, lm * 0.5 / l2),
+        StrainMeasure::Log => ((l1 * l2).ln() * 0.5, l1.recip() * 0.5, l2.recip() * 0.5),
     };
-    if m < range[0] {
-        (range[0], 0.0, 0.0)
-    } else if m > range[1] {
-        (range[1], 0.0, 0.0)
+    let zero = T::from(0.0);
+    if m.re() < range[0] {
+        (T::from(range[0]), zero, zero)
+    } else if m.re() > range[1] {
+        (T::from(range[1]), zero, zero)
     } else {
         (m, m1, m2)
     }

@@ -46,7 +46,10 @@
 mod law;
 mod ode;
 mod roots;
+mod sens;
 mod shoot;
+
+pub use sens::{DIRS, HeightGradient, height_gradient};
 
 use std::cell::Cell;
 

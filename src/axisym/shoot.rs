@@ -30,6 +30,8 @@
 //! radius `x0 = 1e-3 min(1, 1/k)` leaves a start error of order
 //! `(k x0)^4 ~ 1e-12`.
 
+use num_dual::DualNum;
+
 use super::law::{Law, Stress};
 use super::ode::{self, Settings};
 
@@ -90,23 +92,23 @@ pub struct Membrane<'a> {
 
 /// Pole expansion coefficients.
 #[derive(Debug, Clone, Copy)]
-struct Series {
-    l0: f64,
-    k: f64,
-    a: f64,
-    b: f64,
-    c: f64,
-    d: f64,
+pub(crate) struct Series<T = f64> {
+    l0: T,
+    pub(crate) k: T,
+    a: T,
+    b: T,
+    c: T,
+    d: T,
 }
 
-impl Series {
-    fn at(&self, x: f64) -> [f64; 4] {
+impl<T: DualNum<f64> + Copy> Series<T> {
+    pub(crate) fn at(&self, x: f64) -> [T; 4] {
         let x2 = x * x;
         [
             self.l0 - 1.0 + self.a * x2,
             self.l0 - 1.0 + self.b * x2,
-            x * (self.k + self.c * x2),
-            x2 * (0.5 * self.l0 * self.k + self.d * x2),
+            (self.k + self.c * x2) * x,
+            (self.l0 * self.k * 0.5 + self.d * x2) * x2,
         ]
     }
 }
@@ -114,45 +116,70 @@ impl Series {
 impl Membrane<'_> {
     #[inline]
     fn rhs(&self, pi: f64, x: f64, y: &[f64; 4]) -> Option<[f64; 4]> {
-        let (l1, l2, psi) = (1.0 + y[0], 1.0 + y[1], y[2]);
-        let Stress { p, dp } = self.law.stress(l1, l2)?;
-        if !(p[0] > 0.0 && dp[0][0] > 0.0) {
+        self.rhs_with(self.law.params(), pi, x, y)
+    }
+
+    /// The right-hand side with the law's parameters `th`, in any dual
+    /// number type (the plain solve is `f64`; the sensitivities carry
+    /// derivatives with respect to the pole stretch and the parameters).
+    #[inline]
+    pub(crate) fn rhs_with<T: DualNum<f64> + Copy>(
+        &self,
+        th: &[T],
+        pi: f64,
+        x: f64,
+        y: &[T; 4],
+    ) -> Option<[T; 4]> {
+        let (l1, l2, psi) = (y[0] + 1.0, y[1] + 1.0, y[2]);
+        let Stress { p, dp } = self.law.stress_with(th, l1, l2)?;
+        if !(p[0].re() > 0.0 && dp[0][0].re() > 0.0) {
             // No meridional tension or no meridional stiffness: wrinkling or
             // loss of ellipticity; outside the membrane's domain.
             return None;
         }
         let (s, c) = psi.sin_cos();
         let dl2 = (l1 * c - l2) / x;
-        let dl1 = (p[1] * c - p[0] - x * dp[0][1] * dl2) / (x * dp[0][0]);
-        let dpsi = (pi * l1 * l2 - p[1] * s / x) / p[0];
+        let dl1 = (p[1] * c - p[0] - dp[0][1] * dl2 * x) / (dp[0][0] * x);
+        let dpsi = (l1 * l2 * pi - p[1] * s / x) / p[0];
         let dd = l1 * s;
         Some([dl1, dl2, dpsi, dd])
     }
 
     fn series(&self, l0: f64, pi: f64) -> Option<Series> {
-        let Stress { p, dp } = self.law.stress(l0, l0)?;
+        self.series_with(self.law.params(), l0, pi)
+    }
+
+    /// The pole expansion with the law's parameters `th` (see
+    /// [`Membrane::rhs_with`]).
+    pub(crate) fn series_with<T: DualNum<f64> + Copy>(
+        &self,
+        th: &[T],
+        l0: T,
+        pi: f64,
+    ) -> Option<Series<T>> {
+        let Stress { p, dp } = self.law.stress_with(th, l0, l0)?;
         let s = p[0];
-        if s.is_nan() || s <= 0.0 {
+        if s.re().is_nan() || s.re() <= 0.0 {
             return None;
         }
-        let k = pi * l0 * l0 / (2.0 * s);
+        let k = l0 * l0 * pi / (s * 2.0);
         // [3P11 - P21, 3P12 - P22; 1, -3] [A; B] = [-s k^2/2; l0 k^2/2]
         let (m11, m12, m21, m22) = (
-            3.0 * dp[0][0] - dp[1][0],
-            3.0 * dp[0][1] - dp[1][1],
+            dp[0][0] * 3.0 - dp[1][0],
+            dp[0][1] * 3.0 - dp[1][1],
             1.0,
             -3.0,
         );
-        let (r1, r2) = (-0.5 * s * k * k, 0.5 * l0 * k * k);
+        let (r1, r2) = (-s * k * k * 0.5, l0 * k * k * 0.5);
         let det = m11 * m22 - m12 * m21;
-        if det == 0.0 || !det.is_finite() {
+        if det.re() == 0.0 || !det.re().is_finite() {
             return None;
         }
         let a = (r1 * m22 - m12 * r2) / det;
-        let b = (m11 * r2 - m21 * r1) / det;
+        let b = (m11 * r2 - r1 * m21) / det;
         let s1 = dp[0][0] * a + dp[0][1] * b;
         let s2 = dp[1][0] * a + dp[1][1] * b;
-        let c = (pi * l0 * (a + b) + s * k * k * k / 6.0 - k * (s1 + s2)) / (4.0 * s);
+        let c = (l0 * (a + b) * pi + s * k * k * k / 6.0 - k * (s1 + s2)) / (s * 4.0);
         let d = (l0 * c - l0 * k * k * k / 6.0 + a * k) / 4.0;
         Some(Series { l0, k, a, b, c, d })
     }
@@ -187,6 +214,7 @@ impl Membrane<'_> {
             h0: x0,
             h_min: 1e-13,
             max_steps: self.max_steps,
+            norm_dims: 4,
         };
         let push = |profile: &mut Option<&mut Vec<Point>>, x: f64, y: &[f64; 4]| {
             if let Some(v) = profile.as_deref_mut() {

@@ -15,9 +15,14 @@
 //! where `h(p; theta)` is the apex height of the axisymmetric membrane
 //! ([`crate::axisym::solve_pressure`]) with the law's parameters `theta`, by
 //! Levenberg-Marquardt from the cap fit: first for one
-//! factor on its stress parameters, then for every parameter. The Jacobian is by
-//! central differences of the axisymmetric solutions (solved to 1e-10, so the
-//! differences are clean), the pressures solved in parallel. A trial law
+//! factor on its stress parameters, then for every parameter. The Jacobian is
+//! exact: the derivatives of each apex height with respect to the law's
+//! parameters come from the forward sensitivity equations integrated along
+//! the shot ([`axisym::height_gradient`]), and each height is found by Newton's
+//! method from the last solution at its pressure (a cold solve only the first
+//! time, or when Newton leaves the branch), the pressures in parallel.
+//! ([`Derivatives::CentralDifferences`], two cold solves per parameter and
+//! point, is kept as the reference it is timed against.) A trial law
 //! with no equilibrium at some measured pressure (a limit point below it)
 //! gives non-finite residuals, which the solver rejects like an uphill step.
 //!
@@ -26,6 +31,7 @@
 //! every photo alike, as the closed-loop target (simulated within 2 % of the
 //! truth at every pressure) does.
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use argmin::core::{Error as ArgminError, Jacobian, Operator};
@@ -77,6 +83,19 @@ impl Measured {
     }
 }
 
+/// How the heights' Jacobian is found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Derivatives {
+    /// Exact, from the forward sensitivity equations along the shot
+    /// ([`axisym::height_gradient`]); each height found by Newton's method
+    /// from the last solution at its pressure (the default).
+    Exact,
+    /// Central differences of heights each solved from scratch, two solves
+    /// per parameter and point: the reference the exact ones are checked
+    /// and timed against.
+    CentralDifferences,
+}
+
 /// Settings of the correction.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
@@ -84,6 +103,8 @@ pub struct Options {
     pub max_iterations: u64,
     /// The axisymmetric solver's settings.
     pub axisym: axisym::Options,
+    /// How the Jacobian is found.
+    pub derivatives: Derivatives,
 }
 
 impl Default for Options {
@@ -94,6 +115,7 @@ impl Default for Options {
                 n_profile: 2,
                 ..axisym::Options::default()
             },
+            derivatives: Derivatives::Exact,
         }
     }
 }
@@ -293,6 +315,11 @@ struct Problem<'a> {
     scale_of: Option<Vec<f64>>,
     /// A quartic's strain range, over which its implied stress must rise.
     monotone: Option<[f64; 2]>,
+    /// How the Jacobian is found.
+    derivatives: Derivatives,
+    /// Per point, the last solution's pole stretch and the sign of its clamp
+    /// residual's slope (which tells the stable branch): Newton's start.
+    warm: &'a [Mutex<Option<(f64, f64)>>],
 }
 
 /// Strains of the range at which a quartic's implied-stress slope is held
@@ -322,15 +349,66 @@ impl Problem<'_> {
     fn errors(&self, x: &[f64]) -> Vec<Option<f64>> {
         let m = self.material(x);
         self.solves.fetch_add(self.points.len(), Ordering::Relaxed);
-        self.points
-            .par_iter()
-            .map(|q| {
-                axisym::solve_pressure(&m, self.specimen, q.pressure_pa, self.opts)
-                    .ok()
+        (0..self.points.len())
+            .into_par_iter()
+            .map(|i| {
+                let q = &self.points[i];
+                self.solve(&m, i, false)
                     .map(|s| s.height_m / q.height_m - 1.0)
                     .filter(|e| e.is_finite())
             })
             .collect()
+    }
+
+    /// The height at point `i` (with its gradient in the law's parameters
+    /// when asked), by Newton from the point's last solution when there is
+    /// one on the same branch, else from scratch.
+    fn solve(&self, m: &Material, i: usize, gradient: bool) -> Option<axisym::HeightGradient> {
+        let q = &self.points[i];
+        let exact = self.derivatives == Derivatives::Exact;
+        if !exact {
+            return axisym::solve_pressure(m, self.specimen, q.pressure_pa, self.opts)
+                .ok()
+                .map(|s| axisym::HeightGradient {
+                    height_m: s.height_m,
+                    pole_stretch: s.pole_stretch,
+                    gradient: Vec::new(),
+                    slope: f64::NAN,
+                    shots: s.iterations,
+                });
+        }
+        let newton = |l0: f64| {
+            axisym::height_gradient(m, self.specimen, q.pressure_pa, l0, gradient, self.opts).ok()
+        };
+        let last = *self.warm[i].lock().unwrap_or_else(|e| e.into_inner());
+        let warm = last.and_then(|(l0, sign)| newton(l0).filter(|s| s.slope.signum() == sign));
+        let found = warm.or_else(|| {
+            let cold = axisym::solve_pressure(m, self.specimen, q.pressure_pa, self.opts).ok()?;
+            newton(cold.pole_stretch)
+        })?;
+        *self.warm[i].lock().unwrap_or_else(|e| e.into_inner()) =
+            Some((found.pole_stretch, found.slope.signum()));
+        Some(found)
+    }
+
+    /// `d theta / d x`: the law's parameters (in the order of
+    /// [`axisym::height_gradient`]) per unknown, a column per unknown.
+    fn dtheta_dx(&self) -> DMatrix<f64> {
+        let scale: &[f64] = match &self.params {
+            Params::Quartic { scale, .. } | Params::Hyper { scale, .. } => scale,
+            Params::Linear { scale } => std::slice::from_ref(scale),
+        };
+        let diag = DMatrix::from_diagonal(&DVector::from_column_slice(scale));
+        match &self.scale_of {
+            // theta = scale * scaled(x0, s): d/ds is scale * (x0 on the
+            // stress-like parameters).
+            Some(x0) => {
+                let (one, zero) = (self.params.scaled(x0, 1.0), self.params.scaled(x0, 0.0));
+                let d: Vec<f64> = one.iter().zip(&zero).map(|(a, b)| a - b).collect();
+                diag * DMatrix::from_column_slice(d.len(), 1, &d)
+            }
+            None => diag,
+        }
     }
 
     /// Per sampled strain, `min(0, dS/deps / c_0 - margin)` with `S = E(eps)
@@ -378,8 +456,54 @@ impl Jacobian for Problem<'_> {
     type Param = DVector<f64>;
     type Jacobian = DMatrix<f64>;
     fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
+        match self.derivatives {
+            Derivatives::Exact => Ok(self.exact_jacobian(x.as_slice())),
+            Derivatives::CentralDifferences => Ok(self.differences(x, true)),
+        }
+    }
+}
+
+impl Problem<'_> {
+    /// The heights' rows from the exact gradients, the penalty's rows (no
+    /// solves: a polynomial in the coefficients) by central differences.
+    fn exact_jacobian(&self, x: &[f64]) -> DMatrix<f64> {
+        let m = self.material(x);
+        let n = self.points.len();
+        self.solves.fetch_add(n, Ordering::Relaxed);
+        let rows: Vec<Option<Vec<f64>>> = (0..n)
+            .into_par_iter()
+            .map(|i| self.solve(&m, i, true).map(|s| s.gradient))
+            .collect();
+        let dth = self.dtheta_dx();
+        let mut jac = self.differences(&DVector::from_column_slice(x), false);
+        for (i, row) in rows.iter().enumerate() {
+            if let Some(g) = row {
+                let g = DMatrix::from_row_slice(1, g.len(), g) * &dth;
+                for k in 0..jac.ncols() {
+                    jac[(i, k)] = g[(0, k)] / self.points[i].height_m;
+                }
+            }
+        }
+        jac
+    }
+
+    /// Central differences of the residuals: all rows (`heights`), or the
+    /// penalty's rows only (the heights' rows left zero).
+    fn differences(&self, x: &DVector<f64>, heights: bool) -> DMatrix<f64> {
         let (n, p) = (self.n_residuals(), x.len());
+        let np = self.points.len();
         let mut jac = DMatrix::zeros(n, p);
+        if !heights && n == np {
+            return jac;
+        }
+        let res = |x: &DVector<f64>| {
+            if heights {
+                self.residuals(x.as_slice())
+            } else {
+                let pen = self.softening(x.as_slice());
+                DVector::from_iterator(n, std::iter::repeat_n(0.0, np).chain(pen))
+            }
+        };
         let r0 = std::cell::OnceCell::new();
         for k in 0..p {
             let h = 1e-5 * x[k].abs().max(1e-2);
@@ -387,10 +511,10 @@ impl Jacobian for Problem<'_> {
             let mut xm = x.clone();
             xp[k] += h;
             xm[k] -= h;
-            let (rp, rm) = (self.residuals(xp.as_slice()), self.residuals(xm.as_slice()));
+            let (rp, rm) = (res(&xp), res(&xm));
             for i in 0..n {
                 // A one-sided difference where one side has no equilibrium.
-                let r0 = || r0.get_or_init(|| self.residuals(x.as_slice()))[i];
+                let r0 = || r0.get_or_init(|| res(x))[i];
                 jac[(i, k)] = match (rp[i].is_finite(), rm[i].is_finite()) {
                     (true, true) => (rp[i] - rm[i]) / (2.0 * h),
                     (true, false) => (rp[i] - r0()) / h,
@@ -399,7 +523,7 @@ impl Jacobian for Problem<'_> {
                 };
             }
         }
-        Ok(jac)
+        jac
     }
 }
 
@@ -436,7 +560,10 @@ pub fn refine(
         )));
     }
     let solves = AtomicUsize::new(0);
+    let warm: Vec<Mutex<Option<(f64, f64)>>> = measured.iter().map(|_| Mutex::new(None)).collect();
     let problem = Problem {
+        derivatives: opts.derivatives,
+        warm: &warm,
         params,
         base: material,
         specimen,
@@ -617,5 +744,63 @@ mod tests {
         ];
         let err = refine(&nh, &specimen(), &past, &Options::default()).unwrap_err();
         assert!(err.to_string().contains("limit point"), "{err}");
+    }
+
+    /// The exact Jacobian of the residuals (the chain from the law's
+    /// parameters to the unknowns included, in both stages) agrees with
+    /// central differences of cold solves, column by column.
+    #[test]
+    fn exact_jacobian_matches_central_differences() {
+        use crate::material::StrainMeasure;
+        let truth = material(Model::NeoHookean { c1_pa: 0.2e6 });
+        let data = heights(&truth, &[1000.0, 2000.0, 3000.0, 4000.0, 5000.0, 6000.0]);
+        let sp = specimen();
+        let opts = Options::default();
+        for start in [
+            material(Model::Quartic {
+                coefficients_pa: vec![1.3e6, -1.0e6, 1.2e6, -0.5e6, 0.1e6],
+                strain_range: [0.02, 0.6],
+                strain_measure: StrainMeasure::Engineering,
+            }),
+            material(Model::MooneyRivlin {
+                c1_pa: 0.15e6,
+                c2_pa: 0.03e6,
+            }),
+        ] {
+            let (params, x0) = Params::of(&start.model).unwrap();
+            let solves = AtomicUsize::new(0);
+            let warm: Vec<_> = data.iter().map(|_| Mutex::new(None)).collect();
+            for scale_of in [None, Some(x0.clone())] {
+                let x = DVector::from_vec(match scale_of {
+                    Some(_) => vec![1.1],
+                    None => x0.clone(),
+                });
+                let problem = |derivatives| Problem {
+                    params: params.clone(),
+                    base: &start,
+                    specimen: &sp,
+                    points: &data,
+                    opts: &opts.axisym,
+                    solves: &solves,
+                    scale_of: scale_of.clone(),
+                    monotone: None,
+                    derivatives,
+                    warm: &warm,
+                };
+                let exact = problem(Derivatives::Exact).jacobian(&x).unwrap();
+                let cd = problem(Derivatives::CentralDifferences)
+                    .jacobian(&x)
+                    .unwrap();
+                for k in 0..x.len() {
+                    let (e, c) = (exact.column(k), cd.column(k));
+                    let gap = (e - c).norm() / c.norm();
+                    assert!(
+                        gap < 1e-3,
+                        "{} column {k}: exact {e:.4e}, differences {c:.4e}",
+                        start.model.name()
+                    );
+                }
+            }
+        }
     }
 }
