@@ -231,6 +231,7 @@ pub(super) fn match_frames(
             apex_integer_px: int,
             apex_quadratic_px: quad,
             edge,
+            time_s: f.time_s,
         });
     }
     if let HeightOrigin::ClampRow(clamp) = setup.calibration.origin {

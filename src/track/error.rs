@@ -82,6 +82,14 @@ pub enum TrackError {
         /// The pressure log.
         csv: PathBuf,
     },
+    /// A frame's time falls outside the span of the pressure log by time.
+    #[error("{}: {message}", csv.display())]
+    OutsideLog {
+        /// The pressure log.
+        csv: PathBuf,
+        /// The frame, its time on both clocks, both spans and the fix.
+        message: String,
+    },
     /// The photo folder does not exist or cannot be listed.
     #[error("{}: cannot list the photo folder: {reason}; fix `dir` in [photos] (a folder, relative to the experiment file) or put the photos there", dir.display())]
     PhotoFolder {
