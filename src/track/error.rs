@@ -14,6 +14,14 @@ pub enum TrackError {
         /// What went wrong.
         reason: String,
     },
+    /// The video cannot be opened or read.
+    #[error("{}: cannot read the video: {reason}; fix `video` in [photos] (a file, relative to the experiment file), or convert the video to Motion JPEG in AVI or H.264 in MP4", path.display())]
+    Video {
+        /// The video.
+        path: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
     /// The file ends early.
     #[error("{}: the image is truncated: {reason}; copy it again from the camera or remove it", path.display())]
     Truncated {

@@ -893,6 +893,34 @@ mod tests {
     }
 
     #[test]
+    fn the_pressure_ramp_meets_every_photo_and_rises() {
+        let p = [400.0, 800.0, 1200.0, 1600.0];
+        for (k, &pk) in p.iter().enumerate() {
+            assert!((pressure_ramp(&p, 0.5, 0.5 * k as f64) - pk).abs() < 1e-9);
+        }
+        let mut last = f64::NEG_INFINITY;
+        for j in -20..=200 {
+            let v = pressure_ramp(&p, 0.5, j as f64 * 0.01);
+            assert!(v >= last && v >= 0.0, "t = {}", j as f64 * 0.01);
+            last = v;
+        }
+        // between photos it leaves the straight line (by up to a quarter step)
+        assert!((pressure_ramp(&p, 0.5, 0.25) - 700.0).abs() < 1e-9);
+        let log = String::from_utf8(pressure_log_csv(&p, 0.5, 7.0, 0.4).into_bytes()).unwrap();
+        let rows: Vec<&str> = log.lines().collect();
+        assert_eq!(rows[0], "time_s,pressure_pa");
+        assert!(rows[1].starts_with("0,"), "{}", rows[1]);
+        // one sample after the last photo, at 1.5 + 0.4 s on the logger's clock
+        let last_t: f64 = rows[rows.len() - 1]
+            .split(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(last_t > 1.9 && last_t <= 1.9 + 2.0 / 7.0, "{last_t}");
+    }
+
+    #[test]
     fn coverage_area_equals_the_cap_area() {
         let sc = scene();
         let h = 0.02;

@@ -46,7 +46,7 @@ fn cv(e: opencv::Error) -> TrackError {
 
 /// Opens a video for reading, or says why it cannot be read.
 fn open(path: &Path) -> Result<VideoCapture, TrackError> {
-    let unreadable = |reason: String| TrackError::Unreadable {
+    let unreadable = |reason: String| TrackError::Video {
         path: path.to_path_buf(),
         reason,
     };
@@ -58,7 +58,14 @@ fn open(path: &Path) -> Result<VideoCapture, TrackError> {
     let name = path.to_str().ok_or_else(|| {
         unreadable("the path is not valid UTF-8, which OpenCV's video module needs".into())
     })?;
-    let cap = VideoCapture::from_file(name, videoio::CAP_ANY).map_err(cv)?;
+    // The back-ends that fail to open a file log their own exceptions; what
+    // a user needs is the one message below.
+    let level = opencv::core::set_log_level(opencv::core::LogLevel::LOG_LEVEL_SILENT);
+    let cap = VideoCapture::from_file(name, videoio::CAP_ANY);
+    if let Ok(l) = level {
+        let _ = opencv::core::set_log_level(l);
+    }
+    let cap = cap.map_err(cv)?;
     if !cap.is_opened().map_err(cv)? {
         return Err(unreadable(
             "OpenCV cannot open it as a video (not a video, a damaged file, or a codec none of its video back-ends here reads; MJPG in AVI is always readable)".into(),
@@ -80,7 +87,7 @@ pub fn probe(path: &Path) -> Result<VideoInfo, TrackError> {
         msec.push(cap.get(videoio::CAP_PROP_POS_MSEC).unwrap_or(f64::NAN));
     }
     if msec.is_empty() {
-        return Err(TrackError::Unreadable {
+        return Err(TrackError::Video {
             path: path.to_path_buf(),
             reason: format!(
                 "no frame could be read from it (OpenCV's {backend} back-end opened it): an empty video, or a codec it lacks"
@@ -229,7 +236,7 @@ pub(super) fn read_frames(
         let got = (|| -> Result<Decoded, TrackError> {
             while next <= w.index {
                 if !cap.grab().map_err(cv)? {
-                    return Err(TrackError::Unreadable {
+                    return Err(TrackError::Video {
                         path: path.to_path_buf(),
                         reason: format!(
                             "{} cannot be read: the video ends after {next} frames",
@@ -240,7 +247,7 @@ pub(super) fn read_frames(
                 next += 1;
             }
             if !cap.retrieve(&mut frame, 0).map_err(cv)? || frame.empty() {
-                return Err(TrackError::Unreadable {
+                return Err(TrackError::Video {
                     path: path.to_path_buf(),
                     reason: format!("{} cannot be decoded", frame_name(w.index)),
                 });
@@ -278,7 +285,7 @@ pub fn read_frame_bgr(path: &Path, index: usize) -> Result<Mat, TrackError> {
     let mut cap = open(path)?;
     for _ in 0..=index {
         if !cap.grab().map_err(cv)? {
-            return Err(TrackError::Unreadable {
+            return Err(TrackError::Video {
                 path: path.to_path_buf(),
                 reason: format!(
                     "{} cannot be read: the video ends before it",
@@ -289,7 +296,7 @@ pub fn read_frame_bgr(path: &Path, index: usize) -> Result<Mat, TrackError> {
     }
     let mut frame = Mat::default();
     if !cap.retrieve(&mut frame, 0).map_err(cv)? || frame.empty() {
-        return Err(TrackError::Unreadable {
+        return Err(TrackError::Video {
             path: path.to_path_buf(),
             reason: format!("{} cannot be decoded", frame_name(index)),
         });
@@ -305,4 +312,62 @@ pub fn read_frame_bgr(path: &Path, index: usize) -> Result<Mat, TrackError> {
     let mut bgr = Mat::default();
     imgproc::cvt_color_def(&frame, &mut bgr, code).map_err(cv)?;
     Ok(bgr)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(times: Option<Vec<f64>>) -> VideoInfo {
+        VideoInfo {
+            path: PathBuf::from("test.avi"),
+            frames: 10,
+            fps: Some(2.0),
+            times_s: times,
+            backend: "TEST".into(),
+        }
+    }
+
+    #[test]
+    fn every_and_times_choose_frames() {
+        let v = info(Some((0..10).map(|k| k as f64 / 2.0).collect()));
+        assert_eq!(v.select(None, None).unwrap(), (0..10).collect::<Vec<_>>());
+        assert_eq!(v.select(Some(4), None).unwrap(), [0, 4, 8]);
+        assert!(v.select(Some(0), None).unwrap_err().contains("every = 0"));
+        // nearest frame; a tie goes to the earlier one
+        assert_eq!(
+            v.select(None, Some(&[0.0, 0.74, 1.25, 4.5])).unwrap(),
+            [0, 1, 2, 9]
+        );
+        let e = v.select(None, Some(&[1.0, 4.6])).unwrap_err();
+        assert!(
+            e.contains("times_s[1] = 4.6 s") && e.contains("0..4.5 s (10 frames at 2 frames/s)"),
+            "{e}"
+        );
+        let e = v.select(None, Some(&[-0.1])).unwrap_err();
+        assert!(e.contains("outside the video's span"), "{e}");
+        let e = v.select(None, Some(&[1.0, 1.1])).unwrap_err();
+        assert!(e.contains("both choose frame 000002"), "{e}");
+        let e = v.select(None, Some(&[2.0, 1.0])).unwrap_err();
+        assert!(e.contains("increasing order"), "{e}");
+        let e = v.select(Some(2), Some(&[1.0])).unwrap_err();
+        assert!(e.contains("both `every` and `times_s`"), "{e}");
+        let e = info(None).select(None, Some(&[1.0])).unwrap_err();
+        assert!(e.contains("choose frames with `every`"), "{e}");
+    }
+
+    #[test]
+    fn a_missing_or_broken_video_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("missing.avi");
+        let e = probe(&p).unwrap_err().to_string();
+        assert!(e.contains("missing.avi"), "{e}");
+        let p = dir.path().join("text.avi");
+        std::fs::write(&p, b"not a video at all").unwrap();
+        let e = probe(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("text.avi") && e.contains("cannot read the video"),
+            "{e}"
+        );
+    }
 }
