@@ -287,6 +287,19 @@ fn video_frames_are_chosen_by_time_or_step_and_a_time_outside_is_refused() {
     let (_, rows) = read_csv(&x.join("e.csv"));
     let names: Vec<&str> = rows.iter().map(|r| r[1].as_str()).collect();
     assert_eq!(names, ["frame 000000", "frame 000003", "frame 000006"]);
+    // A frame that fails the score is named by its place in the video.
+    bulge_in(
+        &x,
+        &[
+            "track",
+            "experiment_video.toml",
+            "-o",
+            "h.csv",
+            "--min-score",
+            "0.9999",
+        ],
+    )
+    .bad_input(&["test.avi (frame 000003)", "frame 1:", "--min-score"]);
     edit(&exp, "every = 3", "times_s = [0.0, 1.0, 9.5]");
     bulge_in(&x, &["track", "experiment_video.toml", "-o", "h.csv"]).bad_input(&[
         "experiment_video.toml",
