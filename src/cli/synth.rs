@@ -18,8 +18,10 @@ use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
 /// OUT_DIR/truth.csv (file,pressure_pa,height_m,apex_x_px,apex_y_px). The
 /// bubble is the exact axisymmetric solution for the material at each
 /// pressure, seen from the side, drawn with exact pixel-area anti-aliasing
-/// over a textured background and a clamp fixture. The same flags and seed
-/// give the same files.
+/// over a textured background and a clamp fixture. With --log-rate-hz, also
+/// a pressure log by time (pressure_log.csv, experiment_log.toml); with
+/// --video, also the photos as a video (experiment_video.toml). The same
+/// flags and seed give the same files.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Output folder (created if missing; files of the same names are replaced).
