@@ -91,15 +91,36 @@ impl Specimen {
     }
 }
 
-/// `[photos]`: where the photos are and what to look for in them.
+/// `[photos]`: where the photos are and what to look for in them: a folder
+/// of photos (`dir`, `glob`) or a video (`video`, with `every` or `times_s`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhotosConfig {
     /// Folder of the photos, relative to the experiment file.
-    pub dir: PathBuf,
-    /// File-name pattern, e.g. `*.png`; files are taken in natural sort order.
-    #[serde(default = "default_glob")]
-    pub glob: String,
+    #[serde(default)]
+    pub dir: Option<PathBuf>,
+    /// File-name pattern, e.g. `*.png` (default `*`); files are taken in
+    /// natural sort order.
+    #[serde(default)]
+    pub glob: Option<String>,
+    /// Or a video file, relative to the experiment file (read with OpenCV's
+    /// video module).
+    #[serde(default)]
+    pub video: Option<PathBuf>,
+    /// Video only: take every N-th frame (frames 0, N, 2N, ...; default 1).
+    #[serde(default)]
+    pub every: Option<usize>,
+    /// Video only: take the frame nearest each of these times, s.
+    #[serde(default)]
+    pub times_s: Option<Vec<f64>>,
+    /// Photo folder only: time between consecutive photos (in file-name
+    /// order), s; gives each photo a time for a pressure log by time.
+    #[serde(default)]
+    pub interval_s: Option<f64>,
+    /// Photo folder only: time of the first photo, s (default 0; with
+    /// `interval_s`).
+    #[serde(default)]
+    pub start_s: Option<f64>,
     /// Region where the apex can move: `[x, y, width, height]` in pixels.
     pub roi_px: [i32; 4],
     /// Template image file, relative to the experiment file.
@@ -116,8 +137,11 @@ pub struct PhotosConfig {
     pub apex_in_template_px: Option<[f64; 2]>,
 }
 
-fn default_glob() -> String {
-    "*".to_string()
+impl PhotosConfig {
+    /// The file-name pattern of a photo folder (`*` when not given).
+    pub fn glob(&self) -> &str {
+        self.glob.as_deref().unwrap_or("*")
+    }
 }
 
 /// `[calibration]`: pixels to metres and the clamp plane.
@@ -138,12 +162,19 @@ pub struct CalibrationConfig {
     pub clamp_row_px: Option<f64>,
 }
 
-/// `[pressure]`: the pressure log joined per photo.
+/// `[pressure]`: the pressure log, joined per photo (columns
+/// `file,pressure_pa`) or by time (columns `time_s,pressure_pa`, interpolated
+/// linearly at each frame's time).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PressureConfig {
-    /// CSV with columns `file,pressure_pa`, relative to the experiment file.
+    /// The CSV, relative to the experiment file.
     pub csv: PathBuf,
+    /// Clock offset of a log by time, s: logger time = frame time +
+    /// `offset_s` (the logger's clock reads `offset_s` when the camera's
+    /// reads 0). Default 0.
+    #[serde(default)]
+    pub offset_s: Option<f64>,
 }
 
 /// A whole experiment file. Stages read the tables they need and ignore the
@@ -210,8 +241,8 @@ impl Experiment {
     }
 
     /// The files this experiment reads, resolved: the experiment file, the
-    /// pressure log and the template image (the photos are listed by the
-    /// tracker, which knows their pattern), and the photo folder.
+    /// pressure log, the template image and the video (the photos are listed
+    /// by the tracker, which knows their pattern), and the photo folder.
     pub fn input_files(&self) -> (Vec<PathBuf>, Option<PathBuf>) {
         let mut files = vec![self.path.clone()];
         if let Some(p) = &self.pressure {
@@ -222,7 +253,10 @@ impl Experiment {
             if let Some(t) = &ph.template {
                 files.push(self.resolve(t));
             }
-            folder = Some(self.resolve(&ph.dir));
+            if let Some(v) = &ph.video {
+                files.push(self.resolve(v));
+            }
+            folder = ph.dir.as_ref().map(|d| self.resolve(d));
         }
         (files, folder)
     }

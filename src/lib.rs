@@ -61,6 +61,7 @@ pub mod io;
 pub mod material;
 pub mod mechanics;
 pub mod pipeline;
+pub mod pressure_log;
 pub mod report;
 pub mod sim;
 #[cfg(feature = "opencv")]

@@ -378,9 +378,14 @@ impl Tracking {
         }
     }
 
-    /// Path of the photo of tracked row `i`.
+    /// Path of the photo of tracked row `i` (of the video, for a video frame).
     pub fn photo(&self, i: usize) -> PathBuf {
         self.setup.frames[self.tracked.rows[i].frame].path.clone()
+    }
+
+    /// The frame of tracked row `i` (a photo or a video frame).
+    pub fn frame(&self, i: usize) -> &track::Frame {
+        &self.setup.frames[self.tracked.rows[i].frame]
     }
 }
 

@@ -23,7 +23,7 @@ pub fn guard(plan: OutputPlan) -> Result<(), Failure> {
 pub fn experiment_inputs(exp: &Experiment) -> Vec<PathBuf> {
     let (mut files, folder) = exp.input_files();
     if let (Some(dir), Some(ph)) = (folder, &exp.photos)
-        && let Ok(photos) = bulge::track::list_photos(&dir, &ph.glob)
+        && let Ok(photos) = bulge::track::list_photos(&dir, ph.glob())
     {
         files.extend(photos);
     }

@@ -18,8 +18,10 @@ use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
 /// OUT_DIR/truth.csv (file,pressure_pa,height_m,apex_x_px,apex_y_px). The
 /// bubble is the exact axisymmetric solution for the material at each
 /// pressure, seen from the side, drawn with exact pixel-area anti-aliasing
-/// over a textured background and a clamp fixture. The same flags and seed
-/// give the same files.
+/// over a textured background and a clamp fixture. With --log-rate-hz, also
+/// a pressure log by time (pressure_log.csv, experiment_log.toml); with
+/// --video, also the photos as a video (experiment_video.toml). The same
+/// flags and seed give the same files.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Output folder (created if missing; files of the same names are replaced).
@@ -86,6 +88,34 @@ pub struct Args {
     #[arg(long)]
     pub jpeg_quality: Option<u8>,
 
+    /// Also write the photos as a video of this file name in OUT_DIR: `.avi`
+    /// (Motion JPEG, OpenCV's own writer, always available; JPEG quality
+    /// --jpeg-quality, default 95) or `.mp4` (when OpenCV's FFmpeg back-end
+    /// can write it), frame k at k / --fps s; with
+    /// OUT_DIR/experiment_video.toml, which reads it with the pressures of
+    /// --log-rate-hz (required with it).
+    #[arg(long, value_name = "NAME")]
+    pub video: Option<PathBuf>,
+
+    /// Photos per second of the test (default 2): photo k is taken at
+    /// k / fps s on the camera's clock; the video's frame rate and the
+    /// `interval_s` of experiment_log.toml.
+    #[arg(long, default_value_t = 2)]
+    pub fps: u32,
+
+    /// Also write OUT_DIR/pressure_log.csv (time_s,pressure_pa): a logger at
+    /// this rate, Hz, on its own clock, sampling a smooth pressure ramp
+    /// through the photos' pressures; and OUT_DIR/experiment_log.toml, the
+    /// photo folder with `interval_s` and this log.
+    #[arg(long)]
+    pub log_rate_hz: Option<f64>,
+
+    /// The logger's clock reads this when the camera's reads 0, s (default
+    /// 0): logger time = camera time + offset; written as `offset_s` in
+    /// [pressure] of experiment_log.toml and experiment_video.toml.
+    #[arg(long, allow_hyphen_values = true)]
+    pub log_offset_s: Option<f64>,
+
     /// Largest memory a photo may take while it is drawn, GB (default 2):
     /// larger pictures are refused before any work.
     #[arg(long, default_value_t = 2.0)]
@@ -151,6 +181,50 @@ pub fn run(args: Args) -> Result<(), Failure> {
         Some(q) if (1..=100).contains(&q) => Encoding::Jpeg(q),
         Some(q) => return Err(bad(format!("--jpeg-quality {q} must be in 1..=100"))),
     };
+    if args.fps == 0 || args.fps > 1000 {
+        return Err(bad(format!(
+            "--fps {}: give 1 to 1000 photos per second",
+            args.fps
+        )));
+    }
+    if let Some(r) = args.log_rate_hz
+        && !(r.is_finite() && r > 0.0 && r <= 1e4)
+    {
+        return Err(bad(format!(
+            "--log-rate-hz {r}: give a sampling rate in Hz above 0 and at most 10000"
+        )));
+    }
+    if let Some(o) = args.log_offset_s {
+        if !o.is_finite() {
+            return Err(bad(format!(
+                "--log-offset-s {o} must be a finite time in seconds"
+            )));
+        }
+        if args.log_rate_hz.is_none() {
+            return Err(bad(
+                "--log-offset-s is the clock offset of the pressure log: give --log-rate-hz too"
+                    .into(),
+            ));
+        }
+    }
+    if let Some(v) = &args.video {
+        if args.log_rate_hz.is_none() {
+            return Err(bad(format!(
+                "--video {}: a video's frames are joined to the pressures by time; give --log-rate-hz (e.g. 7) for the pressure log",
+                v.display()
+            )));
+        }
+        let plain = v.file_name().is_some_and(|n| n == v.as_os_str());
+        let ext = v
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if !plain || !matches!(ext.as_deref(), Some("avi" | "mp4")) {
+            return Err(bad(format!(
+                "--video {}: give a file name (no folder; it is written in OUT_DIR) ending in .avi (Motion JPEG) or .mp4",
+                v.display()
+            )));
+        }
+    }
     let specimen = Specimen {
         radius_m: args.radius_m,
         thickness_m: args.thickness_m,
@@ -219,9 +293,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
             Failure::Failed(e.into())
         }
     })?;
+    let extra = write_timed(&args, &spec, &w, &frames, &pressures)?;
     let hmax = w.truth.iter().map(|t| t.height_m).fold(0.0, f64::max);
     println!(
-        "wrote {n} {}x{} {} photos ({:.2} MB) of a {} bubble, {:.0}..{:.0} Pa, apex height up to {:.4e} m ({:.1} px), {:.4e} m/px, + pressure.csv, truth.csv, experiment.toml -> {}",
+        "wrote {n} {}x{} {} photos ({:.2} MB) of a {} bubble, {:.0}..{:.0} Pa, apex height up to {:.4e} m ({:.1} px), {:.4e} m/px, + pressure.csv, truth.csv, experiment.toml{extra} -> {}",
         args.width,
         args.height,
         encoding.extension().to_uppercase(),
@@ -235,4 +310,75 @@ pub fn run(args: Args) -> Result<(), Failure> {
         args.out_dir.display()
     );
     Ok(())
+}
+
+/// The outputs of --log-rate-hz and --video: pressure_log.csv,
+/// experiment_log.toml, the video and experiment_video.toml. Returns their
+/// part of the summary line (empty without those flags).
+fn write_timed(
+    args: &Args,
+    spec: &SequenceSpec,
+    w: &synth::Written,
+    frames: &[SynthFrame],
+    pressures: &[f64],
+) -> Result<String, Failure> {
+    let Some(rate) = args.log_rate_hz else {
+        return Ok(String::new());
+    };
+    let failed = |e: bulge::track::TrackError| {
+        if e.is_bad_input() {
+            Failure::BadInput(e.into())
+        } else {
+            Failure::Failed(e.into())
+        }
+    };
+    let write = |name: &str, bytes: &[u8]| -> Result<(), Failure> {
+        let p = args.out_dir.join(name);
+        bulge::io::write_atomic(&p, bytes)
+            .map_err(|e| Failure::Failed(anyhow!("cannot write {}: {e}", p.display())))
+    };
+    let interval = 1.0 / f64::from(args.fps);
+    let offset = args.log_offset_s.unwrap_or(0.0);
+    let log = synth::pressure_log_csv(pressures, interval, rate, offset);
+    let bytes = log.into_bytes();
+    let rows = bytes.iter().filter(|&&b| b == b'\n').count() - 1;
+    write("pressure_log.csv", &bytes)?;
+    let pressure = format!(
+        "csv = \"pressure_log.csv\" # columns time_s,pressure_pa\noffset_s = {offset:?} # logger time = frame time + offset_s\n"
+    );
+    let ext = spec.encoding.extension();
+    let toml = synth::experiment_toml(
+        spec,
+        &w.scene,
+        &w.layout,
+        &format!(
+            "dir = \"photos\"\nglob = \"*.{ext}\"\ninterval_s = {interval:?} # photo k at start_s + k * interval_s\n"
+        ),
+        &pressure,
+    );
+    write("experiment_log.toml", toml.as_bytes())?;
+    let mut extra = format!(
+        ", pressure_log.csv ({rows} rows at {rate} Hz, logger time = camera time + {offset} s), experiment_log.toml"
+    );
+    if let Some(v) = &args.video {
+        let quality = args.jpeg_quality.unwrap_or(95);
+        let bytes = synth::write_video(&args.out_dir.join(v), spec, frames, args.fps, quality)
+            .map_err(failed)?;
+        let name = v.to_string_lossy();
+        let toml = synth::experiment_toml(
+            spec,
+            &w.scene,
+            &w.layout,
+            &format!("video = \"{name}\"\nevery = 1\n"),
+            &pressure,
+        );
+        write("experiment_video.toml", toml.as_bytes())?;
+        extra += &format!(
+            ", {name} ({:.2} MB, {} frames at {} frames/s), experiment_video.toml",
+            bytes as f64 / 1e6,
+            frames.len(),
+            args.fps
+        );
+    }
+    Ok(extra)
 }

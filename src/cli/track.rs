@@ -12,9 +12,12 @@ use bulge::track::{self, Options, Refine, TrackError};
 
 /// Flags of `bulge track`.
 ///
-/// Reads `[photos]`, `[calibration]` and `[pressure]` of the experiment file,
-/// finds the bubble's apex in every photo and writes
-/// `frame,file,pressure_pa,apex_x_px,apex_y_px,score,height_m,height_std_m`.
+/// Reads `[photos]` (a folder of photos, or a video's frames), `[calibration]`
+/// and `[pressure]` (by file name, or a log by time interpolated at each
+/// frame's time) of the experiment file, finds the bubble's apex in every
+/// frame and writes
+/// `frame,file,pressure_pa,apex_x_px,apex_y_px,score,height_m,height_std_m`,
+/// and `time_s` last when the frames' times are known.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The experiment file (TOML with [specimen], [photos], [calibration], [pressure]).

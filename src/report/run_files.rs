@@ -132,7 +132,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
     let mut photos = Vec::new();
     for i in picks {
         let r = &tracking.tracked.rows[i];
-        let png = annotate::annotated_png(&tracking.photo(i), &tracking.marks(i), 640)?;
+        let png = annotate::annotated_frame_png(tracking.frame(i), &tracking.marks(i), 640)?;
         photos.push(Picture {
             caption: format!(
                 "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",

@@ -48,6 +48,28 @@ pub fn annotated_png(
             reason: "OpenCV cannot decode it".into(),
         });
     }
+    draw_png(img, marks, max_width_px)
+}
+
+/// [`annotated_png`] for a tracked frame: a photo, or a frame of a video.
+pub fn annotated_frame_png(
+    frame: &super::Frame,
+    marks: &Marks,
+    max_width_px: usize,
+) -> Result<Vec<u8>, TrackError> {
+    match frame.video_frame {
+        Some(i) => draw_png(
+            super::video::read_frame_bgr(&frame.path, i)?,
+            marks,
+            max_width_px,
+        ),
+        None => annotated_png(&frame.path, marks, max_width_px),
+    }
+}
+
+/// Draws `marks` on a colour image and encodes it as PNG, at most
+/// `max_width_px` wide.
+fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, TrackError> {
     let (w, h) = (img.cols() as f64, img.rows() as f64);
     let scale = if max_width_px > 0 && w > max_width_px as f64 {
         max_width_px as f64 / w

@@ -147,7 +147,11 @@ pub(super) fn match_frames(
         if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
             if !opts.skip_bad_frames {
                 return Err(TrackError::LowScore {
-                    path: f.path.clone(),
+                    // a video names the frame in it too
+                    path: match f.video_frame {
+                        Some(_) => format!("{} ({})", f.path.display(), f.file).into(),
+                        None => f.path.clone(),
+                    },
                     frame: i,
                     score: loc.m.score,
                     min: opts.min_score,
@@ -231,6 +235,7 @@ pub(super) fn match_frames(
             apex_integer_px: int,
             apex_quadratic_px: quad,
             edge,
+            time_s: f.time_s,
         });
     }
     if let HeightOrigin::ClampRow(clamp) = setup.calibration.origin {

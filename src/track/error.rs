@@ -14,6 +14,14 @@ pub enum TrackError {
         /// What went wrong.
         reason: String,
     },
+    /// The video cannot be opened or read.
+    #[error("{}: cannot read the video: {reason}; fix `video` in [photos] (a file, relative to the experiment file), or convert the video to Motion JPEG in AVI or H.264 in MP4", path.display())]
+    Video {
+        /// The video.
+        path: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
     /// The file ends early.
     #[error("{}: the image is truncated: {reason}; copy it again from the camera or remove it", path.display())]
     Truncated {
@@ -81,6 +89,14 @@ pub enum TrackError {
         file: String,
         /// The pressure log.
         csv: PathBuf,
+    },
+    /// A frame's time falls outside the span of the pressure log by time.
+    #[error("{}: {message}", csv.display())]
+    OutsideLog {
+        /// The pressure log.
+        csv: PathBuf,
+        /// The frame, its time on both clocks, both spans and the fix.
+        message: String,
     },
     /// The photo folder does not exist or cannot be listed.
     #[error("{}: cannot list the photo folder: {reason}; fix `dir` in [photos] (a folder, relative to the experiment file) or put the photos there", dir.display())]

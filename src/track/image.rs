@@ -136,10 +136,20 @@ pub fn decode_gray_lenient(
     roi: Option<[usize; 4]>,
 ) -> Result<Decoded, TrackError> {
     let mat = decode_checked(path, bytes)?;
+    crop_lenient(path, &mat, roi)
+}
+
+/// Crops the region `roi` of a decoded 8-bit grayscale image; when the region
+/// does not fit (or is `None`), the crop is empty and only the size counts.
+pub(crate) fn crop_lenient(
+    path: &Path,
+    mat: &Mat,
+    roi: Option<[usize; 4]>,
+) -> Result<Decoded, TrackError> {
     let (width, height) = (mat.cols() as usize, mat.rows() as usize);
     match roi {
         Some([x, y, w, h]) if x + w <= width && y + h <= height => {
-            crop_mat(path, &mat, [x, y, w, h])
+            crop_mat(path, mat, [x, y, w, h])
         }
         _ => Ok(Decoded {
             width,
@@ -153,7 +163,9 @@ pub fn decode_gray_lenient(
     }
 }
 
-fn crop_mat(path: &Path, mat: &Mat, roi: [usize; 4]) -> Result<Decoded, TrackError> {
+/// Crops the rectangle `roi` of an 8-bit grayscale image (refused when it
+/// does not fit).
+pub(crate) fn crop_mat(path: &Path, mat: &Mat, roi: [usize; 4]) -> Result<Decoded, TrackError> {
     let (width, height) = (mat.cols() as usize, mat.rows() as usize);
     let [x, y, w, h] = roi;
     if x + w > width || y + h > height {

@@ -27,6 +27,7 @@ pub mod annotate;
 pub mod image;
 pub(crate) mod matcher;
 pub mod synth;
+pub mod video;
 
 mod decode;
 mod error;

@@ -7,8 +7,9 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::*;
-use crate::experiment::Experiment;
+use crate::experiment::{Experiment, PhotosConfig, PressureConfig};
 use crate::io::Table;
+use crate::pressure_log::PressureLog;
 
 /// Compares names the way people count: `img2` < `img10`.
 // Kept by hand: natord orders `img02` before `img1`, alphanumeric-sort `img2` before `img02`, lexical-sort `img002` after `img10`.
@@ -146,13 +147,13 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         message,
     };
     let photos = e.photos.as_ref().ok_or_else(|| {
-        cfg("no [photos] table: add one with `dir`, `glob` and `roi_px` (see docs/track.md)".into())
+        cfg("no [photos] table: add one with `dir`, `glob` and `roi_px` (or `video` and `roi_px`; see docs/track.md)".into())
     })?;
     let cal = e.calibration.as_ref().ok_or_else(|| {
         cfg("no [calibration] table: add `metres_per_pixel` (or `points_px` and `distance_m`) and `clamp_row_px`".into())
     })?;
     let pressure = e.pressure.as_ref().ok_or_else(|| {
-        cfg("no [pressure] table: add `csv = \"pressure.csv\"` (columns file,pressure_pa)".into())
+        cfg("no [pressure] table: add `csv = \"pressure.csv\"` (columns file,pressure_pa, or time_s,pressure_pa)".into())
     })?;
 
     let [x, y, w, h] = photos.roi_px;
@@ -224,26 +225,8 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         },
     };
 
-    let dir = e.resolve(&photos.dir);
-    let paths = list_photos(&dir, &photos.glob)?;
-    let csv = e.resolve(&pressure.csv);
-    let pressures = read_pressures(&csv)?;
-    let mut frames = Vec::with_capacity(paths.len());
-    for p in paths {
-        let file = p
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let pressure_pa = *pressures.get(&file).ok_or_else(|| TrackError::NoPressure {
-            file: file.clone(),
-            csv: csv.clone(),
-        })?;
-        frames.push(Frame {
-            path: p,
-            file,
-            pressure_pa,
-        });
-    }
+    let (mut frames, video) = list_frames(e, photos)?;
+    join_pressures(e, pressure, &mut frames)?;
     if photos.reference_frame >= frames.len() {
         return Err(cfg(format!(
             "[photos] reference_frame = {} but there are only {} photos (frames 0..{})",
@@ -257,6 +240,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         frames,
         roi,
         template,
+        video,
         reference_frame: photos.reference_frame,
         apex_in_template: photos.apex_in_template_px,
         calibration: Calibration {
@@ -264,6 +248,173 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             origin,
         },
     })
+}
+
+/// The frames of `[photos]`: the photos of a folder in natural order (with
+/// times when `interval_s` is given), or the chosen frames of a video (with
+/// the container's times). Pressures are set by [`join_pressures`].
+fn list_frames(
+    e: &Experiment,
+    photos: &PhotosConfig,
+) -> Result<(Vec<Frame>, Option<PathBuf>), TrackError> {
+    let cfg = |message: String| TrackError::Config {
+        path: e.path.clone(),
+        message,
+    };
+    let fmt = crate::io::fmt_short;
+    match (&photos.video, &photos.dir) {
+        (Some(_), Some(_)) => Err(cfg(
+            "[photos] gives both `video` and `dir`: keep one source of frames (a video file, or a folder of photos with `glob`)".into(),
+        )),
+        (Some(_), None) if photos.glob.is_some() => Err(cfg(
+            "[photos] gives `video` and `glob`: `glob` chooses the photos of a folder; remove it (the frames of a video are chosen by `every` or `times_s`)".into(),
+        )),
+        (None, None) => Err(cfg(
+            "[photos] needs `dir = \"photos\"` (a folder of photos) or `video = \"test.mp4\"` (a video file)".into(),
+        )),
+        (Some(v), None) => {
+            if photos.interval_s.is_some() || photos.start_s.is_some() {
+                return Err(cfg(
+                    "[photos] `interval_s`/`start_s` give the times of a folder's photos; a video's frames carry their own times: remove them".into(),
+                ));
+            }
+            let path = e.resolve(v);
+            let info = super::video::probe(&path)?;
+            let chosen = info
+                .select(photos.every, photos.times_s.as_deref())
+                .map_err(&cfg)?;
+            let frames = chosen
+                .into_iter()
+                .map(|i| Frame {
+                    path: path.clone(),
+                    file: super::video::frame_name(i),
+                    pressure_pa: f64::NAN,
+                    time_s: info.times_s.as_ref().map(|t| t[i]),
+                    video_frame: Some(i),
+                })
+                .collect();
+            Ok((frames, Some(path)))
+        }
+        (None, Some(d)) => {
+            if photos.every.is_some() || photos.times_s.is_some() {
+                return Err(cfg(
+                    "[photos] `every`/`times_s` choose the frames of a video; a folder's photos are chosen by `glob`: remove them".into(),
+                ));
+            }
+            let times = match (photos.interval_s, photos.start_s) {
+                (None, Some(s)) => {
+                    return Err(cfg(format!(
+                        "[photos] start_s = {} without interval_s: give `interval_s` (the time between photos, s) too, or remove start_s",
+                        fmt(s)
+                    )));
+                }
+                (Some(dt), _) if !(dt.is_finite() && dt > 0.0) => {
+                    return Err(cfg(format!(
+                        "[photos] interval_s = {}: the time between photos must be a positive number of seconds",
+                        fmt(dt)
+                    )));
+                }
+                (_, Some(s)) if !s.is_finite() => {
+                    return Err(cfg(format!("[photos] start_s = {s} is not a finite time in seconds")));
+                }
+                (Some(dt), s) => Some((s.unwrap_or(0.0), dt)),
+                (None, None) => None,
+            };
+            let dir = e.resolve(d);
+            let paths = list_photos(&dir, photos.glob())?;
+            let frames = paths
+                .into_iter()
+                .enumerate()
+                .map(|(k, p)| Frame {
+                    file: p
+                        .file_name()
+                        .map(|n| n.to_string_lossy().into_owned())
+                        .unwrap_or_default(),
+                    path: p,
+                    pressure_pa: f64::NAN,
+                    time_s: times.map(|(s, dt)| s + k as f64 * dt),
+                    video_frame: None,
+                })
+                .collect();
+            Ok((frames, None))
+        }
+    }
+}
+
+/// Sets each frame's pressure from `[pressure] csv`: by file name (columns
+/// `file,pressure_pa`), or interpolated at the frame's time (columns
+/// `time_s,pressure_pa`; logger time = frame time + `offset_s`).
+fn join_pressures(
+    e: &Experiment,
+    pressure: &PressureConfig,
+    frames: &mut [Frame],
+) -> Result<(), TrackError> {
+    let cfg = |message: String| TrackError::Config {
+        path: e.path.clone(),
+        message,
+    };
+    let fmt = crate::io::fmt_short;
+    let csv = e.resolve(&pressure.csv);
+    let table = Table::read(&csv)?;
+    if !PressureLog::is_time_log(&table) {
+        if let Some(o) = pressure.offset_s {
+            return Err(cfg(format!(
+                "[pressure] offset_s = {} aligns a log by time (columns time_s,pressure_pa), but {} is joined by file name (column `file`): remove offset_s",
+                fmt(o),
+                csv.display()
+            )));
+        }
+        let pressures = read_pressures(&csv)?;
+        for f in frames.iter_mut() {
+            f.pressure_pa = *pressures
+                .get(&f.file)
+                .ok_or_else(|| TrackError::NoPressure {
+                    file: f.file.clone(),
+                    csv: csv.clone(),
+                })?;
+        }
+        return Ok(());
+    }
+    let offset = pressure.offset_s.unwrap_or(0.0);
+    if !offset.is_finite() {
+        return Err(cfg(format!(
+            "[pressure] offset_s = {offset} is not a finite time in seconds"
+        )));
+    }
+    let log = PressureLog::from_table(&table)?;
+    let Some(first) = frames.first() else {
+        return Ok(());
+    };
+    if first.time_s.is_none() {
+        return Err(cfg(format!(
+            "{} is a pressure log by time (columns time_s,pressure_pa), but the photos have no times: give `interval_s` (the time between photos, s; and `start_s`, the first photo's time, default 0) in [photos], or join by file name (columns file,pressure_pa)",
+            csv.display()
+        )));
+    }
+    let times: Vec<f64> = frames
+        .iter()
+        .map(|f| f.time_s.unwrap_or(f64::NAN))
+        .collect();
+    let (t0, t1) = (times[0], times[times.len() - 1]);
+    for (f, &t) in frames.iter_mut().zip(&times) {
+        f.pressure_pa = log.at(t + offset).map_err(|o| TrackError::OutsideLog {
+            csv: csv.clone(),
+            message: format!(
+                "{} at {} s on the camera's clock is logger time {} s (offset_s = {} s), outside the log's span {}..{} s (the frames span {}..{} s on the camera's clock, {}..{} s on the logger's); fix `offset_s` in [pressure] (logger time = frame time + offset_s), or leave out the frames the log does not cover",
+                f.file,
+                fmt(t),
+                fmt(t + offset),
+                fmt(offset),
+                fmt(o.first_s),
+                fmt(o.last_s),
+                fmt(t0),
+                fmt(t1),
+                fmt(t0 + offset),
+                fmt(t1 + offset)
+            ),
+        })?;
+    }
+    Ok(())
 }
 
 pub(super) fn check_rect(

@@ -449,12 +449,86 @@ pub struct Written {
     pub photo_bytes: usize,
     /// The scene.
     pub scene: Scene,
+    /// The region and template written into `experiment.toml`.
+    pub layout: Layout,
 }
 
 /// Template size for an image width: 10 % by 5 % of the width (even).
 pub fn template_size(width: usize) -> (usize, usize) {
     let tw = ((0.1 * width as f64 / 2.0).round() as usize * 2).max(16);
     (tw, (tw / 2).max(8))
+}
+
+/// Photo `i` of a sequence of `n` (the same pixels as the file
+/// [`write_sequence`] writes, before encoding).
+pub fn render_frame(
+    scene: &Scene,
+    spec: &SequenceSpec,
+    n: usize,
+    i: usize,
+    f: &SynthFrame,
+) -> Gray {
+    let t = if n > 1 {
+        i as f64 / (n - 1) as f64
+    } else {
+        0.5
+    };
+    let d = Degradation {
+        blur_px: spec.blur_px,
+        noise_grey: spec.noise_grey,
+        gain: 1.0 + spec.drift * (2.0 * t - 1.0),
+    };
+    render(
+        scene,
+        &f.silhouette,
+        &d,
+        spec.seed.wrapping_mul(1_000_003).wrapping_add(i as u64 + 1),
+    )
+}
+
+/// Where tracking looks, as `experiment.toml` says: the region, the template
+/// rectangle (around the first frame's apex) and the apex inside it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layout {
+    /// `roi_px`: `[x, y, w, h]`.
+    pub roi_px: [i64; 4],
+    /// `template_rect_px`: `[x, y, w, h]`.
+    pub template_rect_px: [i64; 4],
+    /// `apex_in_template_px`.
+    pub apex_in_template_px: [f64; 2],
+}
+
+/// The text of an experiment file for a synthetic sequence; `photos` and
+/// `pressure` are the lines saying where the frames and the pressures are
+/// (e.g. `dir = "photos"\nglob = "*.png"\n` and `csv = "pressure.csv"\n`).
+pub fn experiment_toml(
+    spec: &SequenceSpec,
+    scene: &Scene,
+    layout: &Layout,
+    photos: &str,
+    pressure: &str,
+) -> String {
+    let s = spec.specimen;
+    let [rx, ry, rw, rh] = layout.roi_px;
+    let [tx, ty, tw, th] = layout.template_rect_px;
+    format!(
+        "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
+         # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
+         [specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
+         [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
+         template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
+         apex_in_template_px = [{:?}, {:?}]\n\n\
+         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n\n\
+         [pressure]\n{pressure}",
+        s.radius_m,
+        s.thickness_m,
+        s.poisson,
+        s.prebulge_height_m,
+        layout.apex_in_template_px[0],
+        layout.apex_in_template_px[1],
+        scene.metres_per_pixel,
+        scene.clamp_row_px,
+    )
 }
 
 /// Renders and writes a whole synthetic experiment into `out`:
@@ -504,22 +578,7 @@ pub fn write_sequence(
         .par_iter()
         .enumerate()
         .map(|(i, f)| {
-            let t = if n > 1 {
-                i as f64 / (n - 1) as f64
-            } else {
-                0.5
-            };
-            let d = Degradation {
-                blur_px: spec.blur_px,
-                noise_grey: spec.noise_grey,
-                gain: 1.0 + spec.drift * (2.0 * t - 1.0),
-            };
-            let img = render(
-                &scene,
-                &f.silhouette,
-                &d,
-                spec.seed.wrapping_mul(1_000_003).wrapping_add(i as u64 + 1),
-            );
+            let img = render_frame(&scene, spec, n, i, f);
             let bytes = super::image::encode(&img, spec.encoding)?;
             let file = format!("frame_{:0digits$}.{ext}", i + 1);
             let path = photos.join(&file);
@@ -580,25 +639,17 @@ pub fn write_sequence(
     let ry = (ymin - th as f64).floor().max(0.0) as i64;
     let rw = (3 * tw) as i64;
     let rh = ((ymax + th as f64).ceil() as i64 - ry).min(spec.height as i64 - ry);
-    let glob = format!("*.{ext}");
-    let s = spec.specimen;
-    let toml = format!(
-        "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
-         # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
-         [specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
-         [photos]\ndir = \"photos\"\nglob = \"{glob}\"\nroi_px = [{rx}, {ry}, {rw}, {rh}]\n\
-         template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
-         apex_in_template_px = [{:?}, {:?}]\n\n\
-         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n\n\
-         [pressure]\ncsv = \"pressure.csv\"\n",
-        s.radius_m,
-        s.thickness_m,
-        s.poisson,
-        s.prebulge_height_m,
-        ax0 - tx as f64,
-        ay0 - ty as f64,
-        scene.metres_per_pixel,
-        scene.clamp_row_px,
+    let layout = Layout {
+        roi_px: [rx, ry, rw, rh],
+        template_rect_px: [tx, ty, tw as i64, th as i64],
+        apex_in_template_px: [ax0 - tx as f64, ay0 - ty as f64],
+    };
+    let toml = experiment_toml(
+        spec,
+        &scene,
+        &layout,
+        &format!("dir = \"photos\"\nglob = \"*.{ext}\"\n"),
+        "csv = \"pressure.csv\"\n",
     );
     let p = out.join("experiment.toml");
     crate::io::write_atomic(&p, toml.as_bytes()).map_err(|e| write_err(&p, e))?;
@@ -606,7 +657,138 @@ pub fn write_sequence(
         truth,
         photo_bytes,
         scene,
+        layout,
     })
+}
+
+/// Writes the photos of a sequence as a video at `fps` frames per second
+/// (frame `i` at `i / fps` s), the same pixels as the photos before their
+/// encoding: `.avi` as Motion JPEG (OpenCV's own writer, always available)
+/// at JPEG quality `quality`, `.mp4` as MPEG-4 part 2 when OpenCV's FFmpeg
+/// back-end can write it. Written whole or not at all. Returns its size, bytes.
+pub fn write_video(
+    path: &Path,
+    spec: &SequenceSpec,
+    frames: &[SynthFrame],
+    fps: u32,
+    quality: u8,
+) -> Result<u64, TrackError> {
+    use opencv::core::Size;
+    use opencv::videoio::{self, VideoWriter, VideoWriterTrait, VideoWriterTraitConst};
+    use rayon::prelude::*;
+    let cv = |e: opencv::Error| TrackError::OpenCv(e.to_string());
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let (api, fourcc) = match ext.as_str() {
+        "avi" => (videoio::CAP_OPENCV_MJPEG, ['M', 'J', 'P', 'G']),
+        "mp4" => (videoio::CAP_FFMPEG, ['m', 'p', '4', 'v']),
+        _ => {
+            return Err(TrackError::Config {
+                path: path.to_path_buf(),
+                message: "a video file name must end in .avi (Motion JPEG, always written) or .mp4 (MPEG-4, when OpenCV's FFmpeg back-end is present)".into(),
+            });
+        }
+    };
+    let scene = Scene::new(spec.width, spec.height, spec.specimen.radius_m, spec.seed);
+    let n = frames.len();
+    let write = |tmp: &Path| -> Result<(), TrackError> {
+        let name = tmp.to_str().ok_or_else(|| TrackError::Write {
+            path: path.to_path_buf(),
+            reason: "the path is not valid UTF-8, which OpenCV's video module needs".into(),
+        })?;
+        let code = VideoWriter::fourcc(fourcc[0], fourcc[1], fourcc[2], fourcc[3]).map_err(cv)?;
+        let size = Size::new(spec.width as i32, spec.height as i32);
+        let mut w = VideoWriter::new_with_backend(name, api, code, f64::from(fps), size, true)
+            .map_err(cv)?;
+        if !w.is_opened().map_err(cv)? {
+            return Err(TrackError::Write {
+                path: path.to_path_buf(),
+                reason: format!(
+                    "OpenCV cannot write a .{ext} video here (no back-end for it); write .avi (Motion JPEG) instead"
+                ),
+            });
+        }
+        if api == videoio::CAP_OPENCV_MJPEG {
+            w.set(videoio::VIDEOWRITER_PROP_QUALITY, f64::from(quality))
+                .map_err(cv)?;
+        }
+        // Rendered a few at a time in parallel, written in order.
+        let chunk = 2 * rayon::current_num_threads().max(1);
+        for start in (0..n).step_by(chunk) {
+            let imgs: Vec<Gray> = (start..(start + chunk).min(n))
+                .into_par_iter()
+                .map(|i| render_frame(&scene, spec, n, i, &frames[i]))
+                .collect();
+            for img in &imgs {
+                // Written in colour (grey, R = G = B): the usual 3-channel
+                // Motion JPEG that every reader decodes.
+                let mut bgr = opencv::core::Mat::default();
+                opencv::imgproc::cvt_color_def(
+                    &img.as_mat().map_err(cv)?,
+                    &mut bgr,
+                    opencv::imgproc::COLOR_GRAY2BGR,
+                )
+                .map_err(cv)?;
+                w.write(&bgr).map_err(cv)?;
+            }
+        }
+        w.release().map_err(cv)?;
+        Ok(())
+    };
+    crate::io::write_atomic_with(path, write).map_err(|e| match e {
+        crate::io::AtomicWriteError::Write(e) => e,
+        crate::io::AtomicWriteError::Io(e) => TrackError::Write {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        },
+    })?;
+    std::fs::metadata(path)
+        .map(|m| m.len())
+        .map_err(|e| TrackError::Write {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })
+}
+
+/// The pressure of a synthetic test at camera time `t`, s, when photo `k`
+/// (pressure `pressures[k]`) is taken at `k * interval_s`: linear between
+/// photos plus a quarter of the step times `sin^2(pi t / interval_s)` (zero,
+/// with zero slope, at every photo; the pressure still rises), so that the
+/// linear interpolation of a log sampled between photos is not exact; its
+/// error is at most `h^2 / 8 * max|p''|` for samples `h` apart, with
+/// `max|p''| = (step / 4) * 2 pi^2 / interval_s^2`. Beyond the photos the
+/// first and last steps continue; never below 0.
+pub fn pressure_ramp(pressures: &[f64], interval_s: f64, t: f64) -> f64 {
+    let n = pressures.len();
+    if n == 1 {
+        return pressures[0];
+    }
+    let u = t / interval_s;
+    let k = (u.floor().max(0.0) as usize).min(n - 2);
+    let step = pressures[k + 1] - pressures[k];
+    let lin = pressures[k] + step * (u - k as f64);
+    let wiggle = 0.25 * step * (std::f64::consts::PI * u).sin().powi(2);
+    (lin + wiggle).max(0.0)
+}
+
+/// `time_s,pressure_pa`: the pressure of [`pressure_ramp`] sampled by a
+/// logger at `rate_hz` on its own clock, which reads `offset_s` when the
+/// camera's reads 0 (logger time = camera time + offset_s). The logger
+/// starts at 0 (earlier when `offset_s` < 0, to cover the first photo) and
+/// stops one sample after the last photo.
+pub fn pressure_log_csv(pressures: &[f64], interval_s: f64, rate_hz: f64, offset_s: f64) -> CsvOut {
+    let last = (pressures.len().max(1) - 1) as f64 * interval_s + offset_s;
+    let j0 = ((offset_s * rate_hz).floor() as i64 - 1).min(0);
+    let j1 = (last * rate_hz).ceil() as i64 + 1;
+    let mut csv = CsvOut::new(&["time_s", "pressure_pa"]);
+    for j in j0..=j1 {
+        let tau = j as f64 / rate_hz;
+        let p = pressure_ramp(pressures, interval_s, tau - offset_s);
+        csv.row(&[fmt_num(Some(tau)), fmt_num(Some(p))]);
+    }
+    csv
 }
 
 /// Spherical caps of heights rising linearly from `h_max / n` to `h_max`
@@ -708,6 +890,34 @@ mod tests {
 
     fn scene() -> Scene {
         Scene::new(320, 240, 0.0375, 7)
+    }
+
+    #[test]
+    fn the_pressure_ramp_meets_every_photo_and_rises() {
+        let p = [400.0, 800.0, 1200.0, 1600.0];
+        for (k, &pk) in p.iter().enumerate() {
+            assert!((pressure_ramp(&p, 0.5, 0.5 * k as f64) - pk).abs() < 1e-9);
+        }
+        let mut last = f64::NEG_INFINITY;
+        for j in -20..=200 {
+            let v = pressure_ramp(&p, 0.5, j as f64 * 0.01);
+            assert!(v >= last && v >= 0.0, "t = {}", j as f64 * 0.01);
+            last = v;
+        }
+        // between photos it leaves the straight line (by up to a quarter step)
+        assert!((pressure_ramp(&p, 0.5, 0.25) - 700.0).abs() < 1e-9);
+        let log = String::from_utf8(pressure_log_csv(&p, 0.5, 7.0, 0.4).into_bytes()).unwrap();
+        let rows: Vec<&str> = log.lines().collect();
+        assert_eq!(rows[0], "time_s,pressure_pa");
+        assert!(rows[1].starts_with("0,"), "{}", rows[1]);
+        // one sample after the last photo, at 1.5 + 0.4 s on the logger's clock
+        let last_t: f64 = rows[rows.len() - 1]
+            .split(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(last_t > 1.9 && last_t <= 1.9 + 2.0 / 7.0, "{last_t}");
     }
 
     #[test]

@@ -99,6 +99,63 @@ fn pressure_log_must_cover_every_photo_once() {
     );
 }
 
+/// `[photos]` and `[pressure]` keys of the other source, or out of range,
+/// are refused naming the key; `interval_s`/`start_s` time the photos and a
+/// log by time gives each its interpolated pressure.
+#[test]
+fn photo_times_and_the_keys_of_each_source() {
+    let d = tempfile::tempdir().unwrap();
+    write_tiny_experiment(d.path());
+    let exp = d.path().join("experiment.toml");
+    let text = std::fs::read_to_string(&exp).unwrap();
+    let with = |photos: &str, pressure: &str| {
+        let t = text
+            .replace("[photos]\n", &format!("[photos]\n{photos}"))
+            .replace("csv = \"pressure.csv\"\n", pressure);
+        std::fs::write(&exp, t).unwrap();
+        setup_from_experiment(&Experiment::read(&exp).unwrap())
+    };
+    let file_join = "csv = \"pressure.csv\"\n";
+    let e = with("every = 2\n", file_join).unwrap_err().to_string();
+    assert!(
+        e.contains("`every`/`times_s` choose the frames of a video"),
+        "{e}"
+    );
+    let e = with("start_s = 1.0\n", file_join).unwrap_err().to_string();
+    assert!(e.contains("start_s = 1 without interval_s"), "{e}");
+    let e = with("interval_s = 0.0\n", file_join)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("interval_s = 0:"), "{e}");
+    // times without a log by time: carried to the heights, pressures by file
+    let s = with("interval_s = 0.25\nstart_s = 10.0\n", file_join).unwrap();
+    let times: Vec<_> = s.frames.iter().map(|f| f.time_s).collect();
+    assert_eq!(times, [Some(10.0), Some(10.25), Some(10.5)]);
+    assert_eq!(s.frames[1].pressure_pa, 200.0);
+    // a log by time on a clock 2 s behind the camera's
+    std::fs::write(
+        d.path().join("log.csv"),
+        "time_s,pressure_pa\n7.5,0\n8.5,1000\n",
+    )
+    .unwrap();
+    let log = "csv = \"log.csv\"\noffset_s = -2.0\n";
+    let s = with("interval_s = 0.25\nstart_s = 10.0\n", log).unwrap();
+    let p: Vec<f64> = s.frames.iter().map(|f| f.pressure_pa).collect();
+    assert!(
+        (p[0] - 500.0).abs() < 1e-9 && (p[2] - 1000.0).abs() < 1e-9,
+        "{p:?}"
+    );
+    let e = with("interval_s = 0.5\nstart_s = 10.0\n", log)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("frame_003.png at 11 s") && e.contains("logger time 9 s"),
+        "{e}"
+    );
+    let e = with("", log).unwrap_err().to_string();
+    assert!(e.contains("the photos have no times"), "{e}");
+}
+
 #[test]
 fn region_and_template_are_checked_against_the_image() {
     let d = tempfile::tempdir().unwrap();

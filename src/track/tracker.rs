@@ -51,6 +51,38 @@ pub fn track(
     let reference = &setup.frames[setup.reference_frame];
     std::thread::scope(|scope| {
         let cancel = &cancel;
+        if let Some(video) = &setup.video {
+            // A video is read in order by one thread (its frames are decoded
+            // one after the other anyway); the reference frame is cropped to
+            // the region and the template's rectangle like a photo.
+            scope.spawn(move || {
+                let r = setup.reference_frame;
+                let mut wanted: Vec<video::Wanted> = setup
+                    .frames
+                    .iter()
+                    .enumerate()
+                    .map(|(i, f)| video::Wanted {
+                        seq: i,
+                        index: f.video_frame.unwrap_or(i),
+                        crop: if i == r {
+                            reference_box(setup)
+                        } else {
+                            roi_req
+                        },
+                        lenient: i != r,
+                    })
+                    .collect();
+                wanted.sort_by_key(|w| w.index);
+                video::read_frames(video, &wanted, |i, d| {
+                    !cancel.load(std::sync::atomic::Ordering::Relaxed) && tx.send((i, d)).is_ok()
+                });
+            });
+            let result = match_frames(setup, opts, tick, reference, rx);
+            if result.is_err() {
+                cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            return result;
+        }
         scope.spawn(move || {
             // The reference photo first, cropped to the region and the
             // template's rectangle, then the others' regions.

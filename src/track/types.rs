@@ -5,15 +5,20 @@ use std::path::PathBuf;
 
 use super::matcher::EdgeFit;
 
-/// One photo to track.
+/// One photo (or video frame) to track.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {
-    /// Path of the photo.
+    /// Path of the photo (of the video, for a video frame).
     pub path: PathBuf,
-    /// Its file name (the key into the pressure log).
+    /// Its file name (the key into a pressure log by file), or `frame
+    /// NNNNNN` for a video frame.
     pub file: String,
     /// Pressure at the photo, Pa.
     pub pressure_pa: f64,
+    /// Time of the frame on the camera's clock, s, when known.
+    pub time_s: Option<f64>,
+    /// Index of the frame in the video (0-based), for a video frame.
+    pub video_frame: Option<usize>,
 }
 
 /// Where heights are measured from.
@@ -52,8 +57,11 @@ pub enum TemplateSource {
 pub struct Setup {
     /// The experiment file (for error messages).
     pub experiment: PathBuf,
-    /// Photos in natural order, with their pressures.
+    /// Photos in natural order (video frames in time order), with their
+    /// pressures.
     pub frames: Vec<Frame>,
+    /// The video the frames come from (`None`: photo files).
+    pub video: Option<PathBuf>,
     /// Region where the apex moves, `[x, y, w, h]` px.
     pub roi: [i64; 4],
     /// The template.
@@ -149,6 +157,8 @@ pub struct FrameResult {
     pub apex_quadratic_px: [f64; 2],
     /// The edge fit, when it succeeded (image coordinates).
     pub edge: Option<EdgeFit>,
+    /// Time of the frame on the camera's clock, s, when known.
+    pub time_s: Option<f64>,
 }
 
 /// A frame left out.
@@ -177,10 +187,13 @@ pub struct Tracked {
 
 impl Tracked {
     /// `heights.csv`: `frame,file,pressure_pa,apex_x_px,apex_y_px,score,
-    /// height_m,height_std_m`, one row per tracked frame.
+    /// height_m,height_std_m`, one row per tracked frame, and `time_s` last
+    /// when the frames' times are known (a video, or photos with
+    /// `interval_s`).
     pub fn heights_csv(&self) -> crate::io::CsvOut {
         use crate::io::fmt_num;
-        let mut out = crate::io::CsvOut::new(&[
+        let timed = self.rows.iter().any(|r| r.time_s.is_some());
+        let mut header = vec![
             "frame",
             "file",
             "pressure_pa",
@@ -189,9 +202,13 @@ impl Tracked {
             "score",
             "height_m",
             "height_std_m",
-        ]);
+        ];
+        if timed {
+            header.push("time_s");
+        }
+        let mut out = crate::io::CsvOut::new(&header);
         for r in &self.rows {
-            out.row(&[
+            let mut row = vec![
                 r.frame.to_string(),
                 r.file.clone(),
                 fmt_num(Some(r.pressure_pa)),
@@ -200,7 +217,11 @@ impl Tracked {
                 format!("{:.4}", r.score),
                 fmt_num(Some(r.height_m)),
                 fmt_num(Some(r.height_std_m)),
-            ]);
+            ];
+            if timed {
+                row.push(fmt_num(r.time_s));
+            }
+            out.row(&row);
         }
         out
     }

@@ -11,3 +11,4 @@ mod run;
 mod simulate;
 mod stress;
 mod track;
+mod video;

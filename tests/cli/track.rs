@@ -423,6 +423,10 @@ fn help_documents_every_flag_with_its_default() {
         "--noise",
         "--drift",
         "--jpeg-quality",
+        "--video",
+        "--fps",
+        "--log-rate-hz",
+        "--log-offset-s",
         "neo-Hookean",
     ] {
         assert!(
