@@ -28,9 +28,30 @@ pub struct Specimen {
     pub thickness_m: f64,
     /// Poisson ratio, in [0, 0.5).
     pub poisson: f64,
-    /// Apex height `h0` above the clamp plane at p = 0+, m (>= 0, default 0).
-    #[serde(default)]
+    /// Height `h0` of the stress-free shape over the clamp plane, m (>= 0,
+    /// default 0: a flat disc; a slack membrane's stress-free shape is a
+    /// spherical cap of this height). In an experiment file `"fit"` asks
+    /// `bulge run` to estimate it from the heights (read as NaN here until
+    /// [`Experiment::read`] takes it out).
+    #[serde(default, deserialize_with = "height_or_fit")]
     pub prebulge_height_m: f64,
+}
+
+/// A height in metres, or the word `fit` (as NaN).
+fn height_or_fit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum HeightOrFit {
+        Number(f64),
+        Word(String),
+    }
+    match HeightOrFit::deserialize(d)? {
+        HeightOrFit::Number(v) => Ok(v),
+        HeightOrFit::Word(w) if w == "fit" => Ok(f64::NAN),
+        HeightOrFit::Word(w) => Err(serde::de::Error::custom(format!(
+            "prebulge_height_m = \"{w}\": give a height in metres (e.g. 0.0035) or \"fit\" (estimated from the heights by bulge run)"
+        ))),
+    }
 }
 
 /// A `[specimen]` field out of its range.
@@ -52,6 +73,11 @@ pub enum SpecimenError {
     /// The pre-bulge height is negative or not finite.
     #[error("prebulge_height_m = {0} must be zero or a positive height in metres")]
     Prebulge(f64),
+    /// `prebulge_height_m = "fit"` where a number is needed.
+    #[error(
+        "prebulge_height_m = \"fit\" is estimated from the heights by `bulge run`; this command needs it as a number (the value bulge run reports in material.toml, [fit.refined] prebulge_height_m)"
+    )]
+    PrebulgeToFit,
 }
 
 impl SpecimenError {
@@ -61,7 +87,7 @@ impl SpecimenError {
             SpecimenError::Radius(_) => "radius_m",
             SpecimenError::Thickness(_) => "thickness_m",
             SpecimenError::Poisson(_) => "poisson",
-            SpecimenError::Prebulge(_) => "prebulge_height_m",
+            SpecimenError::Prebulge(_) | SpecimenError::PrebulgeToFit => "prebulge_height_m",
         }
     }
 }
@@ -83,6 +109,9 @@ impl Specimen {
         }
         if !(poisson.is_finite() && (0.0..0.5).contains(&poisson)) {
             return Err(SpecimenError::Poisson(poisson));
+        }
+        if prebulge_height_m.is_nan() {
+            return Err(SpecimenError::PrebulgeToFit);
         }
         if !(prebulge_height_m.is_finite() && prebulge_height_m >= 0.0) {
             return Err(SpecimenError::Prebulge(prebulge_height_m));
@@ -201,6 +230,10 @@ pub struct Experiment {
     /// The file it was read from.
     #[serde(skip)]
     pub path: PathBuf,
+    /// `prebulge_height_m = "fit"`: the stress-free dome height is to be
+    /// estimated from the heights (the specimen then holds 0 until it is).
+    #[serde(skip)]
+    pub prebulge_fit: bool,
 }
 
 impl Experiment {
@@ -208,6 +241,17 @@ impl Experiment {
     pub fn read(path: impl AsRef<Path>) -> Result<Self, InputError> {
         let path = path.as_ref();
         let mut e: Experiment = read_toml(path)?;
+        if e.specimen.prebulge_height_m.is_nan() {
+            e.prebulge_fit = true;
+            e.specimen.prebulge_height_m = 0.0;
+            let clamp = e.calibration.as_ref().and_then(|c| c.clamp_row_px);
+            if e.photos.is_some() && clamp.is_none() {
+                return Err(InputError::file(
+                    path,
+                    "[specimen] prebulge_height_m = \"fit\" estimates the stress-free dome height from heights above the clamp plane: set [calibration] clamp_row_px (the clamp plane's row in the photos), or give prebulge_height_m as a number",
+                ));
+            }
+        }
         e.specimen
             .validate()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;

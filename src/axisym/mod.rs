@@ -24,10 +24,12 @@
 //! off the axis and the materials are described in the submodules and in
 //! `docs/axisym.md`.
 //!
-//! The reference configuration is the flat disc: the specimen's
-//! `prebulge_height_m` is not modelled (heights are above the clamp plane of a
-//! membrane that was flat at zero pressure). The `linear` and `quartic`
-//! materials use the material's `poisson`.
+//! The reference (stress-free) configuration is the flat disc, or, when the
+//! specimen's `prebulge_height_m` is positive, a spherical cap of that height
+//! over the clamp (a slack membrane): the same equations in the reference
+//! arc length, with the reference radius `rho0` in place of `r` (see
+//! `docs/axisym.md`). Heights are above the clamp plane. The `linear` and
+//! `quartic` materials use the material's `poisson`.
 //!
 //! ```
 //! use bulge::axisym::{solve_pole_stretch, Options};
@@ -58,7 +60,7 @@ use crate::io::{CsvOut, fmt_num};
 use crate::material::Material;
 
 use law::Law;
-use shoot::{Membrane, Point, Shot};
+use shoot::{Membrane, Point, Reference, Shot};
 
 /// Settings of the shooting. Every tolerance is relative, so they do not
 /// depend on units or on the size of the deflection.
@@ -301,6 +303,7 @@ impl<'a> Ctx<'a> {
             mem: Membrane {
                 law,
                 max_steps: opts.max_steps,
+                reference: Reference::of(specimen),
             },
             a: specimen.radius_m,
             t: specimen.thickness_m,
@@ -707,19 +710,23 @@ impl<'a> Ctx<'a> {
         })
     }
 
+    /// The unloaded membrane: its stress-free reference (the flat disc, or
+    /// the cap of a slack membrane).
     fn flat(&self) -> Solution {
         let n = self.opts.n_profile;
-        let r: Vec<f64> = (0..n).map(|j| self.a * j as f64 / (n - 1) as f64).collect();
+        let re = self.mem.reference;
+        let xi: Vec<f64> = (0..n).map(|j| re.end * j as f64 / (n - 1) as f64).collect();
+        let r: Vec<f64> = xi.iter().map(|&x| self.a * re.radius(x).0).collect();
         Solution {
             pressure_pa: 0.0,
             pole_stretch: 1.0,
-            height_m: 0.0,
+            height_m: self.a * re.height(0.0),
             iterations: 0,
             residual: 0.0,
             profile: Profile {
                 rho_m: r.clone(),
                 r_m: r,
-                z_m: vec![0.0; n],
+                z_m: xi.iter().map(|&x| self.a * re.height(x)).collect(),
                 stretch_meridional: vec![1.0; n],
                 stretch_hoop: vec![1.0; n],
             },

@@ -28,7 +28,7 @@ use num_dual::{Derivative, DualNum, DualSVec64, DualStruct};
 
 use super::law::Law;
 use super::ode::{self, Settings};
-use super::shoot::Membrane;
+use super::shoot::{Membrane, Reference};
 use super::{AxisymError, Options};
 use crate::experiment::Specimen;
 use crate::material::Material;
@@ -153,13 +153,13 @@ fn shot<T: Packed<N>, const N: usize>(
         },
         x0,
         T::pack(&ser.at(x0)),
-        1.0,
+        mem.reference.end,
         &settings,
         |_, z| 1.0 + z[1] < 0.5 || z[2].abs() > 2.0 * std::f64::consts::PI,
         &[],
         |_, _| {},
     );
-    (out.stopped.is_none() && out.x >= 1.0).then(|| T::unpack(&out.y))
+    (out.stopped.is_none() && out.x >= mem.reference.end).then(|| T::unpack(&out.y))
 }
 
 /// Newton's method on the pole stretch at load `pi` from `l0`, the law's
@@ -252,6 +252,7 @@ pub fn height_gradient(
     let mem = Membrane {
         law: Law::new(material)?,
         max_steps: opts.max_steps,
+        reference: Reference::of(specimen),
     };
     let n = mem.law.params().len();
     if gradient && n + 1 > DIRS {

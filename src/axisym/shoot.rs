@@ -42,9 +42,10 @@ const L2_FLOOR: f64 = 0.5;
 /// The outcome of one shot.
 #[derive(Debug, Clone, Copy)]
 pub struct Shot {
-    /// Whether the clamp `x = 1` was reached.
+    /// Whether the clamp was reached.
     pub complete: bool,
-    /// Where the run ended (dimensionless).
+    /// Where the run ended: the share of the reference arc from the pole
+    /// to the clamp.
     pub x_end: f64,
     /// State there.
     pub y: [f64; 4],
@@ -83,11 +84,74 @@ pub struct Point {
     pub d: f64,
 }
 
+/// The stress-free reference surface: the flat disc, or a spherical cap of
+/// height `h0` over the clamp (a slack membrane). Dimensionless: the
+/// reference arc length `xi` from the pole runs to `end`, the reference
+/// radius is `rho0(xi) = sin(c xi) / c` with `c = a / R0` the cap's
+/// curvature (`rho0 = xi`, `end = 1` for the flat disc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reference {
+    /// `a / R0`, 0 for the flat disc.
+    pub curvature: f64,
+    /// Arc length from the pole to the clamp over `a`.
+    pub end: f64,
+}
+
+impl Reference {
+    /// The flat disc.
+    pub const FLAT: Reference = Reference {
+        curvature: 0.0,
+        end: 1.0,
+    };
+
+    /// The spherical cap of height `h0_over_a` (the flat disc at 0).
+    pub fn cap(h0_over_a: f64) -> Reference {
+        if h0_over_a <= 0.0 {
+            return Reference::FLAT;
+        }
+        let x = h0_over_a;
+        // R0 / a = (1 + x^2) / (2 x), half-angle 2 atan(x).
+        let r0 = (1.0 + x * x) / (2.0 * x);
+        Reference {
+            curvature: 1.0 / r0,
+            end: r0 * 2.0 * x.atan(),
+        }
+    }
+
+    /// The reference of a specimen (its `prebulge_height_m`).
+    pub fn of(specimen: &crate::experiment::Specimen) -> Reference {
+        Reference::cap(specimen.prebulge_height_m / specimen.radius_m)
+    }
+
+    /// `rho0(xi)` and its slope.
+    #[inline]
+    pub fn radius(&self, xi: f64) -> (f64, f64) {
+        if self.curvature == 0.0 {
+            (xi, 1.0)
+        } else {
+            let (s, c) = (self.curvature * xi).sin_cos();
+            (s / self.curvature, c)
+        }
+    }
+
+    /// Height of the reference surface above the clamp plane at `xi`, over `a`.
+    pub fn height(&self, xi: f64) -> f64 {
+        if self.curvature == 0.0 {
+            0.0
+        } else {
+            let c = self.curvature;
+            ((c * xi).cos() - (c * self.end).cos()) / c
+        }
+    }
+}
+
 /// A material on a disc.
 #[derive(Debug, Clone)]
 pub struct Membrane<'a> {
     pub law: Law<'a>,
     pub max_steps: usize,
+    /// The stress-free reference surface.
+    pub reference: Reference,
 }
 
 /// Pole expansion coefficients.
@@ -138,9 +202,11 @@ impl Membrane<'_> {
             return None;
         }
         let (s, c) = psi.sin_cos();
-        let dl2 = (l1 * c - l2) / x;
-        let dl1 = (p[1] * c - p[0] - dp[0][1] * dl2 * x) / (dp[0][0] * x);
-        let dpsi = (l1 * l2 * pi - p[1] * s / x) / p[0];
+        // d(rho0 l2)/dxi = l1 cos psi, d(rho0 P1)/dxi = P2 cos psi.
+        let (r, dr) = self.reference.radius(x);
+        let dl2 = (l1 * c - l2 * dr) / r;
+        let dl1 = (p[1] * c - p[0] * dr - dp[0][1] * dl2 * r) / (dp[0][0] * r);
+        let dpsi = (l1 * l2 * pi - p[1] * s / r) / p[0];
         let dd = l1 * s;
         Some([dl1, dl2, dpsi, dd])
     }
@@ -163,14 +229,17 @@ impl Membrane<'_> {
             return None;
         }
         let k = l0 * l0 * pi / (s * 2.0);
-        // [3P11 - P21, 3P12 - P22; 1, -3] [A; B] = [-s k^2/2; l0 k^2/2]
+        // The reference's curvature c enters through rho0 = xi - c^2 xi^3 / 6:
+        // [3P11 - P21, 3P12 - P22; 1, -3] [A; B] = [-s q/2; l0 q/2], q = k^2 - c^2
+        let c2 = self.reference.curvature * self.reference.curvature;
+        let q = k * k - c2;
         let (m11, m12, m21, m22) = (
             dp[0][0] * 3.0 - dp[1][0],
             dp[0][1] * 3.0 - dp[1][1],
             1.0,
             -3.0,
         );
-        let (r1, r2) = (-s * k * k * 0.5, l0 * k * k * 0.5);
+        let (r1, r2) = (-s * q * 0.5, l0 * q * 0.5);
         let det = m11 * m22 - m12 * m21;
         if det.re() == 0.0 || !det.re().is_finite() {
             return None;
@@ -179,14 +248,16 @@ impl Membrane<'_> {
         let b = (m11 * r2 - r1 * m21) / det;
         let s1 = dp[0][0] * a + dp[0][1] * b;
         let s2 = dp[1][0] * a + dp[1][1] * b;
-        let c = (l0 * (a + b) * pi + s * k * k * k / 6.0 - k * (s1 + s2)) / (s * 4.0);
+        let c = (l0 * (a + b) * pi + s * k * k * k / 6.0 - s * k * c2 / 6.0 - k * (s1 + s2))
+            / (s * 4.0);
         let d = (l0 * c - l0 * k * k * k / 6.0 + a * k) / 4.0;
         Some(Series { l0, k, a, b, c, d })
     }
 
     /// Integrates from the pole to the clamp for pole stretch `l0 > 1` and
-    /// load `pi = p a / t`. `outputs` (increasing, in `(0, 1]`) are recorded
-    /// into `profile` when given.
+    /// load `pi = p a / t`. `outputs` (increasing, in `(0, 1]`, shares of the
+    /// reference arc from the pole to the clamp) are recorded into `profile`
+    /// when given, each with its reference radius as `x`.
     pub fn shoot(
         &self,
         l0: f64,
@@ -216,10 +287,11 @@ impl Membrane<'_> {
             max_steps: self.max_steps,
             norm_dims: 4,
         };
-        let push = |profile: &mut Option<&mut Vec<Point>>, x: f64, y: &[f64; 4]| {
+        let end = self.reference.end;
+        let push = |profile: &mut Option<&mut Vec<Point>>, xi: f64, y: &[f64; 4]| {
             if let Some(v) = profile.as_deref_mut() {
                 v.push(Point {
-                    x,
+                    x: self.reference.radius(xi).0,
                     l1: 1.0 + y[0],
                     l2: 1.0 + y[1],
                     psi: y[2],
@@ -228,6 +300,7 @@ impl Membrane<'_> {
             }
         };
         // Outputs inside the start radius come from the series.
+        let outputs: Vec<f64> = outputs.iter().map(|f| f * end).collect();
         let split = outputs.partition_point(|&x| x <= x0);
         for &x in &outputs[..split] {
             let y = if x == 0.0 {
@@ -241,15 +314,15 @@ impl Membrane<'_> {
             |x, y| self.rhs(pi, x, y),
             x0,
             y0,
-            1.0,
+            end,
             &settings,
             |_, y| 1.0 + y[1] < L2_FLOOR || y[2].abs() > 2.0 * std::f64::consts::PI,
             &outputs[split..],
             |x, y| push(&mut profile, x, y),
         );
         Shot {
-            complete: out.stopped.is_none() && out.x >= 1.0,
-            x_end: out.x,
+            complete: out.stopped.is_none() && out.x >= end,
+            x_end: out.x / end,
             y: out.y,
             steps: out.accepted + out.rejected,
         }

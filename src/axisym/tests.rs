@@ -512,3 +512,68 @@ fn rk_steps_grow_as_a_fifth_order_method() {
         }
     }
 }
+
+/// A slack membrane, its stress-free reference a spherical cap of height
+/// `h0 = 0.1 a`: at a small pressure the apex stands at `h0`, every
+/// profile satisfies the vertical equilibrium of the cap cut at any
+/// reference radius, `2 P1 sin psi = pi rho0 l2^2` (a first integral the
+/// ODE does not use), meets the clamp (`rho = a`, `z = 0`), and its
+/// polyline has the arc length `integral l1 dxi`.
+#[test]
+fn slack_reference_cap_profiles_are_in_equilibrium() {
+    let h0 = 0.1 * A;
+    let spec = Specimen {
+        prebulge_height_m: h0,
+        ..specimen()
+    };
+    let o = Options::default();
+    let m = neo();
+    // At 1 Pa the pole strain is 2e-4 and the dome stands at its
+    // stress-free height (below that the nearly inextensible cap has other,
+    // hoop-compressed equilibria; a membrane wrinkles there).
+    let low = solve_pressure(&m, &spec, 1.0, &o).unwrap();
+    assert!(
+        rel(low.height_m, h0) < 0.02,
+        "{} against h0 {h0}",
+        low.height_m
+    );
+    assert!(rel(solve_pressure(&m, &spec, 0.0, &o).unwrap().height_m, h0) < 1e-12);
+    let mut last = low.height_m;
+    for p in [10.0, 100.0, 1000.0, 3000.0] {
+        let h = solve_pressure(&m, &spec, p, &o).unwrap().height_m;
+        assert!(h > last, "{p} Pa: {h} after {last}");
+        last = h;
+    }
+    let flat = solve_pressure(&m, &specimen(), 2000.0, &o).unwrap();
+    let ctx = Ctx::new(&m, &spec, &o).unwrap();
+    for l0 in [1.02, 1.3, 1.8] {
+        let sol = solve_pole_stretch(&m, &spec, l0, &o).unwrap();
+        let pi = sol.pressure_pa * A / T;
+        let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
+        let mut pts = Vec::new();
+        let shot = ctx.mem.shoot(l0, pi, 1e-10, &xs, Some(&mut pts));
+        assert!(shot.complete);
+        for p in &pts[1..] {
+            let p1 = ctx.mem.law.stress(p.l1, p.l2).unwrap().p[0];
+            let lhs = 2.0 * p1 * p.psi.sin();
+            let rhs = pi * p.x * p.l2 * p.l2;
+            assert!((lhs - rhs).abs() < 1e-8 * pi, "l0 {l0}: {lhs} vs {rhs}");
+        }
+        let pr = &sol.profile;
+        let n = pr.r_m.len();
+        assert!((pr.rho_m[n - 1] - A).abs() < 1e-9 * A);
+        assert!((pr.r_m[n - 1] - A).abs() < 1e-12 * A);
+        assert!(pr.z_m[n - 1].abs() < 1e-12 * A);
+        let end = ctx.mem.reference.end * A;
+        let (mut arc, mut integral) = (0.0, 0.0);
+        for i in 1..n {
+            arc += (pr.rho_m[i] - pr.rho_m[i - 1]).hypot(pr.z_m[i] - pr.z_m[i - 1]);
+            integral += 0.5 * (pr.stretch_meridional[i] + pr.stretch_meridional[i - 1]) * end
+                / (n - 1) as f64;
+        }
+        assert!(rel(arc, integral) < 1e-4, "l0 {l0}: {arc} vs {integral}");
+    }
+    // Slack, the membrane rises higher at the same pressure than the flat one.
+    let slack = solve_pressure(&m, &spec, 2000.0, &o).unwrap();
+    assert!(slack.height_m > flat.height_m);
+}

@@ -171,7 +171,10 @@ impl Observer for Console {
     }
 
     fn note(&self, stage: Stage, message: &str) {
-        if stage == Stage::Track || stage == Stage::Fit && message.starts_with("only ") {
+        if stage == Stage::Track
+            || stage == Stage::Fit && message.starts_with("only ")
+            || stage == Stage::Stress
+        {
             eprintln!("         {message}");
         }
     }

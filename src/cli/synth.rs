@@ -59,6 +59,13 @@ pub struct Args {
     #[arg(long, default_value_t = 0.45)]
     pub poisson: f64,
 
+    /// A slack membrane: its stress-free shape is a spherical cap of this
+    /// height over the clamp, m (default 0: a flat, stress-free disc). The
+    /// heights are above the clamp plane, as the flat disc's clamp row gives
+    /// them; written into [specimen] prebulge_height_m.
+    #[arg(long, default_value_t = 0.0)]
+    pub prebulge_height_m: f64,
+
     /// Image width, px (default 640; the disc spans 70 % of it).
     #[arg(long, default_value_t = 640)]
     pub width: usize,
@@ -229,7 +236,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         radius_m: args.radius_m,
         thickness_m: args.thickness_m,
         poisson: args.poisson,
-        prebulge_height_m: 0.0,
+        prebulge_height_m: args.prebulge_height_m,
     };
     specimen
         .validate()

@@ -243,6 +243,10 @@ pub struct RefinedRecord {
     /// What the correction was held to, if anything.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub constraint: Option<String>,
+    /// The stress-free dome height found beside the law, m (a slack
+    /// membrane), when it was sought.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prebulge_height_m: Option<f64>,
 }
 
 impl RefinedRecord {
@@ -256,6 +260,7 @@ impl RefinedRecord {
             axisym_solves: r.solves,
             cap_law: Some(cap.clone()),
             constraint: r.constraint.clone(),
+            prebulge_height_m: r.prebulge_height_m,
         }
     }
 }
@@ -330,6 +335,11 @@ impl FittedMaterial {
         opts: &inverse::Options,
     ) -> Result<&inverse::Refined, FitError> {
         let r = inverse::refine(&self.cap_material, specimen, measured, opts)?;
+        Ok(self.adopt(r))
+    }
+
+    /// Takes a correction's law and records it.
+    fn adopt(&mut self, r: inverse::Refined) -> &inverse::Refined {
         let record = RefinedRecord::of(&r, &self.cap_material.model);
         if let Model::Quartic {
             coefficients_pa,
@@ -346,7 +356,7 @@ impl FittedMaterial {
         }
         self.material.model = r.material.model.clone();
         self.provenance_mut().refined = Some(record);
-        Ok(self.refined.insert(r))
+        self.refined.insert(r)
     }
 
     /// Adds a warning to the material and its provenance.

@@ -561,6 +561,7 @@ mod tests {
                     axisym_solves: 40,
                     cap_law: Some(Model::NeoHookean { c1_pa: 1.0e5 }),
                     constraint: None,
+                    prebulge_height_m: Some(0.003),
                 }),
                 ..Default::default()
             };

@@ -72,6 +72,7 @@
 //! g'(x1) / (a g(x0))`, and the product and quotient rules for the rest.
 
 mod cap;
+pub mod prebulge;
 mod stress;
 mod types;
 

@@ -185,12 +185,11 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         experiment.push(("pressure range".into(), format!("{lo:.1} to {hi:.1} Pa")));
     }
     let mut notes: Vec<String> = fit.warnings.iter().map(|w| format!("fit: {w}")).collect();
-    notes.extend(
-        o.notes
-            .iter()
-            .filter_map(|n| n.strip_prefix("simulate: "))
-            .map(str::to_string),
-    );
+    notes.extend(o.notes.iter().filter_map(|n| {
+        n.strip_prefix("simulate: ")
+            .map(str::to_string)
+            .or_else(|| n.starts_with("stress: ").then(|| n.clone()))
+    }));
     let material_toml = String::from_utf8_lossy(
         &files
             .iter()

@@ -111,7 +111,7 @@ impl SceneSolver {
     pub fn on_mesh(scene: &Scene, mesh: Mesh, model: SpringModel) -> Result<Self, SimError> {
         let membrane = scene.membrane(&mesh, model)?;
         let predictor: Box<dyn Predictor + Send + Sync> = match scene.kind {
-            SceneKind::Disc { radius_m } => Box::new(DiscPredictor {
+            SceneKind::Disc { radius_m, .. } => Box::new(DiscPredictor {
                 radius_m,
                 young_pa: membrane.law.young(1.0).1,
                 thickness_m: scene.thickness_m,
@@ -290,7 +290,7 @@ pub fn mesh_for_accuracy(
     target: f64,
     max_nodes: usize,
 ) -> Result<SizedMesh, SimError> {
-    let SceneKind::Disc { radius_m } = scene.kind else {
+    let SceneKind::Disc { radius_m, .. } = scene.kind else {
         return Err(SimError::BadParameter(format!(
             "a mesh sized by its estimated error is made for the disc, not a {}",
             scene.kind.name()

@@ -326,6 +326,28 @@ pub fn disc_rings_for_nodes(nodes: usize, sector: bool) -> usize {
     r.round().max(1.0) as usize
 }
 
+/// Lifts a flat disc mesh of radius `a` onto the spherical cap of height
+/// `h0` over the same rim (the stress-free shape of a slack membrane): a node
+/// at radius `r` goes to polar angle `(r / a) theta0` on the sphere of radius
+/// `R0 = (a^2 + h0^2) / (2 h0)`, `theta0 = 2 atan(h0 / a)`, so that rings
+/// keep equal arc lengths from the pole. The rim, the pole and the mirror
+/// planes stay where they are; the springs' rest lengths and the triangles'
+/// rest areas are then those of the cap.
+pub fn lift_to_cap(mesh: &mut Mesh, a: f64, h0: f64) {
+    let r0 = (a * a + h0 * h0) / (2.0 * h0);
+    let theta0 = 2.0 * (h0 / a).atan();
+    for n in &mut mesh.nodes {
+        let r = n.x.hypot(n.y);
+        let phi = (r / a).min(1.0) * theta0;
+        let rho = r0 * phi.sin();
+        if r > 0.0 {
+            n.x *= rho / r;
+            n.y *= rho / r;
+        }
+        n.z = r0 * phi.cos() - (r0 - h0);
+    }
+}
+
 /// The clamped disc in the plane z = 0, ring nodes of the rim clamped.
 pub fn disc(o: DiscOptions) -> Result<Mesh, SimError> {
     let n = o.rings;

@@ -74,6 +74,9 @@ pub enum SceneKind {
     Disc {
         /// Free radius a, m.
         radius_m: f64,
+        /// Height of the stress-free shape over the clamp, m: 0 for a flat
+        /// disc, else a slack membrane whose reference is a spherical cap.
+        dome_height_m: f64,
     },
     /// Tudruj et al.'s (2023) sphere octant.
     SphereSegment {
@@ -188,6 +191,8 @@ pub struct Scene {
 struct SceneFile {
     kind: String,
     radius_m: Option<f64>,
+    /// Disc only: the stress-free dome height of a slack membrane, m.
+    prebulge_height_m: Option<f64>,
     length_m: Option<f64>,
     width_m: Option<f64>,
     thickness_m: f64,
@@ -414,6 +419,7 @@ impl Scene {
         let kind = match f.kind.as_str() {
             "disc" => SceneKind::Disc {
                 radius_m: need(f.radius_m, "radius_m")?,
+                dome_height_m: f.prebulge_height_m.unwrap_or(0.0),
             },
             "sphere-segment" => SceneKind::SphereSegment {
                 radius_m: need(f.radius_m, "radius_m")?,
@@ -471,9 +477,20 @@ impl Scene {
             }
         };
         match self.kind {
-            SceneKind::Disc { radius_m } | SceneKind::SphereSegment { radius_m } => {
-                pos(radius_m, "radius_m")?
+            SceneKind::Disc {
+                radius_m,
+                dome_height_m,
+            } => {
+                pos(radius_m, "radius_m")?;
+                if !(dome_height_m.is_finite() && (0.0..radius_m).contains(&dome_height_m)) {
+                    return Err(SceneError::Value {
+                        key: "prebulge_height_m",
+                        value: dome_height_m,
+                        what: "zero or a positive height below radius_m, in metres",
+                    });
+                }
             }
+            SceneKind::SphereSegment { radius_m } => pos(radius_m, "radius_m")?,
             SceneKind::Sheet { length_m, width_m } => {
                 pos(length_m, "length_m")?;
                 pos(width_m, "width_m")?;
@@ -527,6 +544,7 @@ impl Scene {
         Scene {
             kind: SceneKind::Disc {
                 radius_m: spec.radius_m,
+                dome_height_m: spec.prebulge_height_m,
             },
             thickness_m: spec.thickness_m,
             pressures_pa,
@@ -545,7 +563,10 @@ impl Scene {
     /// Builds the mesh; a requested accuracy is met for the given models.
     pub fn build_mesh_for(&self, models: &[SpringModel]) -> Result<Mesh, SimError> {
         match self.kind {
-            SceneKind::Disc { radius_m } => {
+            SceneKind::Disc {
+                radius_m,
+                dome_height_m,
+            } => {
                 let sector = self.mesh.symmetry;
                 let rings = match self.mesh.size {
                     Some(MeshSize::EdgeLength(h)) => (radius_m / h).ceil() as usize,
@@ -560,11 +581,15 @@ impl Scene {
                     1 + 3 * rings * (rings + 1)
                 };
                 self.mesh.check_nodes(n)?;
-                mesh::disc(mesh::DiscOptions {
+                let mut m = mesh::disc(mesh::DiscOptions {
                     radius_m,
                     rings,
                     sector,
-                })
+                })?;
+                if dome_height_m > 0.0 {
+                    mesh::lift_to_cap(&mut m, radius_m, dome_height_m);
+                }
+                Ok(m)
             }
             SceneKind::SphereSegment { radius_m } => {
                 let n = match self.mesh.size {
@@ -899,7 +924,13 @@ nodes = 153
     fn reads_a_disc_scene() {
         let dir = tempfile::tempdir().unwrap();
         let s = Scene::read(write(dir.path(), "scene.toml", DISC)).unwrap();
-        assert_eq!(s.kind, SceneKind::Disc { radius_m: 0.0375 });
+        assert_eq!(
+            s.kind,
+            SceneKind::Disc {
+                radius_m: 0.0375,
+                dome_height_m: 0.0
+            }
+        );
         assert_eq!(s.thickness_m, 0.00035);
         assert_eq!(s.pressures_pa, vec![5000.0, 7300.5]);
         assert_eq!(s.material.model, Model::Linear { young_pa: 1.0e6 });
@@ -1054,7 +1085,10 @@ nodes = 153
     #[test]
     fn disc_mesh_sizes() {
         let mut s = Scene {
-            kind: SceneKind::Disc { radius_m: 0.03 },
+            kind: SceneKind::Disc {
+                radius_m: 0.03,
+                dome_height_m: 0.0,
+            },
             thickness_m: 1e-3,
             pressures_pa: vec![],
             material: Material {

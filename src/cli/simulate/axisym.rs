@@ -21,7 +21,11 @@ pub(super) fn run_axisym(
     profile: Option<&Path>,
     pb: &indicatif::ProgressBar,
 ) -> Result<Option<CsvOut>, Failure> {
-    let SceneKind::Disc { radius_m } = scene.kind else {
+    let SceneKind::Disc {
+        radius_m,
+        dome_height_m,
+    } = scene.kind
+    else {
         return Err(Failure::BadInput(anyhow!(
             "--model axisym solves the clamped disc only; this scene is a {}",
             scene.kind.name()
@@ -31,7 +35,7 @@ pub(super) fn run_axisym(
         radius_m,
         thickness_m: scene.thickness_m,
         poisson: scene.material.poisson,
-        prebulge_height_m: 0.0,
+        prebulge_height_m: dome_height_m,
     };
     let opts = axisym::Options::default();
     let mut last = None;

@@ -45,9 +45,6 @@ fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
                 m.poisson, e.specimen.poisson
             );
         }
-        if e.specimen.prebulge_height_m > 0.0 {
-            eprintln!("note: the simulated disc starts flat; prebulge_height_m is not modelled");
-        }
         if args.pressures.is_none() {
             return Err(anyhow!(
                 "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"

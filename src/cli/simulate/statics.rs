@@ -141,7 +141,7 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
                 }
                 let mut msg = format!("{m} / {sv}: {}", stop.error);
                 // the disc's limit pressure from the axisymmetric solution
-                if let SceneKind::Disc { radius_m } = scene.kind
+                if let SceneKind::Disc { radius_m, .. } = scene.kind
                     && let Some(note) = bulge::sim::hard::limit_note(
                         &scene.material,
                         radius_m,
