@@ -31,6 +31,7 @@ pub mod video;
 
 mod decode;
 mod error;
+mod exif_time;
 mod setup;
 mod tracker;
 mod types;

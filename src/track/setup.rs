@@ -386,10 +386,19 @@ fn join_pressures(
         return Ok(());
     };
     if first.time_s.is_none() {
-        return Err(cfg(format!(
-            "{} is a pressure log by time (columns time_s,pressure_pa), but the photos have no times: give `interval_s` (the time between photos, s; and `start_s`, the first photo's time, default 0) in [photos], or join by file name (columns file,pressure_pa)",
-            csv.display()
-        )));
+        // The camera's clock: EXIF DateTimeOriginal, seconds after the first
+        // photo's.
+        let mut t0 = None;
+        for f in frames.iter_mut() {
+            let t = super::exif_time::photo_time(&f.path).map_err(|why| {
+                cfg(format!(
+                    "{} is a pressure log by time (columns time_s,pressure_pa), but the photos have no times: {} has no time from the camera ({why}); give `interval_s` (the time between photos, s; and `start_s`, the first photo's time, default 0) in [photos], or join by file name (columns file,pressure_pa)",
+                    csv.display(),
+                    f.file
+                ))
+            })?;
+            f.time_s = Some(t - *t0.get_or_insert(t));
+        }
     }
     let times: Vec<f64> = frames
         .iter()

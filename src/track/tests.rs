@@ -154,6 +154,42 @@ fn photo_times_and_the_keys_of_each_source() {
     );
     let e = with("", log).unwrap_err().to_string();
     assert!(e.contains("the photos have no times"), "{e}");
+    assert!(
+        e.contains("frame_001.png has no time from the camera"),
+        "{e}"
+    );
+    // The camera's clock: the photos as JPEG with EXIF DateTimeOriginal and
+    // SubSecTimeOriginal, a quarter second apart; no interval_s.
+    for k in 1..=3 {
+        let png = d.path().join(format!("photos/frame_00{k}.png"));
+        let bytes = std::fs::read(&png).unwrap();
+        let g = image::decode_gray(&png, &bytes, None).unwrap();
+        let jpeg = image::encode(&g.crop, image::Encoding::Jpeg(95)).unwrap();
+        let sub = ["", "25", "50"][k - 1];
+        let stamped = super::exif_time::tests::with_exif(
+            &jpeg,
+            "2026:11:23 09:59:59",
+            (!sub.is_empty()).then_some(sub),
+        );
+        std::fs::write(d.path().join(format!("photos/frame_00{k}.jpg")), stamped).unwrap();
+        std::fs::remove_file(&png).unwrap();
+    }
+    std::fs::write(
+        d.path().join("log.csv"),
+        "time_s,pressure_pa\n-1,0\n1,2000\n",
+    )
+    .unwrap();
+    let text = text.replace("*.png", "*.jpg");
+    std::fs::write(
+        &exp,
+        text.replace("csv = \"pressure.csv\"\n", "csv = \"log.csv\"\n"),
+    )
+    .unwrap();
+    let s = setup_from_experiment(&Experiment::read(&exp).unwrap()).unwrap();
+    let times: Vec<_> = s.frames.iter().map(|f| f.time_s).collect();
+    assert_eq!(times, [Some(0.0), Some(0.25), Some(0.5)]);
+    let p: Vec<f64> = s.frames.iter().map(|f| f.pressure_pa).collect();
+    assert_eq!(p, [1000.0, 1250.0, 1500.0]);
 }
 
 #[test]
