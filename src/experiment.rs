@@ -244,13 +244,6 @@ impl Experiment {
         if e.specimen.prebulge_height_m.is_nan() {
             e.prebulge_fit = true;
             e.specimen.prebulge_height_m = 0.0;
-            let clamp = e.calibration.as_ref().and_then(|c| c.clamp_row_px);
-            if e.photos.is_some() && clamp.is_none() {
-                return Err(InputError::file(
-                    path,
-                    "[specimen] prebulge_height_m = \"fit\" estimates the stress-free dome height from heights above the clamp plane: set [calibration] clamp_row_px (the clamp plane's row in the photos), or give prebulge_height_m as a number",
-                ));
-            }
         }
         e.specimen
             .validate()

@@ -462,8 +462,9 @@ pub fn prebulge_stage(
     spec: &Specimen,
     settings: &Settings,
     points: Vec<Point>,
+    relative: bool,
 ) -> Result<(f64, String), PipelineError> {
-    let est = crate::mechanics::prebulge::estimate(spec, &points)
+    let est = crate::mechanics::prebulge::estimate(spec, &points, relative)
         .map_err(|e| PipelineError::Input(e.to_string()))?;
     let cap = format!(
         "prebulge_height_m from the cap formulas {:.4e} m (std {:.1e} m, {} points)",
@@ -484,14 +485,15 @@ pub fn prebulge_stage(
         refine: false,
         ..settings.clone()
     };
-    let stress = stress_stage(&at, &mr, points)?;
+    let stress = stress_stage(&at, &mr, shift(points.clone(), relative, est.height_m))?;
     let law = fit_stage(&at, &mr, &stress)?.material;
     let (r, h0) = inverse::refine_with_prebulge(
         &law,
         &at,
-        &measured_heights(&stress.points),
+        &measured_heights(&points),
         &inverse::Options::default(),
         est.height_m,
+        relative,
     )?;
     let rms = inverse::Refined::rms(&r.after).map_or(f64::NAN, |v| 100.0 * v);
     Ok((
@@ -500,6 +502,21 @@ pub fn prebulge_stage(
             "{cap}; beside a Mooney-Rivlin law corrected to the heights (rms {rms:.2} %): prebulge_height_m = {h0:.4e} m, used by stress, fit and simulate"
         ),
     ))
+}
+
+/// `points` with `h0` added to their heights when they are `relative` to a
+/// reference photo of the stress-free dome.
+pub fn shift(points: Vec<Point>, relative: bool, h0: f64) -> Vec<Point> {
+    if !relative {
+        return points;
+    }
+    points
+        .into_iter()
+        .map(|p| Point {
+            height_m: p.height_m + h0,
+            ..p
+        })
+        .collect()
 }
 
 /// Stage 2: heights -> stress and strain.
@@ -913,13 +930,26 @@ pub fn simulate_stage(
         let t_model = Instant::now();
         let mut disc =
             DiscSolver::on_mesh(&scene, mesh.clone(), model)?.with_solver(settings.solver, opts)?;
-        let solved = |q: &crate::sim::SweepPoint| SimPoint {
-            pressure_pa: q.pressure_pa,
-            height_m: Some(q.height_m),
-            iterations: q.stats.iterations,
-            residual: q.stats.residual,
-            wall_s: q.wall_s,
-            note: None,
+        // An apex at or below the clamp plane under a positive pressure is no
+        // equilibrium to trust (a membrane near its stress-free state has no
+        // stiffness: a domed one can fold through); it is not reported.
+        let solved = |q: &crate::sim::SweepPoint| {
+            let folded = q.pressure_pa > 0.0 && q.height_m <= 0.0;
+            SimPoint {
+                pressure_pa: q.pressure_pa,
+                height_m: (!folded).then_some(q.height_m),
+                iterations: q.stats.iterations,
+                residual: q.stats.residual,
+                wall_s: q.wall_s,
+                note: folded.then(|| {
+                    format!(
+                        "{} at {} Pa: the apex fell to {:.3e} m, at or below the clamp plane under a positive pressure (a membrane near its stress-free state has no stiffness); not reported",
+                        model.name(),
+                        q.pressure_pa,
+                        q.height_m
+                    )
+                }),
+            }
         };
         let points = match disc.sweep(pressures, |_, _| tick()) {
             Ok(done) => done.iter().map(solved).collect(),
@@ -1365,15 +1395,26 @@ pub fn run_observed(
     // experiment asks for it)
     let t = Instant::now();
     obs.start(Stage::Stress, 0);
+    let mut points = tracking.points();
     if exp.prebulge_fit {
-        let (h0, what) = prebulge_stage(&specimen, settings, tracking.points())
+        let relative = matches!(
+            tracking.setup.calibration.origin,
+            crate::track::HeightOrigin::Reference { .. }
+        );
+        let (h0, what) = prebulge_stage(&specimen, settings, points.clone(), relative)
             .map_err(|e| fail(Stage::Stress, e, &partial))?;
         specimen.prebulge_height_m = h0;
+        // Relative heights: the reference photo itself (height 0) is the
+        // stress-free state, not a measurement.
+        if relative {
+            points.retain(|p| p.height_m != 0.0);
+        }
+        points = shift(points, relative, h0);
         note(Stage::Stress, what);
     }
     let spec = &specimen;
-    let stress = stress_stage(spec, settings, tracking.points())
-        .map_err(|e| fail(Stage::Stress, e, &partial))?;
+    let stress =
+        stress_stage(spec, settings, points).map_err(|e| fail(Stage::Stress, e, &partial))?;
     finish(
         Stage::Stress,
         t,

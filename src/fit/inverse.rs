@@ -636,7 +636,9 @@ pub fn refine(
 }
 
 /// The correction with the stress-free dome height `h0` of a slack membrane
-/// found beside the law: the law is corrected at each trial `h0` and the
+/// found beside the law (`measured` heights above the clamp plane, or, with
+/// `relative`, above a reference photo of the stress-free dome, so that the
+/// apex stands at `h + h0`): the law is corrected at each trial `h0` and the
 /// `h0` with the smallest rms height error kept (golden sections over
 /// `[0.8, 1.25]` times `start_m`, the cap formulas' estimate, below the
 /// lowest measured height). The cap estimate is biased low by a few per
@@ -648,12 +650,18 @@ pub fn refine_with_prebulge(
     measured: &[Measured],
     opts: &Options,
     start_m: f64,
+    relative: bool,
 ) -> Result<(Refined, f64), FitError> {
     let lowest = measured
         .iter()
         .map(|q| q.height_m)
         .fold(f64::INFINITY, f64::min);
-    let (mut lo, mut hi) = (0.8 * start_m, (1.25 * start_m).min(0.999 * lowest));
+    let top = if relative {
+        f64::INFINITY
+    } else {
+        0.999 * lowest
+    };
+    let (mut lo, mut hi) = (0.8 * start_m, (1.25 * start_m).min(top));
     if !(start_m > 0.0 && lo < hi) {
         return Err(FitError::Unsupported(format!(
             "prebulge_height_m: the estimate {start_m} m leaves no range below the lowest measured height {lowest} m"
@@ -664,7 +672,14 @@ pub fn refine_with_prebulge(
             prebulge_height_m: h0,
             ..*specimen
         };
-        refine(material, &spec, measured, opts)
+        let shifted: Vec<Measured> = measured
+            .iter()
+            .map(|q| Measured {
+                height_m: q.height_m + if relative { h0 } else { 0.0 },
+                ..*q
+            })
+            .collect();
+        refine(material, &spec, &shifted, opts)
             .ok()
             .and_then(|r| Refined::rms(&r.after).map(|e| (e, r)))
     };
@@ -904,7 +919,8 @@ mod tests {
             c1_pa: 0.15e6,
             c2_pa: 0.03e6,
         });
-        let (r, found) = refine_with_prebulge(&start, &spec, &data, &opts, 0.925 * h0).unwrap();
+        let (r, found) =
+            refine_with_prebulge(&start, &spec, &data, &opts, 0.925 * h0, false).unwrap();
         assert!((found / h0 - 1.0).abs() < 0.01, "h0 {found} against {h0}");
         let after = Refined::max_abs(&r.after).unwrap();
         assert!(after < 1e-4, "height error {after}");

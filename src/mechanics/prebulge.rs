@@ -55,14 +55,15 @@ pub enum PrebulgeError {
 }
 
 /// Residual sum of squares of the cubic through the origin at `h0`, in units
-/// of the largest stress squared.
-fn ssr(spec: &Specimen, pts: &[(f64, f64)], h0: f64, scale: f64) -> f64 {
+/// of `scale` squared; heights `h + h0` when `relative`.
+fn ssr(spec: &Specimen, pts: &[(f64, f64)], h0: f64, scale: f64, relative: bool) -> f64 {
     let a = spec.radius_m;
     let s0 = arc_length(a, h0);
     let n = pts.len();
     let mut x = DMatrix::zeros(n, 3);
     let mut y = DVector::zeros(n);
     for (i, &(p, h)) in pts.iter().enumerate() {
+        let h = if relative { h + h0 } else { h };
         let eps = arc_length(a, h) / s0 - 1.0;
         for k in 0..3 {
             x[(i, k)] = eps.powi(k as i32 + 1);
@@ -75,8 +76,14 @@ fn ssr(spec: &Specimen, pts: &[(f64, f64)], h0: f64, scale: f64) -> f64 {
     (x * c - y).norm_squared()
 }
 
-/// Estimates `h0` from `points` (heights above the clamp plane).
-pub fn estimate(spec: &Specimen, points: &[Point]) -> Result<Prebulge, PrebulgeError> {
+/// Estimates `h0` from `points`: heights above the clamp plane, or, with
+/// `relative`, heights above a reference photo of the stress-free dome (the
+/// paper's `h`, the apex then standing at `h + h0`).
+pub fn estimate(
+    spec: &Specimen,
+    points: &[Point],
+    relative: bool,
+) -> Result<Prebulge, PrebulgeError> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .filter(|q| q.pressure_pa > 0.0 && q.height_m > 0.0)
@@ -91,8 +98,12 @@ pub fn estimate(spec: &Specimen, points: &[Point]) -> Result<Prebulge, PrebulgeE
         .iter()
         .map(|&(p, h)| pole_stress(p, cap_radius(a, h), spec.thickness_m))
         .fold(0.0, f64::max);
-    let top = 0.999 * pts.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
-    let f = |h0: f64| ssr(spec, &pts, h0, scale);
+    let top = if relative {
+        0.6 * a
+    } else {
+        0.999 * pts.iter().map(|q| q.1).fold(f64::INFINITY, f64::min)
+    };
+    let f = |h0: f64| ssr(spec, &pts, h0, scale, relative);
     // A scan for the basin, then golden sections inside it.
     let grid = 200;
     let (mut best, mut best_f) = (0, f64::INFINITY);
@@ -184,7 +195,7 @@ mod tests {
                 poisson: 0.45,
                 prebulge_height_m: h0,
             };
-            let e = estimate(&spec, &slack_points(&m, &spec, 100.0)).unwrap();
+            let e = estimate(&spec, &slack_points(&m, &spec, 100.0), false).unwrap();
             if h0 > 0.0 {
                 let err = e.height_m / h0 - 1.0;
                 assert!((-0.06..-0.03).contains(&err), "h0 {e:?} against {h0}");
@@ -209,6 +220,9 @@ mod tests {
                 height_std_m: None,
             })
             .collect();
-        assert_eq!(estimate(&spec, &pts), Err(PrebulgeError::TooFewPoints(5)));
+        assert_eq!(
+            estimate(&spec, &pts, false),
+            Err(PrebulgeError::TooFewPoints(5))
+        );
     }
 }

@@ -468,12 +468,23 @@ fn pressures_above_the_measured_ones_are_flagged() {
 }
 
 /// A slack membrane (its stress-free shape a dome of height 0.1 a, written
-/// by `bulge synth --prebulge-height-m`; heights above the clamp plane of the
-/// flat disc's photo), with `prebulge_height_m = "fit"`: `bulge run` finds
-/// the dome height within 5 % (measured 0.85 % on 640x480 photos), says
-/// so, and TP MSS on the dome follows the true heights within 2 %.
+/// by `bulge synth --prebulge-height-m`) with `prebulge_height_m = "fit"`:
+/// `bulge run` finds the dome height within 5 %, says so, and TP MSS on the
+/// dome follows the true heights within 2 %. Heights above the flat disc's
+/// clamp row (photos from 400 Pa; measured: h0 0.85 % high, TP within
+/// 0.68 %), or above a reference photo of the unloaded dome (frame 0 at
+/// 1 Pa, no clamp row: the apex at `h + h0`).
 #[test]
 fn a_slack_membrane_has_its_dome_height_found() {
+    slack_run("400", false);
+}
+
+#[test]
+fn a_slack_membrane_has_its_dome_height_found_from_a_reference_photo() {
+    slack_run("1", true);
+}
+
+fn slack_run(p_min: &str, relative: bool) {
     let dir = tempdir();
     let d = dir.path();
     let h0 = 0.1 * 0.0375;
@@ -486,7 +497,7 @@ fn a_slack_membrane_has_its_dome_height_found() {
             "--frames",
             "12",
             "--pressure-min-pa",
-            "400",
+            p_min,
             "--pressure-max-pa",
             "5000",
             "--prebulge-height-m",
@@ -501,10 +512,19 @@ fn a_slack_membrane_has_its_dome_height_found() {
     )
     .ok();
     let exp = d.join("exp/experiment.toml");
-    let text = fs::read_to_string(&exp).unwrap();
+    let mut text = fs::read_to_string(&exp).unwrap();
     let line = format!("prebulge_height_m = {h0:?}");
     assert!(text.contains(&line), "{text}");
-    fs::write(&exp, text.replace(&line, "prebulge_height_m = \"fit\"")).unwrap();
+    text = text.replace(&line, "prebulge_height_m = \"fit\"");
+    if relative {
+        let clamp = text
+            .lines()
+            .find(|l| l.starts_with("clamp_row_px"))
+            .unwrap()
+            .to_string();
+        text = text.replace(&clamp, "");
+    }
+    fs::write(&exp, text).unwrap();
     let r = bulge_in(d, &["run", "exp/experiment.toml", "--out", "out"]).ok();
     let said = r
         .stderr
@@ -527,8 +547,14 @@ fn a_slack_membrane_has_its_dome_height_found() {
         col(&sh, "model"),
     );
     let mut checked = 0;
+    // The reference photo itself (1 Pa) is the nearly stress-free dome, where
+    // a membrane without bending stiffness has no unique equilibrium (the
+    // exact solution has hoop-compressed ones below about 1 Pa): not compared.
     for row in sim.iter().filter(|r| r[sm] == "tp") {
         let p: f64 = row[sp].parse().unwrap();
+        if p < 10.0 {
+            continue;
+        }
         let h: f64 = row[shm].parse().unwrap();
         let t = truth
             .iter()
@@ -538,5 +564,5 @@ fn a_slack_membrane_has_its_dome_height_found() {
         assert!((h / t - 1.0).abs() < 0.02, "{p} Pa: TP {h} against {t}");
         checked += 1;
     }
-    assert_eq!(checked, 12);
+    assert_eq!(checked, if relative { 11 } else { 12 });
 }
