@@ -1249,6 +1249,9 @@ impl Observer for () {}
 #[cfg(feature = "opencv")]
 #[derive(Debug, Clone)]
 pub struct RunOutput {
+    /// The specimen the run used: the experiment's, with the stress-free
+    /// dome height found when `prebulge_height_m = "fit"`.
+    pub specimen: Specimen,
     /// Photos -> heights.
     pub tracking: Tracking,
     /// Heights -> stress and strain.
@@ -1480,6 +1483,7 @@ pub fn run_observed(
     }
     let comparison = compare(&stress.points, &runs, &pressures_pa);
     Ok(RunOutput {
+        specimen,
         tracking,
         stress,
         fit,

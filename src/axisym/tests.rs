@@ -344,6 +344,27 @@ fn gent_locking_is_approached_not_crossed() {
     assert!(limit_point(&gent, &specimen(), &o).unwrap().is_none());
 }
 
+/// The vertical equilibrium of the cap cut at 400 reference radii, a first
+/// integral the ODE does not use: `2 P1 sin psi = pi rho0 l2^2` (`rho0 = r`
+/// on the flat disc), to 1e-8 of the load.
+fn assert_vertical_equilibrium(ctx: &Ctx, l0: f64, pressure_pa: f64) {
+    let pi = pressure_pa * A / T;
+    let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
+    let mut pts = Vec::new();
+    let shot = ctx.mem.shoot(l0, pi, 1e-10, &xs, Some(&mut pts));
+    assert!(shot.complete);
+    for p in &pts[1..] {
+        let p1 = ctx.mem.law.stress(p.l1, p.l2).unwrap().p[0];
+        let lhs = 2.0 * p1 * p.psi.sin();
+        let rhs = pi * p.x * p.l2 * p.l2;
+        assert!(
+            (lhs - rhs).abs() < 1e-8 * pi,
+            "l0 {l0} rho0 {}: {lhs} vs {rhs}",
+            p.x
+        );
+    }
+}
+
 /// Vertical equilibrium of the cap cut at radius r, a first integral that
 /// the ODE does not use: `2 t P1 sin psi = p r l2^2`, and the geometry of the
 /// profile: rho = r l2, z(a) = 0, z(0) = h, l2(a) = 1, arc length of the
@@ -367,21 +388,7 @@ fn profile_satisfies_global_equilibrium_and_geometry() {
     ] {
         let ctx = Ctx::new(&m, &specimen(), &Options::default()).unwrap();
         let sol = solve_pole_stretch(&m, &specimen(), l0, &Options::default()).unwrap();
-        let pi = sol.pressure_pa * A / T;
-        let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
-        let mut pts = Vec::new();
-        let shot = ctx.mem.shoot(l0, pi, 1e-10, &xs, Some(&mut pts));
-        assert!(shot.complete);
-        for p in &pts[1..] {
-            let p1 = ctx.mem.law.stress(p.l1, p.l2).unwrap().p[0];
-            let lhs = 2.0 * p1 * p.psi.sin();
-            let rhs = pi * p.x * p.l2 * p.l2;
-            assert!(
-                (lhs - rhs).abs() < 1e-8 * pi,
-                "l0 {l0} x {}: {lhs} vs {rhs}",
-                p.x
-            );
-        }
+        assert_vertical_equilibrium(&ctx, l0, sol.pressure_pa);
         let pr = &sol.profile;
         let n = pr.r_m.len();
         assert_eq!(n, Options::default().n_profile);
@@ -548,17 +555,7 @@ fn slack_reference_cap_profiles_are_in_equilibrium() {
     let ctx = Ctx::new(&m, &spec, &o).unwrap();
     for l0 in [1.02, 1.3, 1.8] {
         let sol = solve_pole_stretch(&m, &spec, l0, &o).unwrap();
-        let pi = sol.pressure_pa * A / T;
-        let xs: Vec<f64> = (0..=400).map(|j| j as f64 / 400.0).collect();
-        let mut pts = Vec::new();
-        let shot = ctx.mem.shoot(l0, pi, 1e-10, &xs, Some(&mut pts));
-        assert!(shot.complete);
-        for p in &pts[1..] {
-            let p1 = ctx.mem.law.stress(p.l1, p.l2).unwrap().p[0];
-            let lhs = 2.0 * p1 * p.psi.sin();
-            let rhs = pi * p.x * p.l2 * p.l2;
-            assert!((lhs - rhs).abs() < 1e-8 * pi, "l0 {l0}: {lhs} vs {rhs}");
-        }
+        assert_vertical_equilibrium(&ctx, l0, sol.pressure_pa);
         let pr = &sol.profile;
         let n = pr.r_m.len();
         assert!((pr.rho_m[n - 1] - A).abs() < 1e-9 * A);

@@ -122,7 +122,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         &o.comparison,
         &o.pressures_pa,
     );
-    let spec = &exp.specimen;
+    let spec = &o.specimen;
     let hfig = figures::heights(&stress.points, runs, rows);
     let heights_svg = hfig.to_svg().map_err(|e| output_error("heights.svg", e))?;
     let heights_png = hfig.to_png().map_err(|e| output_error("heights.png", e))?;
@@ -161,7 +161,11 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         ("Poisson ratio".into(), format!("{}", spec.poisson)),
         (
             "pre-bulge height h0".into(),
-            format!("{} m", spec.prebulge_height_m),
+            if exp.prebulge_fit {
+                format!("{} m (found from the heights)", spec.prebulge_height_m)
+            } else {
+                format!("{} m", spec.prebulge_height_m)
+            },
         ),
         (
             "photos".into(),

@@ -118,10 +118,20 @@ impl Dynamics<'_> {
 
     /// Adds the dashpot forces at positions `x` and velocities `v` to `f`.
     pub fn add_damping(&self, x: &[Point3<f64>], v: &[Vector3<f64>], f: &mut [Vector3<f64>]) {
-        for (i, j, c, u) in self.dashpots(x) {
-            let fv = u * (c * (v[j] - v[i]).dot(&u));
-            f[i] += fv;
-            f[j] -= fv;
-        }
+        add_dashpot_forces(self.dashpots(x), v, f);
+    }
+}
+
+/// Adds the forces of `pots` (as [`Dynamics::dashpots`] lists them) at
+/// velocities `v` to `f`: `c ((v_j - v_i) . u) u` on `i`, its opposite on `j`.
+pub(super) fn add_dashpot_forces(
+    pots: impl IntoIterator<Item = (usize, usize, f64, Vector3<f64>)>,
+    v: &[Vector3<f64>],
+    f: &mut [Vector3<f64>],
+) {
+    for (i, j, c, u) in pots {
+        let fv = u * (c * (v[j] - v[i]).dot(&u));
+        f[i] += fv;
+        f[j] -= fv;
     }
 }

@@ -22,6 +22,9 @@ use super::{DynError, Dynamics, Step, StepCost};
 pub(super) struct Verlet {
     f: Vec<Vector3<f64>>,
     v_mid: Vec<Vector3<f64>>,
+    /// The active dashpots at the positions of the current damping
+    /// half-step (both of its evaluations are at the same positions).
+    pots: Vec<(usize, usize, f64, Vector3<f64>)>,
     /// Whether any dashpot acts (else the damping half-steps are skipped).
     damped: bool,
 }
@@ -32,15 +35,19 @@ impl Verlet {
         Verlet {
             f: vec![Vector3::zeros(); n],
             v_mid: vec![Vector3::zeros(); n],
+            pots: Vec::new(),
             damped,
         }
     }
 
     /// `m v' = -C(x) v` over `tau` by the explicit midpoint rule.
     fn damp(&mut self, d: &Dynamics, x: &[Point3<f64>], v: &mut [Vector3<f64>], tau: f64) {
+        self.pots.clear();
+        self.pots.extend(d.dashpots(x));
+        let pots = &self.pots;
         let accel = |v: &[Vector3<f64>], f: &mut [Vector3<f64>]| {
             f.iter_mut().for_each(|fi| *fi = Vector3::zeros());
-            d.add_damping(x, v, f);
+            super::damping::add_dashpot_forces(pots.iter().copied(), v, f);
             d.membrane.project(f);
         };
         accel(v, &mut self.f);
