@@ -485,23 +485,34 @@ pub fn prebulge_stage(
         refine: false,
         ..settings.clone()
     };
-    let stress = stress_stage(&at, &mr, shift(points.clone(), relative, est.height_m))?;
-    let law = fit_stage(&at, &mr, &stress)?.material;
-    let (r, h0) = inverse::refine_with_prebulge(
-        &law,
-        &at,
-        &measured_heights(&points),
-        &inverse::Options::default(),
-        est.height_m,
-        relative,
-    )?;
-    let rms = inverse::Refined::rms(&r.after).map_or(f64::NAN, |v| 100.0 * v);
-    Ok((
-        h0,
-        format!(
-            "{cap}; beside a Mooney-Rivlin law corrected to the heights (rms {rms:.2} %): prebulge_height_m = {h0:.4e} m, used by stress, fit and simulate"
-        ),
-    ))
+    let beside = || -> Result<(inverse::Refined, f64), PipelineError> {
+        let stress = stress_stage(&at, &mr, shift(points.clone(), relative, est.height_m))?;
+        let law = fit_stage(&at, &mr, &stress)?.material;
+        Ok(inverse::refine_with_prebulge(
+            &law,
+            &at,
+            &measured_heights(&points),
+            &inverse::Options::default(),
+            est.height_m,
+            relative,
+        )?)
+    };
+    match beside() {
+        Ok((r, h0)) => {
+            let rms = inverse::Refined::rms(&r.after).map_or(f64::NAN, |v| 100.0 * v);
+            Ok((
+                h0,
+                format!(
+                    "{cap}; beside a Mooney-Rivlin law corrected to the heights (rms {rms:.2} %): prebulge_height_m = {h0:.4e} m, used by stress, fit and simulate"
+                ),
+            ))
+        }
+        // The cap estimate stands, said with the reason.
+        Err(e) => Ok((
+            est.height_m,
+            format!("{cap}, used as it is: the search beside a Mooney-Rivlin law failed ({e})"),
+        )),
+    }
 }
 
 /// `points` with `h0` added to their heights when they are `relative` to a
