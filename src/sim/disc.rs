@@ -290,7 +290,11 @@ pub fn mesh_for_accuracy(
     target: f64,
     max_nodes: usize,
 ) -> Result<SizedMesh, SimError> {
-    let SceneKind::Disc { radius_m, .. } = scene.kind else {
+    let SceneKind::Disc {
+        radius_m,
+        dome_height_m,
+    } = scene.kind
+    else {
         return Err(SimError::BadParameter(format!(
             "a mesh sized by its estimated error is made for the disc, not a {}",
             scene.kind.name()
@@ -309,13 +313,7 @@ pub fn mesh_for_accuracy(
             1 + 3 * n * (n + 1)
         }
     };
-    let build = |n: usize| {
-        super::mesh::disc(super::mesh::DiscOptions {
-            radius_m,
-            rings: n,
-            sector,
-        })
-    };
+    let build = |n: usize| super::scene::disc_mesh(radius_m, dome_height_m, n, sector);
     let heights = |mesh: &Mesh, model: SpringModel| -> Result<Vec<f64>, SimError> {
         let mut s =
             SceneSolver::on_mesh(scene, mesh.clone(), model)?.with_solver(solver, options)?;
@@ -490,6 +488,42 @@ mod tests {
                 .err()
                 .unwrap();
             assert!(e.to_string().contains("node limit"), "{size:?}: {e}");
+        }
+    }
+
+    /// A slack specimen's disc is meshed on its dome whichever way the mesh
+    /// is sized: the pole at `h0`, the rim on the clamp plane.
+    #[test]
+    fn a_domed_disc_is_meshed_on_its_dome() {
+        let spec = Specimen {
+            radius_m: 0.0375,
+            thickness_m: 3.5e-4,
+            poisson: 0.45,
+            prebulge_height_m: 0.00375,
+        };
+        let m = Material::linear(1.0e6, 0.45);
+        let mut scene = Scene::from_specimen(&spec, m, vec![5000.0]);
+        let by_rings = scene.build_mesh().unwrap();
+        scene.mesh.size = Some(crate::sim::scene::MeshSize::Accuracy(0.01));
+        let sized = mesh_for_accuracy(
+            &scene,
+            &[SpringModel::Tp],
+            Solver::Newton,
+            Options::default(),
+            0.01,
+            10_000,
+        )
+        .unwrap()
+        .mesh;
+        for mesh in [by_rings, sized] {
+            let top = mesh.nodes.iter().map(|p| p.z).fold(f64::MIN, f64::max);
+            assert!((top - 0.00375).abs() < 1e-12, "pole at {top}");
+            let rim: Vec<_> = mesh
+                .nodes
+                .iter()
+                .filter(|p| (p.x.hypot(p.y) - 0.0375).abs() < 1e-9)
+                .collect();
+            assert!(!rim.is_empty() && rim.iter().all(|p| p.z.abs() < 1e-12));
         }
     }
 }

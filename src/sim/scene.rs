@@ -581,15 +581,7 @@ impl Scene {
                     1 + 3 * rings * (rings + 1)
                 };
                 self.mesh.check_nodes(n)?;
-                let mut m = mesh::disc(mesh::DiscOptions {
-                    radius_m,
-                    rings,
-                    sector,
-                })?;
-                if dome_height_m > 0.0 {
-                    mesh::lift_to_cap(&mut m, radius_m, dome_height_m);
-                }
-                Ok(m)
+                disc_mesh(radius_m, dome_height_m, rings, sector)
             }
             SceneKind::SphereSegment { radius_m } => {
                 let n = match self.mesh.size {
@@ -740,6 +732,25 @@ pub fn disc_rings_for_accuracy(acc: f64, models: &[SpringModel]) -> usize {
     .map(|m| disc_error_constant(*m))
     .fold(0.0, f64::max);
     ((c / acc).powf(1.0 / 1.7).ceil() as usize).max(4)
+}
+
+/// The disc's mesh of `rings` rings (a sector or the whole), on the dome of
+/// height `dome_height_m` when it is positive (a slack membrane).
+pub fn disc_mesh(
+    radius_m: f64,
+    dome_height_m: f64,
+    rings: usize,
+    sector: bool,
+) -> Result<Mesh, SimError> {
+    let mut m = mesh::disc(mesh::DiscOptions {
+        radius_m,
+        rings,
+        sector,
+    })?;
+    if dome_height_m > 0.0 {
+        mesh::lift_to_cap(&mut m, radius_m, dome_height_m);
+    }
+    Ok(m)
 }
 
 /// First guesses for the disc: Hencky's profile at the first pressure, then
