@@ -40,13 +40,18 @@ fn demo() -> (Specimen, Material, Vec<Measured>) {
     (exp.specimen, m, q)
 }
 
-fn near_limit() -> (Specimen, Material, Vec<Measured>) {
-    let spec = Specimen {
+/// Tudruj et al.'s (2023) latex disc, flat.
+fn latex() -> Specimen {
+    Specimen {
         radius_m: 0.0375,
         thickness_m: 3.5e-4,
         poisson: 0.45,
         prebulge_height_m: 0.0,
-    };
+    }
+}
+
+fn near_limit() -> (Specimen, Material, Vec<Measured>) {
+    let spec = latex();
     let truth = Material {
         model: Model::NeoHookean { c1_pa: 0.2e6 },
         poisson: 0.45,
@@ -77,12 +82,7 @@ fn near_limit() -> (Specimen, Material, Vec<Measured>) {
 }
 
 fn mooney_rivlin() -> (Specimen, Material, Vec<Measured>) {
-    let spec = Specimen {
-        radius_m: 0.0375,
-        thickness_m: 3.5e-4,
-        poisson: 0.45,
-        prebulge_height_m: 0.0,
-    };
+    let spec = latex();
     let m = |c1_pa, c2_pa| Material {
         model: Model::MooneyRivlin { c1_pa, c2_pa },
         poisson: 0.45,

@@ -93,6 +93,18 @@ impl SpecimenError {
 }
 
 impl Specimen {
+    /// The latex disc of Tudruj et al. (2023): a = 37.5 mm, t = 0.35 mm,
+    /// nu = 0.45, flat (the tests' specimen).
+    #[cfg(test)]
+    pub(crate) fn latex() -> Specimen {
+        Specimen {
+            radius_m: 0.0375,
+            thickness_m: 3.5e-4,
+            poisson: 0.45,
+            prebulge_height_m: 0.0,
+        }
+    }
+
     /// Checks every field; the error names the field, the value and the fix.
     pub fn validate(&self) -> Result<(), SpecimenError> {
         let Specimen {

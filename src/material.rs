@@ -204,8 +204,7 @@ pub struct EnergyDerivatives {
 impl Hyperelastic<'_> {
     /// Energy and derivatives at in-plane stretches `(l1, l2)`, both > 0.
     pub fn derivatives(&self, l1: f64, l2: f64) -> EnergyDerivatives {
-        let th = self.params();
-        let (w, g, h) = self.derivatives_with(&th, l1, l2);
+        let (w, g, h) = self.hessian(|k| self.param(k), l1, l2);
         EnergyDerivatives {
             w,
             grad: g,
@@ -224,11 +223,21 @@ impl Hyperelastic<'_> {
         l1: T,
         l2: T,
     ) -> (T, [T; 2], [[T; 2]; 2]) {
+        self.hessian(|k| th[k], l1, l2)
+    }
+
+    /// `W`, its gradient and Hessian in the stretches, parameter `k` being
+    /// `th(k)` (no allocation: this runs at every step of the shooting and
+    /// at every point of a fit).
+    fn hessian<T: DualNum<f64> + Copy>(
+        &self,
+        th: impl Fn(usize) -> T,
+        l1: T,
+        l2: T,
+    ) -> (T, [T; 2], [[T; 2]; 2]) {
         let (w, g, h) = num_dual::hessian(
             |v: SVector<Dual2SVec<T, f64, 2>, 2>| {
-                let th: Vec<Dual2SVec<T, f64, 2>> =
-                    th.iter().map(|&p| Dual2SVec::from_re(p)).collect();
-                self.energy(&th, v[0], v[1])
+                self.energy(|k| Dual2SVec::from_re(th(k)), v[0], v[1])
             },
             &SVector::from([l1, l2]),
         );
@@ -242,16 +251,33 @@ impl Hyperelastic<'_> {
     /// The model's parameters in a fixed order: `[c1]`, `[c1, c2]`,
     /// `[c1, c2, c3]`, `[mu_1.., alpha_1..]`, `[mu, jm]`.
     pub fn params(&self) -> Vec<f64> {
+        let n = match self.0 {
+            Model::Ogden { mu_pa, .. } => 2 * mu_pa.len(),
+            Model::NeoHookean { .. } => 1,
+            Model::MooneyRivlin { .. } | Model::Gent { .. } => 2,
+            _ => 3,
+        };
+        (0..n).map(|k| self.param(k)).collect()
+    }
+
+    /// Parameter `k` in the order of [`Hyperelastic::params`].
+    fn param(&self, k: usize) -> f64 {
         match self.0 {
-            Model::NeoHookean { c1_pa } => vec![*c1_pa],
-            Model::MooneyRivlin { c1_pa, c2_pa } => vec![*c1_pa, *c2_pa],
+            Model::NeoHookean { c1_pa } => [*c1_pa][k],
+            Model::MooneyRivlin { c1_pa, c2_pa } => [*c1_pa, *c2_pa][k],
             Model::Yeoh {
                 c1_pa,
                 c2_pa,
                 c3_pa,
-            } => vec![*c1_pa, *c2_pa, *c3_pa],
-            Model::Ogden { mu_pa, alpha } => mu_pa.iter().chain(alpha).copied().collect(),
-            Model::Gent { mu_pa, jm } => vec![*mu_pa, *jm],
+            } => [*c1_pa, *c2_pa, *c3_pa][k],
+            Model::Ogden { mu_pa, alpha } => {
+                if k < mu_pa.len() {
+                    mu_pa[k]
+                } else {
+                    alpha[k - mu_pa.len()]
+                }
+            }
+            Model::Gent { mu_pa, jm } => [*mu_pa, *jm][k],
             Model::Linear { .. } | Model::Quartic { .. } => {
                 unreachable!("Hyperelastic is only built for hyperelastic models")
             }
@@ -260,7 +286,7 @@ impl Hyperelastic<'_> {
 
     /// Strain energy only, Pa.
     pub fn w(&self, l1: f64, l2: f64) -> f64 {
-        self.energy(&self.params(), l1, l2)
+        self.energy(|k| self.param(k), l1, l2)
     }
 
     /// Equibiaxial nominal stress `P = dW/dl1 (l, l)`, Pa.
@@ -275,31 +301,31 @@ impl Hyperelastic<'_> {
 
     /// `W(l1, l2)` with the parameters `th` (see [`Hyperelastic::params`]),
     /// incompressible: `l3 = 1 / (l1 l2)`.
-    fn energy<T: DualNum<f64> + Copy>(&self, th: &[T], l1: T, l2: T) -> T {
+    fn energy<T: DualNum<f64> + Copy>(&self, th: impl Fn(usize) -> T, l1: T, l2: T) -> T {
         let l3 = (l1 * l2).recip();
         let i1 = || l1 * l1 + l2 * l2 + l3 * l3 - 3.0;
         match self.0 {
-            Model::NeoHookean { .. } => i1() * th[0],
+            Model::NeoHookean { .. } => i1() * th(0),
             Model::MooneyRivlin { .. } => {
                 let i2 = (l1 * l1).recip() + (l2 * l2).recip() + (l3 * l3).recip() - 3.0;
-                i1() * th[0] + i2 * th[1]
+                i1() * th(0) + i2 * th(1)
             }
             Model::Yeoh { .. } => {
                 let j = i1();
-                j * th[0] + j * j * th[1] + j * j * j * th[2]
+                j * th(0) + j * j * th(1) + j * j * j * th(2)
             }
             Model::Ogden { mu_pa, .. } => {
                 let n = mu_pa.len();
                 let mut w = T::from(0.0);
                 for k in 0..n {
-                    let (m, a) = (th[k], th[n + k]);
+                    let (m, a) = (th(k), th(n + k));
                     let pow = |l: T| (a * l.ln()).exp();
                     w += (pow(l1) + pow(l2) + pow(l3) - 3.0) * m / a;
                 }
                 w
             }
             Model::Gent { .. } => {
-                let (mu, jm) = (th[0], th[1]);
+                let (mu, jm) = (th(0), th(1));
                 -(T::from(1.0) - i1() / jm).ln() * mu * jm * 0.5
             }
             Model::Linear { .. } | Model::Quartic { .. } => {

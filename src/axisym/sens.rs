@@ -305,12 +305,7 @@ mod tests {
     use crate::material::{Model, StrainMeasure};
 
     fn specimen() -> Specimen {
-        Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        }
+        Specimen::latex()
     }
 
     /// One of every model `bulge fit` writes, with the parameters set out

@@ -109,12 +109,11 @@ impl Reference {
         if h0_over_a <= 0.0 {
             return Reference::FLAT;
         }
-        let x = h0_over_a;
-        // R0 / a = (1 + x^2) / (2 x), half-angle 2 atan(x).
-        let r0 = (1.0 + x * x) / (2.0 * x);
+        // Dimensionless: the cap over a rim of radius 1.
+        let r0 = crate::mechanics::cap_radius(1.0, h0_over_a);
         Reference {
             curvature: 1.0 / r0,
-            end: r0 * 2.0 * x.atan(),
+            end: r0 * crate::mechanics::cap_half_angle(1.0, h0_over_a),
         }
     }
 

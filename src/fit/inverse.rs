@@ -722,12 +722,7 @@ mod tests {
     use crate::material::StrainMeasure;
 
     fn specimen() -> Specimen {
-        Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        }
+        Specimen::latex()
     }
 
     fn material(model: Model) -> Material {

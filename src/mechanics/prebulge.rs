@@ -190,10 +190,8 @@ mod tests {
         };
         for h0 in [0.1 * a, 0.0] {
             let spec = Specimen {
-                radius_m: a,
-                thickness_m: 3.5e-4,
-                poisson: 0.45,
                 prebulge_height_m: h0,
+                ..Specimen::latex()
             };
             let e = estimate(&spec, &slack_points(&m, &spec, 100.0), false).unwrap();
             if h0 > 0.0 {
@@ -207,12 +205,7 @@ mod tests {
 
     #[test]
     fn refuses_too_few_points() {
-        let spec = Specimen {
-            radius_m: 0.0375,
-            thickness_m: 3.5e-4,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        };
+        let spec = Specimen::latex();
         let pts: Vec<Point> = (1..=5)
             .map(|i| Point {
                 pressure_pa: 1000.0 * i as f64,

@@ -496,10 +496,8 @@ mod tests {
     #[test]
     fn a_domed_disc_is_meshed_on_its_dome() {
         let spec = Specimen {
-            radius_m: 0.0375,
-            thickness_m: 3.5e-4,
-            poisson: 0.45,
             prebulge_height_m: 0.00375,
+            ..Specimen::latex()
         };
         let m = Material::linear(1.0e6, 0.45);
         let mut scene = Scene::from_specimen(&spec, m, vec![5000.0]);

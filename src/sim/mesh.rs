@@ -334,8 +334,8 @@ pub fn disc_rings_for_nodes(nodes: usize, sector: bool) -> usize {
 /// planes stay where they are; the springs' rest lengths and the triangles'
 /// rest areas are then those of the cap.
 pub fn lift_to_cap(mesh: &mut Mesh, a: f64, h0: f64) {
-    let r0 = (a * a + h0 * h0) / (2.0 * h0);
-    let theta0 = 2.0 * (h0 / a).atan();
+    let r0 = crate::mechanics::cap_radius(a, h0);
+    let theta0 = crate::mechanics::cap_half_angle(a, h0);
     for n in &mut mesh.nodes {
         let r = n.x.hypot(n.y);
         let phi = (r / a).min(1.0) * theta0;
