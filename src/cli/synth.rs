@@ -9,7 +9,7 @@ use bulge::axisym;
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::track::image::Encoding;
-use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
+use bulge::track::synth::{self, Framing, Look, SequenceSpec, Silhouette, SynthFrame};
 
 /// Flags of `bulge synth`.
 ///
@@ -77,6 +77,51 @@ pub struct Args {
     /// Seed of the placement, background texture and noise (default 1).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+
+    /// Scale, m per px (default: the disc spans 70 % of the width, or
+    /// drawn with --random-framing).
+    #[arg(long)]
+    pub metres_per_pixel: Option<f64>,
+
+    /// Column of the bubble's axis, px (default: the middle of the width,
+    /// or drawn with --random-framing).
+    #[arg(long)]
+    pub axis_x_px: Option<f64>,
+
+    /// Row of the clamp plane (the clamp ring's centre), px (default: 80 %
+    /// of the height, or drawn with --random-framing).
+    #[arg(long)]
+    pub clamp_row_px: Option<f64>,
+
+    /// Draw the scale, axis and clamp row not given from the seed: the disc
+    /// spans 35-80 % of the width (less if the bubble would not fit), the
+    /// bubble anywhere it fits, the clamp ring in the picture.
+    #[arg(long)]
+    pub random_framing: bool,
+
+    /// The camera's elevation above the clamp plane, degrees (default 0, a
+    /// level side view; at most 30): the clamp ring is seen as an ellipse
+    /// and the silhouette is the union of the dome's latitude circles.
+    /// truth.csv's apex_y_px is the pole's projection, clamp_row_px the
+    /// ring's centre.
+    #[arg(long, default_value_t = 0.0)]
+    pub elevation_deg: f64,
+
+    /// Uneven light: the relative change of the illumination across the
+    /// frame (default 0; e.g. 0.3), a tilted plane and a fall-off.
+    #[arg(long, default_value_t = 0.0)]
+    pub uneven_light: f64,
+
+    /// A specular highlight on the dome of this peak, grey levels (default
+    /// 0: none; e.g. 90): a small light above the camera reflected 12
+    /// degrees from the pole, nearer the apex as the bubble inflates.
+    #[arg(long, default_value_t = 0.0)]
+    pub highlight_grey: f64,
+
+    /// Clutter behind the bubble: a dark shelf edge and a cable crossing
+    /// the apex's path (placed from the seed).
+    #[arg(long)]
+    pub clutter: bool,
 
     /// Gaussian blur standard deviation, px (default 0).
     #[arg(long, default_value_t = 0.0)]
@@ -175,6 +220,41 @@ pub fn run(args: Args) -> Result<(), Failure> {
     ] {
         if !(v.is_finite() && v >= 0.0) {
             return Err(bad(format!("{name} {v} must be zero or positive")));
+        }
+    }
+    if !(args.elevation_deg.is_finite() && (0.0..=30.0).contains(&args.elevation_deg)) {
+        return Err(bad(format!(
+            "--elevation-deg {}: give the camera's elevation above the clamp plane, 0 to 30 degrees",
+            args.elevation_deg
+        )));
+    }
+    if !(args.uneven_light.is_finite() && (0.0..=0.8).contains(&args.uneven_light)) {
+        return Err(bad(format!(
+            "--uneven-light {}: give a relative change of the light from 0 to 0.8",
+            args.uneven_light
+        )));
+    }
+    if !(args.highlight_grey.is_finite() && (0.0..=255.0).contains(&args.highlight_grey)) {
+        return Err(bad(format!(
+            "--highlight-grey {}: give the highlight's peak, 0 to 255 grey levels",
+            args.highlight_grey
+        )));
+    }
+    if let Some(m) = args.metres_per_pixel
+        && !(m.is_finite() && m > 0.0)
+    {
+        return Err(bad(format!(
+            "--metres-per-pixel {m}: give a positive scale, m per px (e.g. 1e-4)"
+        )));
+    }
+    for (name, v) in [
+        ("--axis-x-px", args.axis_x_px),
+        ("--clamp-row-px", args.clamp_row_px),
+    ] {
+        if let Some(v) = v
+            && !v.is_finite()
+        {
+            return Err(bad(format!("{name} {v} must be a finite pixel position")));
         }
     }
     if args.drift >= 1.0 {
@@ -292,6 +372,18 @@ pub fn run(args: Args) -> Result<(), Failure> {
         drift: args.drift,
         encoding,
         specimen,
+        framing: Framing {
+            metres_per_pixel: args.metres_per_pixel,
+            axis_x_px: args.axis_x_px,
+            clamp_row_px: args.clamp_row_px,
+            random: args.random_framing,
+        },
+        look: Look {
+            elevation_deg: args.elevation_deg,
+            uneven_light: args.uneven_light,
+            highlight_grey: args.highlight_grey,
+            clutter: args.clutter,
+        },
     };
     let w = synth::write_sequence(&args.out_dir, &spec, &frames).map_err(|e| {
         if e.is_bad_input() {

@@ -20,6 +20,9 @@ use super::image::{Encoding, Gray};
 use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
+mod look;
+pub use look::{Framing, Look};
+
 /// A meridian profile, pole first: `rho_m` is the current radial position and
 /// `z_m` the height above the clamp plane; the last point is on the rim
 /// (`z = 0`, `rho = a`).
@@ -83,6 +86,10 @@ pub struct Scene {
     waves: Vec<(f64, f64, f64, f64)>,
     /// Seed of the fixed fine grain of the background.
     grain_seed: u64,
+    /// What the photos show besides the plain side view.
+    pub look: Look,
+    /// Where the clutter and the light are (drawn once per scene).
+    extras: look::Extras,
 }
 
 impl Scene {
@@ -118,14 +125,23 @@ impl Scene {
             radius_m,
             waves,
             grain_seed: rng.next_u64(),
+            look: Look::default(),
+            extras: look::Extras::default(),
         }
     }
 
     /// Apex position of a silhouette in image coordinates, px.
+    /// With the camera raised by an elevation angle `e`, the pole's
+    /// projection: `h cos e` above the clamp ring's centre.
     pub fn apex_px(&self, s: &Silhouette) -> [f64; 2] {
+        let up = if self.look.elevation_deg == 0.0 {
+            s.height_m()
+        } else {
+            s.height_m() * self.look.elevation_deg.to_radians().cos()
+        };
         [
             self.axis_x_px,
-            self.clamp_row_px - s.height_m() / self.metres_per_pixel,
+            self.clamp_row_px - up / self.metres_per_pixel,
         ]
     }
 
@@ -177,6 +193,11 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     let mut grain = Rng::new(scene.grain_seed);
     let fixture_half = 1.25 * a_px;
     let flange_rows = (0.025 * h as f64).max(2.0);
+    // The fixture's top face, per column: its back and front edges (the
+    // clamp row itself for a level camera).
+    let (fix_back, fix_front) = look::fixture_rows(scene, fixture_half);
+    let highlight = look::Highlight::new(scene, s);
+    let lk = scene.look;
     let mut img = vec![0.0f64; w * h];
     for y in 0..h {
         let yf = y as f64;
@@ -188,10 +209,13 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
                 bg += t.0[x] * t.3[y] + t.1[x] * t.2[y];
             }
             bg += 1.5 * (grain.uniform() - 0.5) * 2.0;
+            if lk.clutter {
+                bg = scene.extras.clutter(bg, xf, yf);
+            }
             // Fixture below the clamp plane (pixel-exact vertical coverage).
-            let below = ((yf + 0.5) - scene.clamp_row_px).clamp(0.0, 1.0);
+            let below = ((yf + 0.5) - fix_back[x]).clamp(0.0, 1.0);
             let in_fixture = ((fixture_half + 0.5) - (xf - scene.axis_x_px).abs()).clamp(0.0, 1.0);
-            let fix_level = if yf - scene.clamp_row_px < flange_rows {
+            let fix_level = if yf - fix_front[x] < flange_rows {
                 FLANGE
             } else {
                 FIXTURE
@@ -201,14 +225,21 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
             // Bubble: matte shading darker towards the rim, a soft highlight
             // below the apex.
             let c = cov[y * w + x];
-            let v = if c > 0.0 {
+            let mut v = if c > 0.0 {
                 let u = (xf - apex[0]) / a_px;
                 let hy = (yf - (apex[1] + 0.45 * h_px.max(0.1 * a_px))) / (0.35 * a_px);
-                let shade = BUBBLE * (1.0 - 0.3 * u * u) + 14.0 * (-(u * u / 0.18 + hy * hy)).exp();
+                let mut shade =
+                    BUBBLE * (1.0 - 0.3 * u * u) + 14.0 * (-(u * u / 0.18 + hy * hy)).exp();
+                if let Some(hl) = &highlight {
+                    shade += hl.at(xf, yf);
+                }
                 base * (1.0 - c) + shade * c
             } else {
                 base
             };
+            if lk.uneven_light != 0.0 {
+                v *= scene.extras.light(xf, yf);
+            }
             img[y * w + x] = v;
         }
     }
@@ -236,7 +267,9 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
 
 /// Exact area coverage of the bubble's side silhouette, per pixel, in [0, 1].
 pub fn coverage(scene: &Scene, s: &Silhouette) -> Vec<f64> {
-    let (w, h) = (scene.width, scene.height);
+    if scene.look.elevation_deg != 0.0 {
+        return rasterise(scene.width, scene.height, &look::outline_px(scene, s));
+    }
     let dense = densify(s, 0.25 * scene.metres_per_pixel);
     // Raster coordinates: cell i covers [i, i + 1), so u = x + 0.5.
     let to_raster = |rho: f64, z: f64| {
@@ -252,6 +285,12 @@ pub fn coverage(scene: &Scene, s: &Silhouette) -> Vec<f64> {
     for &(r, z) in dense.iter().rev() {
         poly.push(to_raster(-r, z));
     }
+    rasterise(scene.width, scene.height, &poly)
+}
+
+/// Exact area coverage, per pixel in [0, 1], of a closed polygon in raster
+/// coordinates (cell `i` covers `[i, i + 1)`: `u = x + 0.5`).
+fn rasterise(w: usize, h: usize, poly: &[(f64, f64)]) -> Vec<f64> {
     let mut acc = vec![0.0f64; w * h + w + 4];
     for i in 0..poly.len() {
         let p0 = poly[i];
@@ -414,6 +453,26 @@ pub struct SequenceSpec {
     pub encoding: Encoding,
     /// The specimen written into `experiment.toml`.
     pub specimen: Specimen,
+    /// Where the specimen is in the picture.
+    pub framing: Framing,
+    /// What the photos show besides the plain side view.
+    pub look: Look,
+}
+
+impl SequenceSpec {
+    /// The scene of this sequence drawing `frames` (see [`Scene::framed`]).
+    pub fn scene(&self, frames: &[SynthFrame]) -> Result<Scene, String> {
+        let s: Vec<&Silhouette> = frames.iter().map(|f| &f.silhouette).collect();
+        Scene::for_frames(
+            self.width,
+            self.height,
+            self.specimen.radius_m,
+            self.seed,
+            &self.framing,
+            self.look,
+            &s,
+        )
+    }
 }
 
 /// One frame to draw: the pressure and the bubble's profile at it.
@@ -509,12 +568,21 @@ pub fn experiment_toml(
     pressure: &str,
 ) -> String {
     let s = spec.specimen;
+    let elevation = if spec.look.elevation_deg != 0.0 {
+        format!(
+            "# The camera is {:?} degrees above the clamp plane: clamp_row_px is the row of the\n\
+             # clamp ring's centre, and the heights are not corrected for the elevation.\n",
+            spec.look.elevation_deg
+        )
+    } else {
+        String::new()
+    };
     let [rx, ry, rw, rh] = layout.roi_px;
     let [tx, ty, tw, th] = layout.template_rect_px;
     format!(
         "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
          # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
-         [specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
+         {elevation}[specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
          [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
@@ -541,18 +609,21 @@ pub fn write_sequence(
     frames: &[SynthFrame],
 ) -> Result<Written, TrackError> {
     use rayon::prelude::*;
-    let scene = Scene::new(spec.width, spec.height, spec.specimen.radius_m, spec.seed);
-    let hmax = frames
-        .iter()
-        .map(|f| f.silhouette.height_m())
-        .fold(0.0, f64::max);
     if frames.is_empty() {
         return Err(TrackError::Config {
             path: out.to_path_buf(),
             message: "no frames to draw: give at least one pressure".into(),
         });
     }
-    if hmax > scene.max_height_m() {
+    let scene = spec.scene(frames).map_err(|message| TrackError::Config {
+        path: out.to_path_buf(),
+        message,
+    })?;
+    let hmax = frames
+        .iter()
+        .map(|f| f.silhouette.height_m())
+        .fold(0.0, f64::max);
+    if spec.framing.is_default() && hmax > scene.max_height_m() {
         return Err(TrackError::Config {
             path: out.to_path_buf(),
             message: format!(
@@ -637,7 +708,7 @@ pub fn write_sequence(
         .fold(f64::NEG_INFINITY, f64::max);
     let rx = (ax0 - 1.5 * tw as f64).round().max(0.0) as i64;
     let ry = (ymin - th as f64).floor().max(0.0) as i64;
-    let rw = (3 * tw) as i64;
+    let rw = ((3 * tw) as i64).min(spec.width as i64 - rx);
     let rh = ((ymax + th as f64).ceil() as i64 - ry).min(spec.height as i64 - ry);
     let layout = Layout {
         roi_px: [rx, ry, rw, rh],
@@ -691,7 +762,10 @@ pub fn write_video(
             });
         }
     };
-    let scene = Scene::new(spec.width, spec.height, spec.specimen.radius_m, spec.seed);
+    let scene = spec.scene(frames).map_err(|message| TrackError::Config {
+        path: path.to_path_buf(),
+        message,
+    })?;
     let n = frames.len();
     let write = |tmp: &Path| -> Result<(), TrackError> {
         let name = tmp.to_str().ok_or_else(|| TrackError::Write {
@@ -964,5 +1038,171 @@ mod tests {
         };
         assert_eq!(render(&sc, &s, &d, 3), render(&sc, &s, &d, 3));
         assert_ne!(render(&sc, &s, &d, 3), render(&sc, &s, &d, 4));
+    }
+
+    /// The default framing and look through `Scene::framed` draw the same
+    /// pixels as `Scene::new`.
+    #[test]
+    fn the_plain_look_is_unchanged() {
+        let s = Silhouette::spherical_cap(0.0375, 0.01, 100);
+        let framed = Scene::framed(
+            320,
+            240,
+            0.0375,
+            7,
+            &Framing::default(),
+            Look::default(),
+            [0.01, 0.0375],
+        )
+        .unwrap();
+        let d = Degradation {
+            blur_px: 0.5,
+            noise_grey: 1.0,
+            gain: 1.0,
+        };
+        assert_eq!(render(&scene(), &s, &d, 3), render(&framed, &s, &d, 3));
+    }
+
+    /// Seen from an elevation `e`, the axis column of a spherical cap
+    /// (sphere radius `R`, half-angle above `e`) is covered from the
+    /// silhouette's top, `(h - R) cos e + R` above the clamp ring's centre
+    /// (the latitude at polar angle `e` seen edge-on), down to the front of
+    /// the base ring, `a sin e` below it: closed forms independent of the
+    /// envelope of the latitude ellipses.
+    #[test]
+    fn an_elevated_cap_covers_its_axis_column_from_top_to_the_front_of_the_ring() {
+        let (a, h) = (0.0375, 0.012);
+        let s = Silhouette::spherical_cap(a, h, 400);
+        for e_deg in [1.0f64, 3.0, 5.0] {
+            let look = Look {
+                elevation_deg: e_deg,
+                ..Look::default()
+            };
+            let framing = Framing {
+                axis_x_px: Some(160.0),
+                ..Framing::default()
+            };
+            let sc = Scene::framed(320, 240, a, 7, &framing, look, [0.014, a]).unwrap();
+            let cov = coverage(&sc, &s);
+            let e = e_deg.to_radians();
+            let r = (a * a + h * h) / (2.0 * h);
+            let span_m = (h - r) * e.cos() + r + a * e.sin();
+            let sum: f64 = (0..sc.height).map(|y| cov[y * sc.width + 160]).sum();
+            let expected = span_m / sc.metres_per_pixel;
+            assert!(
+                (sum - expected).abs() < 0.01,
+                "{e_deg} degrees: {sum} vs {expected} px"
+            );
+            // the pole's projection is lower than the top by R (1 - cos e)
+            let top = look::silhouette_top_m(&s, e);
+            assert!((top - ((h - r) * e.cos() + r)).abs() < 1e-7, "{top}");
+            assert!(
+                (sc.apex_px(&s)[1] - (sc.clamp_row_px - h * e.cos() / sc.metres_per_pixel)).abs()
+                    < 1e-9
+            );
+        }
+    }
+
+    /// Random framing: the same seed gives the same scene; the bubble and
+    /// the clamp ring stay in the picture; a framing by hand that leaves
+    /// them out is refused naming the flags.
+    #[test]
+    fn random_framing_keeps_the_bubble_and_the_ring_in_the_picture() {
+        let random = Framing {
+            random: true,
+            ..Framing::default()
+        };
+        let look = Look {
+            elevation_deg: 4.0,
+            ..Look::default()
+        };
+        let mut scales = Vec::new();
+        for seed in 0..30 {
+            let sc = Scene::framed(640, 480, 0.0375, seed, &random, look, [0.02, 0.0375]).unwrap();
+            assert_eq!(
+                sc,
+                Scene::framed(640, 480, 0.0375, seed, &random, look, [0.02, 0.0375]).unwrap()
+            );
+            let (a, top) = (0.0375 / sc.metres_per_pixel, 0.02 / sc.metres_per_pixel);
+            assert!(
+                sc.axis_x_px - a > 0.0 && sc.axis_x_px + a < 639.0,
+                "seed {seed}"
+            );
+            assert!(
+                sc.clamp_row_px - top > 0.0 && sc.clamp_row_px < 470.0,
+                "seed {seed}"
+            );
+            scales.push(sc.metres_per_pixel);
+        }
+        let (lo, hi) = scales
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+        assert!(hi / lo > 1.5, "scales {lo}..{hi}");
+        let by_hand = Framing {
+            axis_x_px: Some(20.0),
+            ..Framing::default()
+        };
+        let e = Scene::framed(640, 480, 0.0375, 1, &by_hand, look, [0.02, 0.0375]).unwrap_err();
+        assert!(
+            e.contains("side of the bubble") && e.contains("--axis-x-px"),
+            "{e}"
+        );
+    }
+
+    /// Clutter, light and the highlight change the picture only where they
+    /// are drawn: the highlight only on the dome, near its top.
+    #[test]
+    fn the_highlight_lies_on_the_dome_below_the_apex() {
+        let s = Silhouette::spherical_cap(0.0375, 0.015, 200);
+        let plain = Scene::framed(
+            320,
+            240,
+            0.0375,
+            7,
+            &Framing::default(),
+            Look::default(),
+            [0.015, 0.0375],
+        )
+        .unwrap();
+        let glossy = Scene::framed(
+            320,
+            240,
+            0.0375,
+            7,
+            &Framing::default(),
+            Look {
+                highlight_grey: 90.0,
+                ..Look::default()
+            },
+            [0.015, 0.0375],
+        )
+        .unwrap();
+        let d = Degradation {
+            blur_px: 0.0,
+            noise_grey: 0.0,
+            gain: 1.0,
+        };
+        let (p, g) = (render(&plain, &s, &d, 1), render(&glossy, &s, &d, 1));
+        let cov = coverage(&plain, &s);
+        let apex = plain.apex_px(&s);
+        let mut brightest = (0u8, 0usize, 0usize);
+        for y in 0..240 {
+            for x in 0..320 {
+                let i = y * 320 + x;
+                if cov[i] == 0.0 {
+                    assert_eq!(p.data[i], g.data[i], "({x}, {y}) off the dome");
+                }
+                let gain = g.data[i].saturating_sub(p.data[i]);
+                if gain > brightest.0 {
+                    brightest = (gain, x, y);
+                }
+            }
+        }
+        assert!(brightest.0 > 60, "{brightest:?}");
+        let below = brightest.2 as f64 - apex[1];
+        assert!(
+            below > 0.0 && below < 0.2 * 0.015 / plain.metres_per_pixel,
+            "{brightest:?} {apex:?}"
+        );
     }
 }

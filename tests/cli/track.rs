@@ -29,6 +29,8 @@ fn sequence(dir: &Path, enc: Encoding) -> synth::Written {
             poisson: 0.45,
             prebulge_height_m: 0.0,
         },
+        framing: Default::default(),
+        look: Default::default(),
     };
     let frames = synth::cap_frames(0.0375, 0.02, N);
     synth::write_sequence(dir, &spec, &frames).expect("synthetic sequence")
@@ -374,6 +376,80 @@ fn synth_writes_a_deterministic_experiment_that_track_recovers() {
     }
 }
 
+/// The lab look (random framing, a raised camera, uneven light, a
+/// highlight, clutter) is drawn the same for the same seed, and its values
+/// out of range or a framing that leaves the bubble out are refused naming
+/// the flag.
+#[test]
+fn synth_draws_the_lab_look_deterministically_and_refuses_what_cannot_be() {
+    let d = tempdir();
+    let look = [
+        "--frames",
+        "3",
+        "--width",
+        "320",
+        "--height",
+        "240",
+        "--seed",
+        "204",
+        "--random-framing",
+        "--elevation-deg",
+        "3",
+        "--uneven-light",
+        "0.3",
+        "--highlight-grey",
+        "90",
+        "--clutter",
+    ];
+    for out in ["a", "b"] {
+        let mut a = vec!["synth", out];
+        a.extend(look);
+        bulge_in(d.path(), &a).ok();
+    }
+    for f in [
+        "photos/frame_001.png",
+        "photos/frame_003.png",
+        "truth.csv",
+        "experiment.toml",
+    ] {
+        assert!(
+            fs::read(d.path().join("a").join(f)).unwrap()
+                == fs::read(d.path().join("b").join(f)).unwrap(),
+            "{f} differs between two runs with the same seed"
+        );
+    }
+    let toml = fs::read_to_string(d.path().join("a/experiment.toml")).unwrap();
+    assert!(toml.contains("3.0 degrees above the clamp plane"), "{toml}");
+    // The plain look differs from it.
+    bulge_in(
+        d.path(),
+        &[
+            "synth", "c", "--frames", "3", "--width", "320", "--height", "240", "--seed", "204",
+        ],
+    )
+    .ok();
+    assert_ne!(
+        fs::read(d.path().join("a/photos/frame_001.png")).unwrap(),
+        fs::read(d.path().join("c/photos/frame_001.png")).unwrap()
+    );
+    for (flag, value, said) in [
+        ("--elevation-deg", "45", "0 to 30 degrees"),
+        ("--uneven-light", "2", "0 to 0.8"),
+        ("--highlight-grey", "300", "0 to 255"),
+        ("--metres-per-pixel", "0", "positive scale"),
+        ("--axis-x-px", "10", "side of the bubble"),
+        ("--clamp-row-px", "236", "clamp ring"),
+    ] {
+        bulge_in(
+            d.path(),
+            &[
+                "synth", "bad", "--frames", "2", "--width", "320", "--height", "240", flag, value,
+            ],
+        )
+        .bad_input(&[flag, said]);
+    }
+}
+
 #[test]
 fn synth_refuses_a_pressure_above_the_limit_point() {
     let d = tempdir();
@@ -427,6 +503,14 @@ fn help_documents_every_flag_with_its_default() {
         "--fps",
         "--log-rate-hz",
         "--log-offset-s",
+        "--metres-per-pixel",
+        "--axis-x-px",
+        "--clamp-row-px",
+        "--random-framing",
+        "--elevation-deg",
+        "--uneven-light",
+        "--highlight-grey",
+        "--clutter",
         "neo-Hookean",
     ] {
         assert!(
