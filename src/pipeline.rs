@@ -1386,10 +1386,7 @@ pub fn run_observed(
     for sk in &tracking.tracked.skipped {
         note(
             Stage::Track,
-            format!(
-                "skipped frame {} ({}): score {:.3}",
-                sk.frame, sk.file, sk.score
-            ),
+            format!("skipped frame {} ({}): {}", sk.frame, sk.file, sk.reason),
         );
     }
     finish(

@@ -34,8 +34,10 @@ pub struct Args {
     #[arg(long, default_value_t = 0.5)]
     pub min_score: f64,
 
-    /// Leave frames below --min-score out of the output (they are listed on
-    /// stderr) instead of failing.
+    /// Leave frames below --min-score, and frames whose apex the
+    /// plausibility guards refuse (below the clamp plane, a jump, against
+    /// the pressure, an edge that is not the dome's), out of the output
+    /// (they are listed on stderr with the reason) instead of failing.
     #[arg(long)]
     pub skip_bad_frames: bool,
 
@@ -57,9 +59,10 @@ pub struct Args {
     pub edge_span_px: Option<usize>,
 
     /// Half-height of the window in which each column's edge row is located,
-    /// px (default 4: covers +-2.5 standard deviations of a 1.5 px blur; a
-    /// wider window gathers more noise and background gradient).
-    #[arg(long, default_value_t = 4)]
+    /// px (default 3: covers +-2 standard deviations of a 1.5 px blur; a
+    /// wider window gathers more noise, background gradient and the light
+    /// of a highlight inside the dome).
+    #[arg(long, default_value_t = 3)]
     pub edge_window_px: usize,
 }
 
@@ -108,10 +111,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .failed()?;
 
     for s in &tracked.skipped {
-        eprintln!(
-            "skipped frame {} ({}): score {:.3} < --min-score {}",
-            s.frame, s.file, s.score, args.min_score
-        );
+        eprintln!("skipped frame {} ({}): {}", s.frame, s.file, s.reason);
     }
     let secs = start.elapsed().as_secs_f64();
     let n = tracked.rows.len();

@@ -119,6 +119,13 @@ pub(super) fn match_frames(
     };
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
     let mut skipped = Vec::new();
+    let mut guard = Guard::new(
+        match setup.calibration.origin {
+            HeightOrigin::ClampRow(r) => Some(r - roi[1] as f64),
+            HeightOrigin::Reference { .. } => None,
+        },
+        edge_settings.half_span_px,
+    );
     let mut locate_time = 0.0;
     while located.len() < n {
         let i = located.len();
@@ -143,37 +150,91 @@ pub(super) fn match_frames(
         };
         let t0 = std::time::Instant::now();
         let loc = state.locate(crop)?;
+        let low = loc.m.score < opts.min_score || !loc.m.score.is_finite();
+        let score = loc.m.score;
+        // A good score, then the plausibility guards; an implausible apex is
+        // searched again near the position the frames before predict.
+        let verdict = if low {
+            Err(format!(
+                "score {:.3} < --min-score {}",
+                loc.m.score, opts.min_score
+            ))
+        } else {
+            let (apex, std) = state.apex(&loc);
+            let x_std = state.apex_x_std(&loc);
+            match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
+                Ok(()) => Ok(loc),
+                Err(why) => {
+                    let again = guard
+                        .predict(f.pressure_pa)
+                        .and_then(|pred| state.locate_at(crop, pred).transpose())
+                        .transpose()?
+                        .filter(|l| {
+                            let (a, s) = state.apex(l);
+                            if l.m.score < opts.min_score {
+                                return false;
+                            }
+                            let xs = state.apex_x_std(l);
+                            guard
+                                .check(f.pressure_pa, a, [xs, s], l.edge.as_ref())
+                                .is_ok()
+                        });
+                    again.ok_or(why)
+                }
+            }
+        };
         locate_time += t0.elapsed().as_secs_f64();
-        if loc.m.score < opts.min_score || !loc.m.score.is_finite() {
-            if !opts.skip_bad_frames {
-                return Err(TrackError::LowScore {
+        match verdict {
+            Err(why) => {
+                if !opts.skip_bad_frames {
                     // a video names the frame in it too
-                    path: match f.video_frame {
+                    let path = match f.video_frame {
                         Some(_) => format!("{} ({})", f.path.display(), f.file).into(),
                         None => f.path.clone(),
-                    },
+                    };
+                    return Err(if low {
+                        TrackError::LowScore {
+                            path,
+                            frame: i,
+                            score,
+                            min: opts.min_score,
+                        }
+                    } else {
+                        TrackError::Implausible {
+                            path,
+                            frame: i,
+                            why,
+                        }
+                    });
+                }
+                skipped.push(Skipped {
                     frame: i,
-                    score: loc.m.score,
-                    min: opts.min_score,
+                    file: f.file.clone(),
+                    score,
+                    reason: why,
                 });
+                if low {
+                    state.last = None;
+                    state.prev = None;
+                    state.curvature = 0.0;
+                } else if let Some(pred) = guard.predict(f.pressure_pa) {
+                    // The next search starts from where this apex should be.
+                    state.prev = state.last;
+                    state.last = Some([pred[0] - apex_in_t[0], pred[1] - apex_in_t[1]]);
+                }
+                located.push(None);
             }
-            skipped.push(Skipped {
-                frame: i,
-                file: f.file.clone(),
-                score: loc.m.score,
-            });
-            state.last = None;
-            state.prev = None;
-            state.curvature = 0.0;
-            located.push(None);
-        } else {
-            // The next search starts from this frame's refined apex (the
-            // template alone slides along a flat top).
-            let (apex, _) = state.apex(&loc);
-            state.prev = state.last;
-            state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
-            state.curvature = loc.edge.map_or(0.0, |e| e.curvature);
-            located.push(Some(loc));
+            Ok(loc) => {
+                // The next search starts from this frame's refined apex (the
+                // template alone slides along a flat top).
+                let (apex, std) = state.apex(&loc);
+                let x_std = state.apex_x_std(&loc);
+                guard.accept(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref());
+                state.prev = state.last;
+                state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
+                state.curvature = loc.edge.map_or(0.0, |e| e.curvature);
+                located.push(Some(loc));
+            }
         }
         tick();
     }
@@ -324,4 +385,258 @@ fn check_above_clamp(setup: &Setup, clamp: f64, rows: &[FrameResult]) -> Result<
             fmt_short(r.height_m)
         ),
     })
+}
+
+/// The plausibility guards of the apex, frame by frame (region
+/// coordinates): an apex stands above the clamp plane; it moves
+/// continuously with the pressure (within a tolerance of the position
+/// extrapolated from the last two accepted frames, linearly in pressure);
+/// it does not go down while the pressure rises (nor up while it falls),
+/// beyond its noise; and the columns of its edge agree with one another
+/// about as well as in the frames before.
+/// What the guards keep of an accepted frame.
+#[derive(Debug, Clone, Copy)]
+struct Accepted {
+    /// Pressure, Pa.
+    p: f64,
+    /// Apex, px (region coordinates).
+    apex: [f64; 2],
+    /// Standard error of the apex column, px.
+    x_std: f64,
+    /// The edge fit's residual RMS (px), curvature and its standard error
+    /// (1/px), and columns.
+    edge: Option<(f64, f64, f64, usize)>,
+}
+
+pub(super) struct Guard {
+    /// The clamp plane's row in the region, px, when known.
+    clamp_row: Option<f64>,
+    /// Half-width of the edge fit's span of columns, px.
+    span: f64,
+    /// The accepted frames.
+    history: Vec<Accepted>,
+}
+
+impl Guard {
+    pub(super) fn new(clamp_row: Option<f64>, span_px: usize) -> Self {
+        Guard {
+            clamp_row,
+            span: span_px as f64,
+            history: Vec::new(),
+        }
+    }
+
+    /// The apex predicted at pressure `p` from the last two accepted
+    /// frames (the last one's when only one, or equal pressures).
+    pub(super) fn predict(&self, p: f64) -> Option<[f64; 2]> {
+        let n = self.history.len();
+        let Accepted {
+            p: p1, apex: a1, ..
+        } = *self.history.last()?;
+        if n < 2 {
+            return Some(a1);
+        }
+        let Accepted {
+            p: p0, apex: a0, ..
+        } = self.history[n - 2];
+        if (p1 - p0).abs() <= f64::EPSILON * p1.abs().max(1.0) {
+            return Some(a1);
+        }
+        let t = (p - p1) / (p1 - p0);
+        Some([a1[0], a1[1] + t * (a1[1] - a0[1])])
+    }
+
+    /// Why the apex `apex` (standard errors `[x_std, y_std]`, px) at
+    /// pressure `p` is not plausible, if it is not.
+    pub(super) fn check(
+        &self,
+        p: f64,
+        apex: [f64; 2],
+        stds: [f64; 2],
+        edge: Option<&EdgeFit>,
+    ) -> Result<(), String> {
+        let [x_std, std] = stds;
+        let y = apex[1];
+        // The axis does not move: the apex column stays within its
+        // uncertainty (and 3 px) of the last well-placed one.
+        if let Some(&Accepted {
+            apex: a1,
+            x_std: xs1,
+            ..
+        }) = self.history.iter().rev().find(|h| h.x_std.is_finite())
+            && x_std.is_finite()
+        {
+            let tol = 3.0 + 4.0 * x_std.hypot(xs1);
+            if (apex[0] - a1[0]).abs() > tol {
+                return Err(format!(
+                    "the apex column moved from {:.1} to {:.1} px (tolerance {:.1} px), while the bubble's axis stays put: the edge found is not the bubble's top",
+                    a1[0], apex[0], tol
+                ));
+            }
+        }
+        // (When the first frame's apex is below it too, the clamp row is
+        // wrong, which the check after tracking reports.)
+        if let Some(c) = self.clamp_row
+            && y >= c
+            && self.history.first().is_some_and(|h| h.apex[1] < c)
+        {
+            return Err(format!(
+                "the apex found at row {:.1} is at or below the clamp plane ({:.1} in the region): the template locked on something else",
+                y, c
+            ));
+        }
+        // A dome's apex column is pinned down once the dome is curved; an
+        // edge whose top is not (a straight shelf edge) is not the dome's.
+        let placed: Vec<f64> = self.history.iter().map(|h| h.x_std).collect();
+        if placed.len() >= 2
+            && placed[placed.len() - 2..]
+                .iter()
+                .all(|&s| s < 0.25 * self.span)
+            && (x_std >= 0.5 * self.span || x_std.is_nan())
+        {
+            return Err(format!(
+                "the edge found has no apex (its top is flat over the {:.0} px span), while the frames before had one",
+                2.0 * self.span
+            ));
+        }
+        let noise = 3.0 * std + 0.5;
+        if let Some(&Accepted {
+            p: p1, apex: a1, ..
+        }) = self.history.last()
+        {
+            let dy = y - a1[1];
+            if (p > p1 && dy > noise) || (p < p1 && dy < -noise) {
+                return Err(format!(
+                    "the apex moved {:+.2} px against the pressure ({} -> {} Pa; rows grow downward): the edge found is not the bubble's",
+                    dy, p1, p
+                ));
+            }
+        }
+        if self.history.len() >= 2
+            && let Some(pred) = self.predict(p)
+        {
+            let last = self.history[self.history.len() - 1].apex[1];
+            let tol = 2.0 + (pred[1] - last).abs() + 4.0 * std;
+            if (y - pred[1]).abs() > tol {
+                return Err(format!(
+                    "the apex jumped to row {:.1}, {:.1} px from where the frames before predict it ({:.1}; tolerance {:.1} px)",
+                    y,
+                    y - pred[1],
+                    pred[1],
+                    tol
+                ));
+            }
+        }
+        if let Some(e) = edge
+            && let Some((c1, c1_std, h1)) = self.recent_curvature()
+        {
+            // The dome's curvature changes smoothly; a straight shelf edge
+            // or a sagging cable does not follow it. With the clamp row, the
+            // curvature per px of height (2 / (a^2 + h^2) on a spherical
+            // cap, which changes by a third from h = 0.1 a to 0.6 a) is
+            // compared, within 12 %, so that frames left out in between do
+            // not matter.
+            let jumped = match (self.clamp_row, h1) {
+                (Some(c), Some(h1)) if c - y > 2.0 && h1 > 2.0 => {
+                    let (k, k1) = (e.curvature / (c - y), c1 / h1);
+                    let tol = 0.12 * k1.abs() + 4.0 * e.curvature_std.hypot(c1_std) / (c - y);
+                    (k - k1).abs() > tol
+                }
+                // Without the clamp row the height is not known, and the
+                // curvature of a slack or flat membrane can double from one
+                // photo to the next: only a dome turned into a nearly
+                // straight edge (or a much sharper one) is refused.
+                _ => {
+                    let noise = 4.0 * e.curvature_std.hypot(c1_std);
+                    e.curvature < 0.5 * c1 - noise || e.curvature > 4.0 * c1 + noise
+                }
+            };
+            if jumped {
+                return Err(format!(
+                    "the edge's curvature jumped from {:.2e} to {:.2e} 1/px: the edge found is not the bubble's",
+                    c1, e.curvature
+                ));
+            }
+        }
+        if let Some(e) = edge {
+            let mut cols: Vec<usize> = self
+                .history
+                .iter()
+                .filter_map(|h| h.edge.map(|e| e.3))
+                .collect();
+            if cols.len() >= 2 {
+                cols.sort_unstable();
+                let typical = cols[cols.len() / 2];
+                if (e.columns as f64) < 0.6 * typical as f64 {
+                    return Err(format!(
+                        "the edge is seen in {} columns against {} in the frames before: something hides the bubble's top",
+                        e.columns, typical
+                    ));
+                }
+            }
+            // (The last three: the residual of a parabola grows with the
+            // dome's curvature.)
+            let mut rms: Vec<f64> = self
+                .history
+                .iter()
+                .rev()
+                .filter_map(|h| h.edge.map(|e| e.0))
+                .take(3)
+                .collect();
+            if rms.len() >= 2 {
+                rms.sort_by(f64::total_cmp);
+                let typical = rms[rms.len() / 2];
+                let bound = (1.6 * typical).max(typical + 0.08);
+                if e.rms > bound {
+                    return Err(format!(
+                        "the edge's columns disagree (residual RMS {:.2} px against {:.2} px in the frames before): something crosses the bubble's top edge",
+                        e.rms, typical
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Of the last three accepted frames with an edge fit, the one of
+    /// median curvature per px of height (median curvature without the
+    /// clamp row): its curvature, standard error and height above the
+    /// clamp row, px.
+    fn recent_curvature(&self) -> Option<(f64, f64, Option<f64>)> {
+        let mut c: Vec<(f64, f64, Option<f64>)> = self
+            .history
+            .iter()
+            .rev()
+            .filter_map(|h| {
+                h.edge
+                    .map(|e| (e.1, e.2, self.clamp_row.map(|c| c - h.apex[1])))
+            })
+            .take(3)
+            .collect();
+        if c.is_empty() {
+            return None;
+        }
+        let key = |v: &(f64, f64, Option<f64>)| match v.2 {
+            Some(h) if h > 0.0 => v.0 / h,
+            _ => v.0,
+        };
+        c.sort_by(|a, b| key(a).total_cmp(&key(b)));
+        Some(c[c.len() / 2])
+    }
+
+    /// Records an accepted frame.
+    pub(super) fn accept(
+        &mut self,
+        p: f64,
+        apex: [f64; 2],
+        stds: [f64; 2],
+        edge: Option<&EdgeFit>,
+    ) {
+        self.history.push(Accepted {
+            p,
+            apex,
+            x_std: stds[0],
+            edge: edge.map(|e| (e.rms, e.curvature, e.curvature_std, e.columns)),
+        });
+    }
 }

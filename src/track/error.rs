@@ -155,6 +155,20 @@ pub enum TrackError {
         /// The threshold.
         min: f64,
     },
+    /// The apex found in a frame is not plausible, even when searched again
+    /// near the position predicted from the frames before.
+    #[error(
+        "{}: frame {frame}: {why}; nothing behind the bubble may cross its top edge (move the clutter or the camera), or pass --skip-bad-frames to leave such frames out",
+        path.display()
+    )]
+    Implausible {
+        /// The photo.
+        path: PathBuf,
+        /// Frame index.
+        frame: usize,
+        /// What is implausible.
+        why: String,
+    },
     /// The experiment file lacks or contradicts a setting.
     #[error("{}: {message}", path.display())]
     Config {

@@ -138,6 +138,8 @@ pub struct EdgeFit {
     pub x_std: f64,
     /// Edge curvature `d2y/dx2`, 1/px (positive for a dome seen from the side).
     pub curvature: f64,
+    /// Standard error of `curvature`, 1/px.
+    pub curvature_std: f64,
     /// Columns used.
     pub columns: usize,
     /// RMS of the column residuals, px.
@@ -185,17 +187,30 @@ fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> 
         };
         let g_above = slope(lo - SLOPE_ROWS, lo - half, lo);
         let g_below = slope(hi + 1, hi + 1 + half, hi + 1 + SLOPE_ROWS);
-        let (mut sw, mut swy) = (0.0, 0.0);
+        // Differences of the edge's polarity only (the sign of their sum):
+        // a highlight or texture inside the dome, or the far side of a
+        // thin dark line behind it, brightens the other way and is left out.
+        let mut diffs = [(0.0f64, 0.0f64, 0.0f64); 64];
+        let mut m = 0;
+        let mut total = 0.0;
         for j in lo..=hi {
             let y = j as f64 + 0.5;
             let w = (hw + 0.5 - (y - e).abs()).clamp(0.0, 1.0);
-            if w == 0.0 {
+            if w == 0.0 || m == diffs.len() {
                 continue;
             }
             let base = if y < e { g_above } else { g_below };
             let d = px(j + 1) - px(j) - base;
-            sw += w * d;
-            swy += w * d * y;
+            diffs[m] = (y, w, d);
+            m += 1;
+            total += w * d;
+        }
+        let (mut sw, mut swy) = (0.0, 0.0);
+        for &(y, w, d) in &diffs[..m] {
+            if d * total > 0.0 {
+                sw += w * d;
+                swy += w * d * y;
+            }
         }
         if sw == 0.0 {
             return None;
@@ -311,7 +326,7 @@ pub fn edge_fit_in(
         let Some(pts) = strong_columns(&located, 5) else {
             return result;
         };
-        let fit = parabola(&pts)?;
+        let (fit, pts) = robust_parabola(&pts)?;
         coef = fit.coef;
         let (a, b, c) = (coef[0], coef[1], coef[2]);
         let lim = span as f64;
@@ -347,6 +362,7 @@ pub fn edge_fit_in(
             x_vertex: centre + u_v,
             x_std: x_std * inflate,
             curvature: 2.0 * c,
+            curvature_std: 2.0 * fit.cov[2][2].max(0.0).sqrt() * inflate,
             columns: pts.len(),
             rms: (fit.rss / n).sqrt(),
         });
@@ -535,6 +551,40 @@ impl Parabola {
     fn var_at(&self, u: f64) -> f64 {
         quad_form(&self.cov, &[1.0, u, u * u])
     }
+}
+
+/// The least-squares parabola through the columns after those far off it
+/// are left out: Tukey's biweight (c = 4.685 robust standard deviations,
+/// the scale from the median absolute residual, at least 0.05 px) by
+/// iteratively reweighted least squares, then a plain fit through the
+/// columns of non-zero weight (so that its covariance is the usual one).
+/// A cable or the corner of a shelf that crosses a few columns no longer
+/// bends the apex. Returns the fit and the columns kept.
+fn robust_parabola(pts: &[(f64, f64)]) -> Option<(Parabola, Vec<(f64, f64)>)> {
+    let mut kept = pts.to_vec();
+    let mut fit = parabola(&kept)?;
+    for _ in 0..4 {
+        let c = fit.coef;
+        let res: Vec<f64> = pts
+            .iter()
+            .map(|&(u, y)| y - (c[0] + c[1] * u + c[2] * u * u))
+            .collect();
+        let mut abs: Vec<f64> = res.iter().map(|r| r.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let scale = (1.4826 * abs[abs.len() / 2]).max(0.05);
+        let next: Vec<(f64, f64)> = pts
+            .iter()
+            .zip(&res)
+            .filter(|(_, r)| r.abs() < 4.685 * scale)
+            .map(|(p, _)| *p)
+            .collect();
+        if next.len() == kept.len() || next.len() < 5.max(pts.len() / 2) {
+            break;
+        }
+        kept = next;
+        fit = parabola(&kept)?;
+    }
+    Some((fit, kept))
 }
 
 fn parabola(pts: &[(f64, f64)]) -> Option<Parabola> {

@@ -184,6 +184,16 @@ impl Tracker<'_> {
 
     /// The apex of a located frame in region coordinates and its
     /// statistical uncertainty, px, as `opts.refine` asks.
+    /// The standard error of the apex column of a located frame, px
+    /// (infinite without an edge fit).
+    pub(super) fn apex_x_std(&self, l: &Located) -> f64 {
+        match (l.edge, l.axis) {
+            (Some(e), Some((_, s))) => s.min(e.x_std),
+            (Some(e), None) => e.x_std,
+            (None, _) => f64::INFINITY,
+        }
+    }
+
     pub(super) fn apex(&self, l: &Located) -> ([f64; 2], f64) {
         let t = self.apex_in_t;
         let int = [l.m.integer[0] + t[0], l.m.integer[1] + t[1]];
@@ -254,8 +264,11 @@ impl Tracker<'_> {
         };
         // The edge fit runs in every mode: in the integer and quadratic modes
         // it only serves to state their uncertainty.
+        // The bubble's axis does not move: the edge fit is centred on the
+        // last frame's apex column (the template's own column follows the
+        // background and slides along a flat top), on the template's row.
         let apex = [
-            m.quadratic[0] + self.apex_in_t[0],
+            self.last.map_or(m.quadratic[0], |l| l[0]) + self.apex_in_t[0],
             m.quadratic[1] + self.apex_in_t[1],
         ];
         let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
@@ -272,5 +285,45 @@ impl Tracker<'_> {
             matcher::axis_fit_in(&mut cols, &e, half)
         });
         Ok(Located { m, edge, axis })
+    }
+
+    /// The apex searched again by the edge fit alone, seeded at `pred`
+    /// (the apex predicted by the frames before, region coordinates) with
+    /// the last frame's curvature, and the template's score at the
+    /// position it gives. `None` when no edge is found there.
+    pub(super) fn locate_at(
+        &self,
+        crop: &Gray,
+        pred: [f64; 2],
+    ) -> Result<Option<Located>, TrackError> {
+        let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
+        let Some(edge) = matcher::edge_fit_in(
+            &mut cols,
+            pred[0],
+            pred[1],
+            self.curvature,
+            self.edge_settings,
+        ) else {
+            return Ok(None);
+        };
+        let axis = {
+            let half = (crop.width / 2).saturating_sub(1);
+            matcher::axis_fit_in(&mut cols, &edge, half)
+        };
+        // The template's score near the edge's apex (its top-left corner
+        // within 2 px of where the apex puts it).
+        let (tw, th) = (self.templ.width, self.templ.height);
+        let tx = (edge.x_vertex - self.apex_in_t[0]).round() as i64;
+        let ty = (edge.y - self.apex_in_t[1]).round() as i64;
+        let x0 = (tx - 2).clamp(0, (crop.width - tw) as i64) as usize;
+        let y0 = (ty - 2).clamp(0, (crop.height - th) as i64) as usize;
+        let x1 = (x0 + tw + 4).min(crop.width);
+        let y1 = (y0 + th + 4).min(crop.height);
+        let m = matcher::match_in_window(crop, self.templ, [x0, y0, x1 - x0, y1 - y0])?;
+        Ok(Some(Located {
+            m,
+            edge: Some(edge),
+            axis,
+        }))
     }
 }

@@ -106,7 +106,8 @@ pub struct Options {
     pub refine: Refine,
     /// Frames whose best score is below this are bad.
     pub min_score: f64,
-    /// Leave bad frames out (and report them) instead of failing.
+    /// Leave bad frames (a low score, an implausible apex) out, and report
+    /// them with the reason, instead of failing.
     pub skip_bad_frames: bool,
     /// Margin of the search window around the predicted position, px.
     pub search_margin_px: usize,
@@ -125,7 +126,7 @@ impl Default for Options {
             skip_bad_frames: false,
             search_margin_px: 8,
             edge_span_px: None,
-            edge_window_px: 4,
+            edge_window_px: 3,
         }
     }
 }
@@ -170,6 +171,9 @@ pub struct Skipped {
     pub file: String,
     /// Its best score.
     pub score: f64,
+    /// Why it was left out (a score below `--min-score`, or an apex that
+    /// the plausibility guards refused).
+    pub reason: String,
 }
 
 /// The outcome of a run.

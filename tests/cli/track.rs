@@ -475,7 +475,7 @@ fn help_documents_every_flag_with_its_default() {
         "--edge-window-px",
         "[default: 0.5]",
         "[default: edge]",
-        "[default: 4]",
+        "[default: 3]",
     ] {
         assert!(
             run.stdout.contains(f),
