@@ -198,9 +198,14 @@ pub struct CalibrationConfig {
     /// Distance between `points_px`, m.
     #[serde(default)]
     pub distance_m: Option<f64>,
-    /// Image row of the clamp plane, px, when known.
+    /// Image row of the clamp plane, px, when known (with a camera above
+    /// the clamp plane, the row of the clamp ring's centre).
     #[serde(default)]
     pub clamp_row_px: Option<f64>,
+    /// Elevation of the camera above the clamp plane, degrees (0 to 30;
+    /// absent: a level camera): the heights are corrected for it.
+    #[serde(default)]
+    pub elevation_deg: Option<f64>,
 }
 
 /// `[pressure]`: the pressure log, joined per photo (columns

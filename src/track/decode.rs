@@ -271,6 +271,20 @@ pub(super) fn match_frames(
             (apex[1], std, prebulge_height_m)
         }
     };
+    // A camera above the clamp plane: the silhouette's top `t` px above the
+    // clamp ring's centre becomes the apex height (and its deviation, with
+    // the curvature's), px.
+    let elevated = |t: f64, e: Option<&EdgeFit>| -> (f64, f64) {
+        match setup.calibration.elevation {
+            None => (t, 0.0),
+            Some(el) => el.height_px(
+                t,
+                e.map(|e| (e.curvature, e.curvature_std)),
+                el.radius_m / mpp,
+            ),
+        }
+    };
+    let cos_e = setup.calibration.elevation.map_or(1.0, |e| e.radians.cos());
     let mut rows = Vec::with_capacity(n);
     for (i, l) in located.iter().enumerate() {
         let Some(l) = l else { continue };
@@ -283,6 +297,8 @@ pub(super) fn match_frames(
         } else {
             std.hypot(origin_std)
         };
+        let (h_px, h_extra) = elevated(origin_row - apex[1], edge.as_ref());
+        let h_std_px = (std_total / cos_e).hypot(h_extra);
         rows.push(FrameResult {
             frame: i,
             file: f.file.clone(),
@@ -290,8 +306,8 @@ pub(super) fn match_frames(
             apex_x_px: apex[0],
             apex_y_px: apex[1],
             score: l.m.score,
-            height_m: (origin_row - apex[1]) * mpp + offset_m,
-            height_std_m: std_total * mpp,
+            height_m: h_px * mpp + offset_m,
+            height_std_m: h_std_px * mpp,
             apex_y_std_px: std,
             apex_integer_px: int,
             apex_quadratic_px: quad,

@@ -225,6 +225,23 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         },
     };
 
+    let elevation = match cal.elevation_deg {
+        None => None,
+        Some(d) if !(d.is_finite() && (0.0..=30.0).contains(&d)) => {
+            return Err(cfg(format!(
+                "[calibration] elevation_deg = {d}: give the camera's elevation above the clamp plane, 0 to 30 degrees"
+            )));
+        }
+        Some(_) if !matches!(origin, HeightOrigin::ClampRow(_)) => {
+            return Err(cfg(
+                "[calibration] elevation_deg needs clamp_row_px (the row of the clamp ring's centre): the correction for the elevation is made on the height above the clamp plane".into(),
+            ));
+        }
+        Some(d) => Some(Elevation {
+            radians: d.to_radians(),
+            radius_m: e.specimen.radius_m,
+        }),
+    };
     let (mut frames, video) = list_frames(e, photos)?;
     join_pressures(e, pressure, &mut frames)?;
     if photos.reference_frame >= frames.len() {
@@ -246,6 +263,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         calibration: Calibration {
             metres_per_pixel: scale,
             origin,
+            elevation,
         },
     })
 }

@@ -568,14 +568,17 @@ pub fn experiment_toml(
     pressure: &str,
 ) -> String {
     let s = spec.specimen;
-    let elevation = if spec.look.elevation_deg != 0.0 {
-        format!(
-            "# The camera is {:?} degrees above the clamp plane: clamp_row_px is the row of the\n\
-             # clamp ring's centre, and the heights are not corrected for the elevation.\n",
-            spec.look.elevation_deg
+    let (elevation, elevation_key) = if spec.look.elevation_deg != 0.0 {
+        (
+            format!(
+                "# The camera is {:?} degrees above the clamp plane: clamp_row_px is the row of the\n\
+                 # clamp ring's centre, and elevation_deg corrects the heights for it.\n",
+                spec.look.elevation_deg
+            ),
+            format!("elevation_deg = {:?}\n", spec.look.elevation_deg),
         )
     } else {
-        String::new()
+        (String::new(), String::new())
     };
     let [rx, ry, rw, rh] = layout.roi_px;
     let [tx, ty, tw, th] = layout.template_rect_px;
@@ -586,7 +589,7 @@ pub fn experiment_toml(
          [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
-         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n\n\
+         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
          [pressure]\n{pressure}",
         s.radius_m,
         s.thickness_m,

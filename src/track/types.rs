@@ -41,6 +41,53 @@ pub struct Calibration {
     pub metres_per_pixel: f64,
     /// Origin of heights.
     pub origin: HeightOrigin,
+    /// The camera's elevation above the clamp plane, when not level.
+    pub elevation: Option<Elevation>,
+}
+
+/// A camera raised above the clamp plane (see [`Elevation::height_px`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Elevation {
+    /// Elevation angle, rad.
+    pub radians: f64,
+    /// Free radius of the specimen, m (for the spherical-cap radius when
+    /// the edge's curvature is not measured).
+    pub radius_m: f64,
+}
+
+impl Elevation {
+    /// The apex height `h`, px, from the height `t` (px) of the
+    /// silhouette's top above the clamp ring's centre. An orthographic
+    /// camera raised by `e` sees `(x, y, z)` (z up the axis, y away from
+    /// the camera) at image height `y sin e + z cos e`; near its pole the
+    /// dome is a sphere of radius `R` (by symmetry the pole is an umbilic
+    /// point), whose outline tops out at the latitude of polar angle `e`:
+    /// `t = (h - R) cos e + R`, so `h = (t - R (1 - cos e)) / cos e`. `R`
+    /// is `1 / curvature` of the edge fit at the top (the outline of a
+    /// sphere is a circle of its radius from any direction) when that is
+    /// measured to 3 % (`curvature` = value and standard error, 1/px), else
+    /// the spherical cap's `(a^2 + h^2) / (2 h)` through the rim (`a_px`
+    /// the free radius in px; flat domes, whose curvature the edge fit
+    /// measures poorly, are close to caps), solved for `h` by fixed-point
+    /// iteration. Returns `h` and its standard deviation from the
+    /// curvature's, px.
+    pub fn height_px(&self, t: f64, curvature: Option<(f64, f64)>, a_px: f64) -> (f64, f64) {
+        let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
+        if let Some((k, k_std)) = curvature.filter(|(k, ks)| *k > 0.0 && *ks < 0.03 * k) {
+            return ((t - s / k) / c, s / c * k_std / (k * k));
+        }
+        let mut h = t;
+        for _ in 0..100 {
+            let r = (a_px * a_px + h * h) / (2.0 * h.max(1e-9));
+            let next = ((t - r * s) / c).max(1e-6 * a_px);
+            if (next - h).abs() < 1e-10 * a_px {
+                h = next;
+                break;
+            }
+            h = next;
+        }
+        (h, 0.0)
+    }
 }
 
 /// Where the template comes from.
