@@ -31,6 +31,7 @@
 pub mod disc;
 pub mod dynamics;
 pub mod hard;
+pub mod linear;
 pub mod mesh;
 pub mod par;
 pub mod scene;

@@ -465,6 +465,11 @@ impl Membrane {
         self.tris[t].v
     }
 
+    /// Node indices of spring `e`.
+    pub fn spring_nodes(&self, e: usize) -> [u32; 2] {
+        self.edges[e]
+    }
+
     /// Rest area of triangle `t`, m^2.
     pub fn rest_area(&self, t: usize) -> f64 {
         self.tris[t].area0
