@@ -58,6 +58,11 @@ use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 pub struct LinearStats {
     /// Solves by the iteration preconditioned with single-precision factors.
     pub single: usize,
+    /// Of the preconditioned solves, those that reused the factors of an
+    /// earlier matrix.
+    pub reused: usize,
+    /// Numeric factorisations of the symmetric part.
+    pub factorisations: usize,
     /// Solves by the iteration preconditioned with double-precision factors.
     pub double: usize,
     /// BiCGSTAB iterations summed over those solves.
@@ -88,6 +93,10 @@ enum Precision {
     None,
 }
 
+/// BiCGSTAB iterations allowed with factors of an earlier matrix before the
+/// matrix is factored afresh.
+pub const REFACTOR_ITERATIONS: usize = 12;
+
 /// A sparse solver for one sparsity pattern, reused over Newton iterations
 /// and pressures.
 pub struct SparseSolver {
@@ -95,6 +104,10 @@ pub struct SparseSolver {
     symmetric: Option<SymmetricPart>,
     precision: Precision,
     symbolic_lu: Option<SymbolicLu<u32>>,
+    /// The factor's values, kept between solves: as the preconditioner of
+    /// the next ones, and to spare a fresh allocation of 1e8 bytes (and its
+    /// page faults) per Newton step.
+    buffers: Buffers,
     /// Relative residual the iteration reaches (default 1e-12).
     pub tolerance: f64,
     /// Cap on BiCGSTAB iterations per solve before the next way is tried
@@ -124,6 +137,7 @@ impl SparseSolver {
             symmetric: None,
             precision: Precision::Single,
             symbolic_lu: None,
+            buffers: Buffers::default(),
             tolerance: 1e-12,
             max_iterations: 60,
             stats: LinearStats::default(),
@@ -169,6 +183,7 @@ impl SparseSolver {
             if self.precision == Precision::Single {
                 self.precision = Precision::Double;
             }
+            self.buffers.single = Default::default();
         }
         if self.precision == Precision::Double
             && let Some(d) = self.solve_preconditioned::<f64>(values, r)
@@ -181,14 +196,16 @@ impl SparseSolver {
     }
 
     /// BiCGSTAB on `K`, preconditioned by the `LDL^T` factors of its
-    /// symmetric part computed in `T`.
+    /// symmetric part computed in `T`. Factors kept from an earlier matrix
+    /// (the last Newton iterate, the last pressure) are tried first with a
+    /// short cap: near a solution the tangent changes little, and a
+    /// preconditioner need not be exact. When they need more than
+    /// [`REFACTOR_ITERATIONS`], the matrix is factored afresh.
     fn solve_preconditioned<T: FactorScalar>(
         &mut self,
         values: &[f64],
         r: &[f64],
     ) -> Option<Vec<f64>> {
-        let n = r.len();
-        let par = Par::rayon(0);
         if self.symmetric.is_none() {
             match analyse_symmetric(&self.pattern) {
                 Some(s) => {
@@ -201,7 +218,28 @@ impl SparseSolver {
                 }
             }
         }
+        if *T::buffers(&mut self.buffers).1 {
+            match self.iterate::<T>(values, r, REFACTOR_ITERATIONS) {
+                Some((d, its)) => {
+                    self.stats.iterations += its;
+                    self.stats.reused += 1;
+                    return Some(d);
+                }
+                None => *T::buffers(&mut self.buffers).1 = false,
+            }
+        }
+        self.factor::<T>(values)?;
+        let (d, its) = self.iterate::<T>(values, r, self.max_iterations)?;
+        self.stats.iterations += its;
+        Some(d)
+    }
+
+    /// Factors the symmetric part of the matrix with `values` in `T` into
+    /// the kept buffer.
+    fn factor<T: FactorScalar>(&mut self, values: &[f64]) -> Option<()> {
+        let par = Par::rayon(0);
         let sym = self.symmetric.as_ref()?;
+        let n = self.pattern.ncols();
         let mut s_values: Vec<T> = Vec::with_capacity(sym.mirror.len());
         let (col_ptr, lower_ptr) = (self.pattern.col_ptr(), sym.lower.col_ptr());
         for j in 0..n {
@@ -215,28 +253,46 @@ impl SparseSolver {
             }
         }
         let s = SparseColMatRef::new(sym.lower.as_ref(), &s_values);
-        let mut l_values = vec![T::from(0.0f32); sym.symbolic.len_val()];
-        let ldlt = {
-            let mut mem = MemBuffer::try_new(
-                sym.symbolic
-                    .factorize_numeric_ldlt_scratch::<T>(par, Default::default()),
+        let mut scratch = MemBuffer::try_new(
+            sym.symbolic
+                .factorize_numeric_ldlt_scratch::<T>(par, Default::default()),
+        )
+        .ok()?;
+        let (l_values, valid) = T::buffers(&mut self.buffers);
+        *valid = false;
+        l_values.resize(sym.symbolic.len_val(), T::from(0.0f32));
+        sym.symbolic
+            .factorize_numeric_ldlt(
+                l_values,
+                s,
+                Side::Lower,
+                LdltRegularization::default(),
+                par,
+                MemStack::new(&mut scratch),
+                Default::default(),
             )
             .ok()?;
-            sym.symbolic
-                .factorize_numeric_ldlt(
-                    &mut l_values,
-                    s,
-                    Side::Lower,
-                    LdltRegularization::default(),
-                    par,
-                    MemStack::new(&mut mem),
-                    Default::default(),
-                )
-                .ok()?;
-            LdltRef::new(&sym.symbolic, &l_values)
+        *valid = true;
+        self.stats.factorisations += 1;
+        Some(())
+    }
+
+    /// BiCGSTAB with the kept factors, at most `cap` iterations: the step and
+    /// the iterations it took.
+    fn iterate<T: FactorScalar>(
+        &mut self,
+        values: &[f64],
+        r: &[f64],
+        cap: usize,
+    ) -> Option<(Vec<f64>, usize)> {
+        let n = r.len();
+        let par = Par::rayon(0);
+        let sym = self.symmetric.as_ref()?;
+        let (l_values, _) = T::buffers(&mut self.buffers);
+        let precond = LdltPrecond {
+            ldlt: LdltRef::new(&sym.symbolic, l_values),
+            n,
         };
-        drop(s_values);
-        let precond = LdltPrecond { ldlt, n };
         let k = SparseColMatRef::new(self.pattern.as_ref(), values);
         let rhs = Mat::<f64>::from_fn(n, 1, |i, _| r[i]);
         let mut d = Mat::<f64>::zeros(n, 1);
@@ -248,7 +304,7 @@ impl SparseSolver {
             initial_guess: InitialGuessStatus::MaybeNonZero,
             abs_tolerance: 0.0,
             rel_tolerance: self.tolerance,
-            max_iters: self.max_iterations,
+            max_iters: cap,
             ..Default::default()
         };
         let info = bicgstab(
@@ -264,11 +320,9 @@ impl SparseSolver {
         )
         .ok()?;
         let d: Vec<f64> = (0..n).map(|i| d[(i, 0)]).collect();
-        if !d.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        self.stats.iterations += info.iter_count;
-        Some(d)
+        d.iter()
+            .all(|v| v.is_finite())
+            .then_some((d, info.iter_count))
     }
 
     fn solve_lu(&mut self, values: &[f64], r: &[f64]) -> Option<Vec<f64>> {
@@ -285,23 +339,44 @@ impl SparseSolver {
     }
 }
 
+/// A factor's values, and whether they hold a factorisation.
+type Buffer<T> = (Vec<T>, bool);
+
+/// The buffers of both precisions.
+#[derive(Default)]
+struct Buffers {
+    single: Buffer<f32>,
+    double: Buffer<f64>,
+}
+
 /// The precision of a factor: `f32` or `f64`.
-pub trait FactorScalar:
+trait FactorScalar:
     ComplexField<Real = Self> + faer::traits::RealField + Copy + From<f32> + Into<f64>
 {
     /// A double rounded to this precision.
     fn from_f64(v: f64) -> Self;
+
+    /// The buffers of this precision.
+    fn buffers(b: &mut Buffers) -> (&mut Vec<Self>, &mut bool);
 }
 
 impl FactorScalar for f32 {
     fn from_f64(v: f64) -> f32 {
         v as f32
     }
+
+    fn buffers(b: &mut Buffers) -> (&mut Vec<f32>, &mut bool) {
+        (&mut b.single.0, &mut b.single.1)
+    }
 }
 
 impl FactorScalar for f64 {
     fn from_f64(v: f64) -> f64 {
         v
+    }
+
+    fn buffers(b: &mut Buffers) -> (&mut Vec<f64>, &mut bool) {
+        (&mut b.double.0, &mut b.double.1)
     }
 }
 
