@@ -13,7 +13,7 @@
 //!    at mid-length against the exact inflation of the infinite strip
 //!    (docs/theory.md section 9), neo-Hookean and Ogden's three-term
 //!    rubber;
-//! 4. the 2:1 elliptical window: heights on meshes of 12 to 64 rings and
+//! 4. the 2:1 elliptical window: heights on meshes of 12 to 96 rings and
 //!    their Richardson extrapolation.
 //!
 //! `cargo run --release --example membrane_validation` prints the tables of

@@ -302,7 +302,7 @@ impl Hyperelastic<'_> {
     /// `W` of the in-plane right Cauchy-Green tensor `C = [[c11, c12], [c12,
     /// c22]]` (principal values `l1^2`, `l2^2`), incompressible plane stress:
     /// `l3^2 = 1 / det C`, `I1 = tr C + 1 / det C`, `I2 = det C + tr C / det C`
-    /// (Holzapfel 2000, section 6.5 and the membrane in section 8). Equal to
+    /// (Holzapfel, *Nonlinear Solid Mechanics*, 2000). Equal to
     /// [`Hyperelastic::w`] at the principal stretches, and smooth in `C`
     /// even where `l1 = l2`: Ogden's `l1^a + l2^a` is taken as a symmetric
     /// function of the two eigenvalues `m +- d / 2` of `C`, by its even

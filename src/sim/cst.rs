@@ -5,11 +5,11 @@
 //! given an orthonormal frame of its plane; with `G` the 2x2 matrix of its
 //! edges `X1 - X0`, `X2 - X0` in that frame, the deformation gradient is
 //! the 3x2 matrix `F = [x1 - x0, x2 - x0] G^-1`, constant over the
-//! triangle, and `C = F^T F` the in-plane right Cauchy-Green tensor (Bonet &
-//! Wood, *Nonlinear Continuum Mechanics for Finite Element Analysis*, 2nd
-//! ed. 2008, doi:10.1017/CBO9780511755446, section 9.x on membranes;
-//! Holzapfel, *Nonlinear Solid Mechanics*, 2000, section 8.x). With the
-//! columns `F_a = sum_n x_n B[n][a]` (`B` from `G^-1`), `C_ab = F_a . F_b`.
+//! triangle, and `C = F^T F` the in-plane right Cauchy-Green tensor
+//! (G. A. Holzapfel, *Nonlinear Solid Mechanics: A Continuum Approach for
+//! Engineering*, Wiley, 2000, ISBN 0-471-82319-8). With the columns
+//! `F_a = sum_n x_n B[n][a]` (`B` from `G^-1`), `C_ab = F_a . F_b`.
+//! Derivation and validation: docs/theory.md section 9, docs/simulate.md.
 //!
 //! The element's energy is `t0 |T0| W(C)`, `W` per unit reference volume:
 //!
