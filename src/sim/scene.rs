@@ -584,6 +584,26 @@ impl Scene {
         }
     }
 
+    /// The specimen's window (an experiment's `[window]`): the disc for a
+    /// circle, else the ellipse or rectangle of the same thickness.
+    pub fn from_window(
+        spec: &crate::experiment::Specimen,
+        window: &crate::experiment::Window,
+        material: Material,
+        pressures_pa: Vec<f64>,
+    ) -> Scene {
+        use crate::experiment::Window;
+        let mut s = Scene::from_specimen(spec, material, pressures_pa);
+        match *window {
+            Window::Circle => {}
+            Window::Ellipse { semi_axes_m } => s.kind = SceneKind::Ellipse { semi_axes_m },
+            Window::Rectangle { length_m, width_m } => {
+                s.kind = SceneKind::Rectangle { length_m, width_m }
+            }
+        }
+        s
+    }
+
     /// Builds the mesh (a requested accuracy is met for every spring model).
     pub fn build_mesh(&self) -> Result<Mesh, SimError> {
         self.build_mesh_for(&[])
