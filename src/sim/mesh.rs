@@ -434,7 +434,7 @@ fn sectors_copies(sector: bool) -> usize {
 /// The elliptical window with semi-axes `a` (along x) and `b` (along y):
 /// the whole hexagonal disc of `rings` rings of unit radius, scaled by `a`
 /// along x and `b` along y (an affine map: every triangle keeps its
-/// neighbours; at 2:1 the angles stay within about 35-110 degrees). The
+/// neighbours; at 2:1 and 24 rings the angles lie within 23.5-122.2 degrees). The
 /// rim is clamped; probe `apex` at the centre.
 pub fn ellipse(a: f64, b: f64, rings: usize) -> Result<Mesh, SimError> {
     if !(a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0) {
