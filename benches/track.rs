@@ -36,6 +36,7 @@ fn spec(w: usize, h: usize, seed: u64, blur: f64, noise: f64, enc: Encoding) -> 
             poisson: 0.45,
             prebulge_height_m: 0.0,
         },
+        window: Default::default(),
     }
 }
 

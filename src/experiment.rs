@@ -7,7 +7,16 @@
 //! thickness_m = 0.00035      # initial thickness t
 //! poisson = 0.45             # Poisson ratio nu, in [0, 0.5)
 //! prebulge_height_m = 0.0    # apex height h0 at p = 0+ (default 0)
+//!
+//! [window]                   # optional: a non-circular clamped opening
+//! shape = "ellipse"          # circle (default) | ellipse | rectangle
+//! semi_axes_m = [0.0375, 0.01875]   # ellipse; rectangle: length_m, width_m
 //! ```
+//!
+//! With a non-circular `[window]`, `bulge run` simulates the window with the
+//! membrane model and corrects the law to the heights through it (the
+//! stress stage's spherical-cap formulas take `radius_m`, best the
+//! window's half-width: their law is only the correction's start).
 //!
 //! Names may grow, never change. Paths inside the file are relative to the
 //! file's own folder.
@@ -51,6 +60,59 @@ fn height_or_fit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error
         HeightOrFit::Word(w) => Err(serde::de::Error::custom(format!(
             "prebulge_height_m = \"{w}\": give a height in metres (e.g. 0.0035) or \"fit\" (estimated from the heights by bulge run)"
         ))),
+    }
+}
+
+/// `[window]`: the shape of the clamped opening (default a circle of the
+/// specimen's `radius_m`). The window is centred on the apex, its first
+/// axis along x.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Window {
+    /// The circle of radius `radius_m` (the exact axisymmetric path).
+    #[default]
+    Circle,
+    /// An ellipse.
+    Ellipse {
+        /// Semi-axes, m.
+        semi_axes_m: [f64; 2],
+    },
+    /// A rectangle.
+    Rectangle {
+        /// Side along x, m.
+        length_m: f64,
+        /// Side along y, m.
+        width_m: f64,
+    },
+}
+
+impl Window {
+    /// True for the circular window.
+    pub fn is_circle(&self) -> bool {
+        matches!(self, Window::Circle)
+    }
+
+    /// Checks the sizes; the message names the key, the value and the fix.
+    pub fn validate(&self) -> Result<(), String> {
+        let bad =
+            |key: &str, v: f64| format!("[window] {key} = {v} must be a positive length in metres");
+        match *self {
+            Window::Circle => Ok(()),
+            Window::Ellipse { semi_axes_m } => {
+                match semi_axes_m.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                    Some(v) => Err(bad("semi_axes_m", *v)),
+                    None => Ok(()),
+                }
+            }
+            Window::Rectangle { length_m, width_m } => {
+                for (k, v) in [("length_m", length_m), ("width_m", width_m)] {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(bad(k, v));
+                    }
+                }
+                Ok(())
+            }
+        }
     }
 }
 
@@ -233,6 +295,9 @@ pub struct Experiment {
     /// Pressure log (needed by `track`).
     #[serde(default)]
     pub pressure: Option<PressureConfig>,
+    /// The clamped opening (default the circle of the specimen's radius).
+    #[serde(default)]
+    pub window: Window,
     /// Other tables (settings of later stages), kept as TOML.
     #[serde(flatten)]
     pub other: toml::Table,
@@ -260,6 +325,7 @@ impl Experiment {
         e.specimen
             .validate()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
+        e.window.validate().map_err(|m| InputError::file(path, m))?;
         e.base_dir = path
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
@@ -287,6 +353,22 @@ impl Experiment {
         spec.validate()
             .map_err(|e| InputError::file(path, format!("[specimen] {e}")))?;
         Ok(spec)
+    }
+
+    /// Only the `[window]` of an experiment file (the circle when there is
+    /// none).
+    pub fn read_window(path: impl AsRef<Path>) -> Result<Window, InputError> {
+        #[derive(Deserialize)]
+        struct Only {
+            #[serde(default)]
+            window: Window,
+        }
+        let path = path.as_ref();
+        let only: Only = crate::io::read_toml(path)?;
+        only.window
+            .validate()
+            .map_err(|m| InputError::file(path, m))?;
+        Ok(only.window)
     }
 
     /// The files this experiment reads, resolved: the experiment file, the
@@ -323,6 +405,47 @@ impl Experiment {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `[window]` reads as a circle by default, an ellipse or a rectangle
+    /// by `shape`; unknown keys and non-positive sizes are refused.
+    #[test]
+    fn window_table() {
+        let base = "[specimen]\nradius_m = 0.01875\nthickness_m = 0.00035\npoisson = 0.45\n";
+        let dir = tempfile::tempdir().unwrap();
+        let read = |extra: &str| {
+            let p = dir.path().join("e.toml");
+            std::fs::write(&p, format!("{base}{extra}")).unwrap();
+            Experiment::read(&p).map(|e| e.window)
+        };
+        assert_eq!(read("").unwrap(), Window::Circle);
+        assert_eq!(
+            read("[window]\nshape = \"ellipse\"\nsemi_axes_m = [0.0375, 0.01875]\n").unwrap(),
+            Window::Ellipse {
+                semi_axes_m: [0.0375, 0.01875]
+            }
+        );
+        assert_eq!(
+            read("[window]\nshape = \"rectangle\"\nlength_m = 0.08\nwidth_m = 0.02\n").unwrap(),
+            Window::Rectangle {
+                length_m: 0.08,
+                width_m: 0.02
+            }
+        );
+        for (extra, needle) in [
+            (
+                "[window]\nshape = \"ellipse\"\nsemi_axes_m = [0.0375, 0.0]\n",
+                "semi_axes_m = 0",
+            ),
+            (
+                "[window]\nshape = \"rectangle\"\nlength_m = 0.08\nwidth = 0.02\n",
+                "width",
+            ),
+            ("[window]\nshape = \"hexagon\"\n", "hexagon"),
+        ] {
+            let e = read(extra).unwrap_err().to_string();
+            assert!(e.contains(needle), "`{needle}` not in: {e}");
+        }
+    }
 
     #[test]
     fn specimen_defaults_and_validation() {

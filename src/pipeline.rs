@@ -26,6 +26,7 @@ use crate::axisym::{self, AxisymError};
 #[cfg(feature = "opencv")]
 use crate::experiment::Experiment;
 use crate::experiment::Specimen;
+use crate::experiment::Window;
 use crate::fit::data::Loaded;
 use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
 use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
@@ -157,6 +158,10 @@ pub struct Settings {
     /// Correct the fitted law until the exact axisymmetric inflation
     /// reproduces the measured heights ([`crate::fit::inverse`]).
     pub refine: bool,
+    /// The clamped opening (an experiment's `[window]`; `bulge run` takes
+    /// it from the experiment): a non-circular one is simulated with the
+    /// membrane model and the law corrected through it.
+    pub window: Window,
 }
 
 impl Default for Settings {
@@ -173,6 +178,7 @@ impl Default for Settings {
             solver: Solver::Newton,
             tolerance: 1e-8,
             refine: true,
+            window: Window::Circle,
         }
     }
 }
@@ -767,7 +773,23 @@ pub fn fit_stage(
     let mut fitted = fit_material(&data, &fit_settings, "stress_strain.csv of bulge run")?;
     if settings.refine {
         let measured = measured_heights(&s.points);
-        if let Err(e) = fitted.refine_to_heights(spec, &measured, &inverse::Options::default()) {
+        let refined = if settings.window.is_circle() {
+            fitted
+                .refine_to_heights(spec, &measured, &inverse::Options::default())
+                .map(|_| ())
+        } else {
+            let scene =
+                Scene::from_window(spec, &settings.window, fitted.cap_material.clone(), vec![]);
+            fitted
+                .refine_in_scene(
+                    &scene,
+                    settings.mesh,
+                    &measured,
+                    &inverse::Options::default(),
+                )
+                .map(|_| ())
+        };
+        if let Err(e) = refined {
             fitted.warn(format!(
                 "the law was not corrected to the heights ({e}); the cap-method law is used"
             ));
@@ -912,7 +934,8 @@ pub fn simulate_stage(
             "pressures to simulate {pressures:?}: give them in increasing order (each is continued from the previous)"
         )));
     }
-    let mut scene = Scene::from_specimen(spec, material.clone(), pressures.to_vec());
+    let mut scene =
+        Scene::from_window(spec, &settings.window, material.clone(), pressures.to_vec());
     scene.mesh.size = settings.mesh;
     scene
         .validate(true)
@@ -1006,7 +1029,8 @@ pub fn simulate_stage(
             wall_s: t_model.elapsed().as_secs_f64(),
         });
     }
-    if settings.axisym {
+    // the exact axisymmetric reference holds for circular windows only
+    if settings.axisym && settings.window.is_circle() {
         runs.push(axisym_run(spec, material, pressures, tick)?);
     }
     Ok(runs)
@@ -1354,6 +1378,10 @@ pub fn run_observed(
     settings: &Settings,
     obs: &dyn Observer,
 ) -> Result<RunOutput, RunError> {
+    let settings = &Settings {
+        window: exp.window,
+        ..settings.clone()
+    };
     let mut partial = Partial::default();
     let fail = |stage: Stage, error: PipelineError, partial: &Partial| RunError {
         stage,
@@ -1454,10 +1482,14 @@ pub fn run_observed(
     // 4. simulate
     let t = Instant::now();
     let pressures_pa = pressures(settings, &stress.points);
-    for w in extrapolation_warnings(spec, &fit.material, &stress.points, &pressures_pa) {
-        note(Stage::Simulate, w);
+    // (the limit point behind these warnings is the circular window's)
+    if settings.window.is_circle() {
+        for w in extrapolation_warnings(spec, &fit.material, &stress.points, &pressures_pa) {
+            note(Stage::Simulate, w);
+        }
     }
-    let n_runs = settings.models.len() + usize::from(settings.axisym);
+    let n_runs =
+        settings.models.len() + usize::from(settings.axisym && settings.window.is_circle());
     obs.start(Stage::Simulate, (n_runs * pressures_pa.len()) as u64);
     let runs = simulate_stage(spec, settings, &fit.material, &pressures_pa, &|| obs.tick())
         .map_err(|e| fail(Stage::Simulate, e, &partial))?;

@@ -45,9 +45,10 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Spring models to simulate, comma-separated: tp, tp-paper,
-    /// van-gelder, lloyd. Default tp,van-gelder (the comparison of Tudruj et
-    /// al. 2023).
+    /// Membrane models to simulate, comma-separated: tp, tp-paper,
+    /// van-gelder, lloyd (mass-spring), membrane (constant-strain triangles
+    /// with the material's whole law). Default tp,van-gelder (the
+    /// comparison of Tudruj et al. 2023).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub models: Option<Vec<SpringModel>>,
 

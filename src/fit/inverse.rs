@@ -140,6 +140,9 @@ pub struct Refined {
     /// The stress-free dome height found beside the law, m, when it was
     /// sought ([`refine_with_prebulge`]).
     pub prebulge_height_m: Option<f64>,
+    /// The non-circular window the correction simulated with the membrane
+    /// model ([`refine_in_scene`]); `None` for the axisymmetric one.
+    pub window: Option<String>,
 }
 
 impl Refined {
@@ -158,11 +161,16 @@ impl Refined {
             Refined::rms(e).map_or("-".to_string(), |v| format!("{:.2} %", 100.0 * v))
         };
         format!(
-            "rms height error {} -> {} ({} iterations, {} axisymmetric solves)",
+            "rms height error {} -> {} ({} iterations, {} {})",
             pct(&self.before),
             pct(&self.after),
             self.iterations,
-            self.solves
+            self.solves,
+            if self.window.is_some() {
+                "membrane sweeps"
+            } else {
+                "axisymmetric solves"
+            }
         )
     }
 
@@ -181,7 +189,11 @@ impl Refined {
         let mut t = toml::Table::new();
         t.insert(
             "method".into(),
-            "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+            match &self.window {
+                None => "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".to_string(),
+                Some(w) => format!("parameters corrected so that the membrane model (constant-strain triangles) on the {w} reproduces the measured heights (least squares of h_sim / h - 1)"),
+            }
+            .into(),
         );
         if let Some(v) = Refined::rms(&self.before) {
             t.insert("height_rms_before".into(), v.into());
@@ -627,6 +639,7 @@ pub fn refine(
         iterations,
         solves: solves.load(Ordering::Relaxed),
         prebulge_height_m: None,
+        window: None,
         constraint: problem.monotone.map(|[lo, hi]| {
             format!(
                 "the implied stress E(eps)*eps kept increasing over the strain range [{lo:.6}, {hi:.6}] (a penalty on a slope below {MONOTONE_MARGIN} c0 at {MONOTONE_SAMPLES} strains, weight {MONOTONE_WEIGHT})"
@@ -715,6 +728,246 @@ pub fn refine_with_prebulge(
 /// Golden sections of the search for the dome height (the bracket shrinks
 /// to 0.618^n of 0.45 times the start: 0.1 % of it at 12).
 const PREBULGE_SECTIONS: usize = 12;
+
+/// The least-squares problem of [`refine_in_scene`]: the heights of the
+/// membrane model on a window, one sweep over the pressures per law.
+#[derive(Clone)]
+struct SceneProblem<'a> {
+    params: Params,
+    base: &'a Material,
+    scene: &'a crate::sim::scene::Scene,
+    mesh: &'a crate::sim::Mesh,
+    /// The distinct pressures, increasing, and each point's index in them.
+    pressures: Vec<f64>,
+    at: Vec<usize>,
+    points: &'a [Measured],
+    sweeps: &'a AtomicUsize,
+    scale_of: Option<Vec<f64>>,
+}
+
+impl SceneProblem<'_> {
+    fn material(&self, x: &[f64]) -> Material {
+        let x = match &self.scale_of {
+            Some(x0) => self.params.scaled(x0, x[0]),
+            None => x.to_vec(),
+        };
+        Material {
+            model: self.params.model(&x),
+            poisson: self.base.poisson,
+            fit: self.base.fit.clone(),
+        }
+    }
+
+    /// `h(p_i) / h_i - 1` per point, `None` where the sweep found no
+    /// equilibrium (or the law cannot be built).
+    fn errors(&self, x: &[f64]) -> Vec<Option<f64>> {
+        use crate::sim::{SceneSolver, SpringModel};
+        self.sweeps.fetch_add(1, Ordering::Relaxed);
+        let mut scene = self.scene.clone();
+        scene.material = self.material(x);
+        scene.pressures_pa = self.pressures.clone();
+        let heights: Vec<f64> =
+            match SceneSolver::on_mesh(&scene, self.mesh.clone(), SpringModel::Membrane) {
+                Ok(mut s) => match s.sweep(&self.pressures, |_, _| {}) {
+                    Ok(done) | Err((done, _)) => done.iter().map(|q| q.height_m).collect(),
+                },
+                Err(_) => Vec::new(),
+            };
+        self.points
+            .iter()
+            .zip(&self.at)
+            .map(|(q, &k)| {
+                heights
+                    .get(k)
+                    .map(|h| h / q.height_m - 1.0)
+                    .filter(|e| e.is_finite())
+            })
+            .collect()
+    }
+
+    fn residuals(&self, x: &[f64]) -> DVector<f64> {
+        DVector::from_iterator(
+            self.points.len(),
+            self.errors(x).into_iter().map(|e| e.unwrap_or(f64::NAN)),
+        )
+    }
+}
+
+impl Operator for SceneProblem<'_> {
+    type Param = DVector<f64>;
+    type Output = DVector<f64>;
+    fn apply(&self, x: &DVector<f64>) -> Result<DVector<f64>, ArgminError> {
+        Ok(self.residuals(x.as_slice()))
+    }
+}
+
+impl Jacobian for SceneProblem<'_> {
+    type Param = DVector<f64>;
+    type Jacobian = DMatrix<f64>;
+    /// Central differences, the `2 p` sweeps in parallel; one-sided where
+    /// one side has no equilibrium.
+    fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
+        let (n, p) = (self.points.len(), x.len());
+        let steps: Vec<f64> = (0..p).map(|k| 1e-4 * x[k].abs().max(1e-2)).collect();
+        let sides: Vec<DVector<f64>> = (0..2 * p)
+            .into_par_iter()
+            .map(|j| {
+                let mut y = x.clone();
+                y[j / 2] += if j % 2 == 0 {
+                    steps[j / 2]
+                } else {
+                    -steps[j / 2]
+                };
+                self.residuals(y.as_slice())
+            })
+            .collect();
+        let r0 = std::cell::OnceCell::new();
+        let mut jac = DMatrix::zeros(n, p);
+        for k in 0..p {
+            let (rp, rm, h) = (&sides[2 * k], &sides[2 * k + 1], steps[k]);
+            for i in 0..n {
+                let r0 = || r0.get_or_init(|| self.residuals(x.as_slice()))[i];
+                jac[(i, k)] = match (rp[i].is_finite(), rm[i].is_finite()) {
+                    (true, true) => (rp[i] - rm[i]) / (2.0 * h),
+                    (true, false) => (rp[i] - r0()) / h,
+                    (false, true) => (r0() - rm[i]) / h,
+                    (false, false) => 0.0,
+                };
+            }
+        }
+        Ok(jac)
+    }
+}
+
+/// Corrects `material`'s parameters so that the membrane model
+/// (constant-strain triangles with the whole law, `crate::sim::cst`) on the
+/// window of `scene` (its geometry, thickness and density; meshed at
+/// `mesh`, default the scene's own size) reproduces `measured`: the
+/// non-circular counterpart of [`refine`], for windows where no exact
+/// axisymmetric solution exists. The same two Levenberg-Marquardt stages
+/// (one factor on the stress parameters, then every parameter); each
+/// residual is one sweep of the membrane over the measured pressures, the
+/// Jacobian central differences (`2 p` sweeps, in parallel). A quartic law
+/// is corrected without the monotone-stress penalty of [`refine`] (a
+/// softening result is warned about by the caller).
+pub fn refine_in_scene(
+    material: &Material,
+    scene: &crate::sim::scene::Scene,
+    mesh: Option<crate::sim::scene::MeshSize>,
+    measured: &[Measured],
+    opts: &Options,
+) -> Result<Refined, FitError> {
+    let (params, x0) = Params::of(&material.model)?;
+    if measured.len() < x0.len() {
+        return Err(FitError::TooFewPoints {
+            model: format!("{} (inverse fit to the heights)", material.model.name()),
+            points: measured.len(),
+            parameters: x0.len(),
+        });
+    }
+    if let Some((i, q)) = measured.iter().enumerate().find(|(_, q)| {
+        !(q.pressure_pa.is_finite()
+            && q.pressure_pa > 0.0
+            && q.height_m.is_finite()
+            && q.height_m > 0.0)
+    }) {
+        return Err(FitError::Unsupported(format!(
+            "measured point {i}: pressure {} Pa, height {} m; the inverse fit needs positive pressures and heights",
+            q.pressure_pa, q.height_m
+        )));
+    }
+    let mut sc = scene.clone();
+    if mesh.is_some() {
+        sc.mesh.size = mesh;
+    }
+    let built = sc
+        .build_mesh()
+        .map_err(|e| FitError::Unsupported(format!("the window's mesh: {e}")))?;
+    let mut pressures: Vec<f64> = measured.iter().map(|q| q.pressure_pa).collect();
+    pressures.sort_by(f64::total_cmp);
+    pressures.dedup();
+    let at = measured
+        .iter()
+        .map(|q| {
+            pressures
+                .iter()
+                .position(|p| *p == q.pressure_pa)
+                .expect("every measured pressure is in the list")
+        })
+        .collect();
+    let sweeps = AtomicUsize::new(0);
+    let problem = SceneProblem {
+        params,
+        base: material,
+        scene: &sc,
+        mesh: &built,
+        pressures,
+        at,
+        points: measured,
+        sweeps: &sweeps,
+        scale_of: None,
+    };
+    let before = problem.errors(&x0);
+    // The cap formulas, made for a circle, can give a law so soft that the
+    // membrane on the window has no equilibrium at the highest pressures:
+    // then the start is stiffened by factors of 2 on the stress parameters
+    // until every pressure has one (at most 2^6).
+    let mut start = 1.0;
+    let mut at_start = before.clone();
+    while let Some(i) = at_start.iter().position(Option::is_none) {
+        if start >= 64.0 {
+            return Err(FitError::Solver(format!(
+                "the starting {} law, even 64 times stiffer, has no equilibrium of the membrane on the {} window at {} Pa (measured point {i})",
+                material.model.name(),
+                sc.kind.name(),
+                measured[i].pressure_pa
+            )));
+        }
+        start *= 2.0;
+        at_start = problem.errors(&problem.params.scaled(&x0, start));
+    }
+    let scale = lm::minimize(
+        SceneProblem {
+            scale_of: Some(x0.clone()),
+            ..problem.clone()
+        },
+        DVector::from_vec(vec![start]),
+        opts.max_iterations,
+    )
+    .map_err(|e| FitError::Solver(e.to_string()))?;
+    let x1 = problem.params.scaled(&x0, scale.x[0]);
+    let r = lm::minimize(problem.clone(), DVector::from_vec(x1), opts.max_iterations)
+        .map_err(|e| FitError::Solver(e.to_string()))?;
+    let (x, iterations) = (r.x, scale.iterations + r.iterations);
+    let after = problem.errors(x.as_slice());
+    // better than the start (a start without equilibrium everywhere is beaten
+    // by any law that has one)
+    let better = match (Refined::rms(&after), Refined::rms(&before)) {
+        (Some(a), Some(b)) => a < b,
+        (Some(_), None) => true,
+        _ => false,
+    };
+    let x = if better { x.as_slice().to_vec() } else { x0 };
+    let after = if better { after } else { before.clone() };
+    Ok(Refined {
+        material: Material {
+            model: problem.params.model(&x),
+            poisson: material.poisson,
+            fit: material.fit.clone(),
+        },
+        before,
+        after,
+        iterations,
+        solves: sweeps.load(Ordering::Relaxed),
+        prebulge_height_m: None,
+        window: Some(format!(
+            "{} window ({} nodes)",
+            sc.kind.name(),
+            built.nodes.len()
+        )),
+        constraint: None,
+    })
+}
 
 #[cfg(test)]
 mod tests {

@@ -253,11 +253,14 @@ impl RefinedRecord {
     /// The record of a correction that started from `cap`.
     pub fn of(r: &inverse::Refined, cap: &Model) -> RefinedRecord {
         RefinedRecord {
-            method: "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+            method: match &r.window {
+                None => "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+                Some(w) => format!("parameters corrected so that the membrane model (constant-strain triangles) on the {w} reproduces the measured heights (least squares of h_sim / h - 1; {} membrane sweeps)", r.solves),
+            },
             height_rms_before: inverse::Refined::rms(&r.before),
             height_rms_after: inverse::Refined::rms(&r.after),
             iterations: r.iterations,
-            axisym_solves: r.solves,
+            axisym_solves: if r.window.is_none() { r.solves } else { 0 },
             cap_law: Some(cap.clone()),
             constraint: r.constraint.clone(),
             prebulge_height_m: r.prebulge_height_m,
@@ -335,6 +338,21 @@ impl FittedMaterial {
         opts: &inverse::Options,
     ) -> Result<&inverse::Refined, FitError> {
         let r = inverse::refine(&self.cap_material, specimen, measured, opts)?;
+        Ok(self.adopt(r))
+    }
+
+    /// As [`FittedMaterial::refine_to_heights`] for a non-circular window:
+    /// the heights of the membrane model on `scene` (its geometry and
+    /// thickness; meshed at `mesh`, default the scene's) reproduce
+    /// `measured` ([`inverse::refine_in_scene`]).
+    pub fn refine_in_scene(
+        &mut self,
+        scene: &crate::sim::scene::Scene,
+        mesh: Option<crate::sim::scene::MeshSize>,
+        measured: &[inverse::Measured],
+        opts: &inverse::Options,
+    ) -> Result<&inverse::Refined, FitError> {
+        let r = inverse::refine_in_scene(&self.cap_material, scene, mesh, measured, opts)?;
         Ok(self.adopt(r))
     }
 

@@ -282,6 +282,7 @@ fn spec(seed: u64, blur: f64, noise: f64, enc: image::Encoding) -> synth::Sequen
             poisson: 0.45,
             prebulge_height_m: 0.0,
         },
+        window: Default::default(),
     }
 }
 

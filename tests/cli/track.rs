@@ -29,6 +29,7 @@ fn sequence(dir: &Path, enc: Encoding) -> synth::Written {
             poisson: 0.45,
             prebulge_height_m: 0.0,
         },
+        window: Default::default(),
     };
     let frames = synth::cap_frames(0.0375, 0.02, N);
     synth::write_sequence(dir, &spec, &frames).expect("synthetic sequence")

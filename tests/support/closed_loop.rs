@@ -89,6 +89,7 @@ pub fn draw(case: &Case, dir: &Path, settings: &Settings) -> Result<Drawn, Pipel
         drift: 0.0,
         encoding: case.noise.2.map_or(Encoding::Png, Encoding::Jpeg),
         specimen: case.specimen,
+        window: Default::default(),
     };
     let written = synth::write_sequence(dir, &spec, &frames)?;
     let experiment = Experiment::read(dir.join("experiment.toml"))
