@@ -20,6 +20,11 @@
 //! residual of 1e-12 in double precision. Where `K` is symmetric one or two
 //! iterations give the answer; TP MSS takes a handful.
 //!
+//! The factorisation and the triangular solves run on one thread: on a
+//! 1e5-node disc faer's parallel supernodal kernels spent more time
+//! synchronising than they saved (a Newton solve took 19.5 s with two threads,
+//! 14.0 s with one, on two cores).
+//!
 //! The factor is what fills memory (on a full disc of 1e5 nodes, 3e5
 //! unknowns, `L` has 4.4e7 entries), so it is first computed in single
 //! precision: a preconditioner needs only to be close to `S^-1`, and the
@@ -58,9 +63,6 @@ use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 pub struct LinearStats {
     /// Solves by the iteration preconditioned with single-precision factors.
     pub single: usize,
-    /// Of the preconditioned solves, those that reused the factors of an
-    /// earlier matrix.
-    pub reused: usize,
     /// Numeric factorisations of the symmetric part.
     pub factorisations: usize,
     /// Solves by the iteration preconditioned with double-precision factors.
@@ -93,10 +95,6 @@ enum Precision {
     None,
 }
 
-/// BiCGSTAB iterations allowed with factors of an earlier matrix before the
-/// matrix is factored afresh.
-pub const REFACTOR_ITERATIONS: usize = 12;
-
 /// A sparse solver for one sparsity pattern, reused over Newton iterations
 /// and pressures.
 pub struct SparseSolver {
@@ -104,9 +102,8 @@ pub struct SparseSolver {
     symmetric: Option<SymmetricPart>,
     precision: Precision,
     symbolic_lu: Option<SymbolicLu<u32>>,
-    /// The factor's values, kept between solves: as the preconditioner of
-    /// the next ones, and to spare a fresh allocation of 1e8 bytes (and its
-    /// page faults) per Newton step.
+    /// The factor's values, kept between solves to spare a fresh allocation
+    /// of 1e8 bytes (and its page faults) per Newton step.
     buffers: Buffers,
     /// Relative residual the iteration reaches (default 1e-12).
     pub tolerance: f64,
@@ -196,11 +193,10 @@ impl SparseSolver {
     }
 
     /// BiCGSTAB on `K`, preconditioned by the `LDL^T` factors of its
-    /// symmetric part computed in `T`. Factors kept from an earlier matrix
-    /// (the last Newton iterate, the last pressure) are tried first with a
-    /// short cap: near a solution the tangent changes little, and a
-    /// preconditioner need not be exact. When they need more than
-    /// [`REFACTOR_ITERATIONS`], the matrix is factored afresh.
+    /// symmetric part computed in `T`. (Factors of the last matrix tried
+    /// first, refactoring only when they needed more than 6 iterations, cost
+    /// more than they saved on a 1e5-node disc: their failures took 6
+    /// iterations each, a factorisation about 5.)
     fn solve_preconditioned<T: FactorScalar>(
         &mut self,
         values: &[f64],
@@ -218,16 +214,6 @@ impl SparseSolver {
                 }
             }
         }
-        if *T::buffers(&mut self.buffers).1 {
-            match self.iterate::<T>(values, r, REFACTOR_ITERATIONS) {
-                Some((d, its)) => {
-                    self.stats.iterations += its;
-                    self.stats.reused += 1;
-                    return Some(d);
-                }
-                None => *T::buffers(&mut self.buffers).1 = false,
-            }
-        }
         self.factor::<T>(values)?;
         let (d, its) = self.iterate::<T>(values, r, self.max_iterations)?;
         self.stats.iterations += its;
@@ -237,7 +223,7 @@ impl SparseSolver {
     /// Factors the symmetric part of the matrix with `values` in `T` into
     /// the kept buffer.
     fn factor<T: FactorScalar>(&mut self, values: &[f64]) -> Option<()> {
-        let par = Par::rayon(0);
+        let par = Par::Seq;
         let sym = self.symmetric.as_ref()?;
         let n = self.pattern.ncols();
         let mut s_values: Vec<T> = Vec::with_capacity(sym.mirror.len());
@@ -258,8 +244,7 @@ impl SparseSolver {
                 .factorize_numeric_ldlt_scratch::<T>(par, Default::default()),
         )
         .ok()?;
-        let (l_values, valid) = T::buffers(&mut self.buffers);
-        *valid = false;
+        let l_values = T::buffer(&mut self.buffers);
         l_values.resize(sym.symbolic.len_val(), T::from(0.0f32));
         sym.symbolic
             .factorize_numeric_ldlt(
@@ -272,7 +257,6 @@ impl SparseSolver {
                 Default::default(),
             )
             .ok()?;
-        *valid = true;
         self.stats.factorisations += 1;
         Some(())
     }
@@ -286,9 +270,9 @@ impl SparseSolver {
         cap: usize,
     ) -> Option<(Vec<f64>, usize)> {
         let n = r.len();
-        let par = Par::rayon(0);
+        let par = Par::Seq;
         let sym = self.symmetric.as_ref()?;
-        let (l_values, _) = T::buffers(&mut self.buffers);
+        let l_values = T::buffer(&mut self.buffers);
         let precond = LdltPrecond {
             ldlt: LdltRef::new(&sym.symbolic, l_values),
             n,
@@ -339,14 +323,11 @@ impl SparseSolver {
     }
 }
 
-/// A factor's values, and whether they hold a factorisation.
-type Buffer<T> = (Vec<T>, bool);
-
-/// The buffers of both precisions.
+/// The factor's values in both precisions.
 #[derive(Default)]
 struct Buffers {
-    single: Buffer<f32>,
-    double: Buffer<f64>,
+    single: Vec<f32>,
+    double: Vec<f64>,
 }
 
 /// The precision of a factor: `f32` or `f64`.
@@ -356,8 +337,8 @@ trait FactorScalar:
     /// A double rounded to this precision.
     fn from_f64(v: f64) -> Self;
 
-    /// The buffers of this precision.
-    fn buffers(b: &mut Buffers) -> (&mut Vec<Self>, &mut bool);
+    /// The factor's buffer in this precision.
+    fn buffer(b: &mut Buffers) -> &mut Vec<Self>;
 }
 
 impl FactorScalar for f32 {
@@ -365,8 +346,8 @@ impl FactorScalar for f32 {
         v as f32
     }
 
-    fn buffers(b: &mut Buffers) -> (&mut Vec<f32>, &mut bool) {
-        (&mut b.single.0, &mut b.single.1)
+    fn buffer(b: &mut Buffers) -> &mut Vec<f32> {
+        &mut b.single
     }
 }
 
@@ -375,8 +356,8 @@ impl FactorScalar for f64 {
         v
     }
 
-    fn buffers(b: &mut Buffers) -> (&mut Vec<f64>, &mut bool) {
-        (&mut b.double.0, &mut b.double.1)
+    fn buffer(b: &mut Buffers) -> &mut Vec<f64> {
+        &mut b.double
     }
 }
 
