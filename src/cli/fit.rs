@@ -233,8 +233,14 @@ fn to_heights(
             input.display()
         )));
     };
+    // The inputs' uncertainties of the experiment file join the heights'
+    // own in the covariance.
+    let opts = inverse::Options {
+        uncertainty: Experiment::read(exp)?.uncertainty(),
+        ..Default::default()
+    };
     let r = fitted
-        .refine_to_heights(specimen, &measured, &Default::default())
+        .refine_to_heights(specimen, &measured, &opts)
         .map_err(|err| {
             Failure::Failed(anyhow!(
                 "{}: the law could not be corrected to the heights: {err}",

@@ -247,13 +247,23 @@ pub struct RefinedRecord {
     /// membrane), when it was sought.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prebulge_height_m: Option<f64>,
+    /// The corrected parameters' standard errors, 95 % intervals,
+    /// covariance and the share of each source
+    /// ([`super::uncertainty::ParamUncertainty::toml_table`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<toml::Table>,
 }
 
 impl RefinedRecord {
     /// The record of a correction that started from `cap`.
     pub fn of(r: &inverse::Refined, cap: &Model) -> RefinedRecord {
         RefinedRecord {
-            method: "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+            method: if r.weighted {
+                "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of (h_sim - h) / sigma, sigma the point's standard deviation)"
+            } else {
+                "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)"
+            }
+            .into(),
             height_rms_before: inverse::Refined::rms(&r.before),
             height_rms_after: inverse::Refined::rms(&r.after),
             iterations: r.iterations,
@@ -261,6 +271,7 @@ impl RefinedRecord {
             cap_law: Some(cap.clone()),
             constraint: r.constraint.clone(),
             prebulge_height_m: r.prebulge_height_m,
+            uncertainty: r.uncertainty.as_ref().map(|u| u.toml_table()),
         }
     }
 }
@@ -353,6 +364,12 @@ impl FittedMaterial {
                 .collect();
             self.warnings.extend(extra.iter().cloned());
             self.provenance_mut().warnings.extend(extra);
+        }
+        if let Some(u) = &r.uncertainty
+            && let Some(w) = u.misfit_warning()
+        {
+            self.warnings.push(w.clone());
+            self.provenance_mut().warnings.push(w);
         }
         self.material.model = r.material.model.clone();
         self.provenance_mut().refined = Some(record);

@@ -18,6 +18,7 @@
 //! Every entry point is a pure function from data to a fit; `bulge fit`
 //! (`src/cli/fit.rs`) reads the files and writes the outputs.
 
+pub mod coverage;
 pub mod data;
 pub mod hyperelastic;
 pub mod inverse;
@@ -26,6 +27,7 @@ pub(crate) mod lm;
 pub mod material_fit;
 pub mod quartic;
 pub mod stats;
+pub mod uncertainty;
 
 pub use material_fit::{
     FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, UnknownFitModel,

@@ -347,6 +347,7 @@ fn help_documents_every_flag() {
         "--solver",
         "--min-score",
         "--skip-bad-frames",
+        "--weighted",
         "[run]",
     ] {
         assert!(r.stdout.contains(f), "--help lacks {f}");
