@@ -165,6 +165,10 @@ pub struct Settings {
     /// Weigh the correction to the heights by the points' standard
     /// deviations instead of their relative errors (default false).
     pub weighted: bool,
+    /// Monte Carlo samples of the corrected parameters, 0 for none
+    /// ([`crate::fit::coverage::monte_carlo`], seeded: the same number
+    /// gives the same result).
+    pub samples: usize,
 }
 
 impl Default for Settings {
@@ -183,6 +187,7 @@ impl Default for Settings {
             refine: true,
             uncertainty: Sources::default(),
             weighted: false,
+            samples: 0,
         }
     }
 }
@@ -203,6 +208,8 @@ pub struct RunOptions {
     pub refine: Option<bool>,
     /// Weigh the correction by the heights' standard deviations.
     pub weighted: Option<bool>,
+    /// Monte Carlo samples of the corrected parameters (0: none).
+    pub samples: Option<usize>,
     /// Pressures to simulate, Pa (default: the measured ones).
     pub pressures_pa: Option<Vec<f64>>,
     /// Wanted relative height error of the disc mesh, in (0, 0.5).
@@ -237,6 +244,7 @@ impl RunOptions {
             axisym: self.axisym.or(base.axisym),
             refine: self.refine.or(base.refine),
             weighted: self.weighted.or(base.weighted),
+            samples: self.samples.or(base.samples),
             pressures_pa: self.pressures_pa.or(base.pressures_pa),
             accuracy: self.accuracy.or(base.accuracy),
             nodes: self.nodes.or(base.nodes),
@@ -283,6 +291,7 @@ impl RunOptions {
         s.axisym = self.axisym.unwrap_or(true);
         s.refine = self.refine.unwrap_or(true);
         s.weighted = self.weighted.unwrap_or(false);
+        s.samples = self.samples.unwrap_or(0);
         if s.models.is_empty() && !s.axisym {
             return bad(
                 "nothing to simulate: give at least one model or keep the axisymmetric reference"
@@ -790,6 +799,10 @@ pub fn fit_stage(
             fitted.warn(format!(
                 "the law was not corrected to the heights ({e}); the cap-method law is used"
             ));
+        } else if settings.samples > 0
+            && let Err(e) = fitted.monte_carlo(spec, &measured, &opts, settings.samples, 1)
+        {
+            fitted.warn(format!("no Monte Carlo of the parameters: {e}"));
         }
     }
     let modulus_points = data

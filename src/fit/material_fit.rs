@@ -271,7 +271,13 @@ impl RefinedRecord {
             cap_law: Some(cap.clone()),
             constraint: r.constraint.clone(),
             prebulge_height_m: r.prebulge_height_m,
-            uncertainty: r.uncertainty.as_ref().map(|u| u.toml_table()),
+            uncertainty: r.uncertainty.as_ref().map(|u| {
+                let mut t = u.toml_table();
+                if let Some(mc) = &r.monte_carlo {
+                    t.insert("monte_carlo".into(), mc.toml_table().into());
+                }
+                t
+            }),
         }
     }
 }
@@ -347,6 +353,27 @@ impl FittedMaterial {
     ) -> Result<&inverse::Refined, FitError> {
         let r = inverse::refine(&self.cap_material, specimen, measured, opts)?;
         Ok(self.adopt(r))
+    }
+
+    /// Adds the Monte Carlo of the correction's parameters (`samples`
+    /// tests drawn from the corrected law, seeded by `seed`) to the
+    /// correction and its record; nothing when there is no correction.
+    pub fn monte_carlo(
+        &mut self,
+        specimen: &Specimen,
+        measured: &[inverse::Measured],
+        opts: &inverse::Options,
+        samples: usize,
+        seed: u64,
+    ) -> Result<(), FitError> {
+        let Some(r) = self.refined.as_mut() else {
+            return Ok(());
+        };
+        let mc = super::coverage::monte_carlo(r, specimen, measured, opts, samples, seed)?;
+        r.monte_carlo = Some(mc);
+        let record = RefinedRecord::of(r, &self.cap_material.model);
+        self.provenance_mut().refined = Some(record);
+        Ok(())
     }
 
     /// Takes a correction's law and records it.

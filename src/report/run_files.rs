@@ -318,12 +318,22 @@ pub fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<
         (
             "fit".into(),
             format!(
-                "{}{}",
+                "{}{}{}{}",
                 s.fit.label(),
                 if s.refine {
                     ", corrected to the measured heights through the axisymmetric solution"
                 } else {
                     ", as the stress/strain points give it (refine = false)"
+                },
+                if s.refine && s.weighted {
+                    ", weighted by the heights' standard deviations"
+                } else {
+                    ""
+                },
+                if s.refine && s.samples > 0 {
+                    format!(", Monte Carlo of {} samples", s.samples)
+                } else {
+                    String::new()
                 }
             ),
         ),
