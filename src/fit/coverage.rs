@@ -104,7 +104,7 @@ pub fn synthetic(plan: &Plan, index: usize) -> Result<Synthetic, FitError> {
 /// One test of `truth` on a real specimen drawn about `nominal`, at the
 /// true pressures `pressures`, read with the errors `s` and each height's
 /// own standard deviation `stds`.
-fn draw(
+pub(crate) fn draw(
     truth: &Material,
     nominal: &Specimen,
     pressures: &[f64],

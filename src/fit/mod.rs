@@ -27,6 +27,7 @@ pub(crate) mod lm;
 pub mod material_fit;
 pub mod quartic;
 pub mod stats;
+pub mod study;
 pub mod uncertainty;
 
 pub use material_fit::{
