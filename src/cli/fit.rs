@@ -235,9 +235,15 @@ fn to_heights(
             input.display()
         )));
     };
+    // The inputs' uncertainties of the experiment file join the heights'
+    // own in the covariance.
+    let opts = inverse::Options {
+        uncertainty: Experiment::read(exp)?.uncertainty(),
+        ..Default::default()
+    };
     let window = Experiment::read_window(exp)?;
     let r = if window.is_circle() {
-        fitted.refine_to_heights(specimen, &measured, &Default::default())
+        fitted.refine_to_heights(specimen, &measured, &opts)
     } else {
         let scene = bulge::sim::scene::Scene::from_window(
             specimen,
@@ -245,7 +251,7 @@ fn to_heights(
             fitted.cap_material.clone(),
             vec![],
         );
-        fitted.refine_in_scene(&scene, None, &measured, &Default::default())
+        fitted.refine_in_scene(&scene, None, &measured, &opts)
     }
     .map_err(|err| {
         Failure::Failed(anyhow!(

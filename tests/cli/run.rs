@@ -347,6 +347,8 @@ fn help_documents_every_flag() {
         "--solver",
         "--min-score",
         "--skip-bad-frames",
+        "--weighted",
+        "--samples",
         "[run]",
     ] {
         assert!(r.stdout.contains(f), "--help lacks {f}");
@@ -641,4 +643,62 @@ fn run_on_an_elliptical_window() {
         let (sim, meas): (f64, f64) = (r[sh].parse().unwrap(), h[ih].parse().unwrap());
         assert!((sim / meas - 1.0).abs() < 0.01, "{sim} vs {meas}");
     }
+}
+
+/// The inputs' uncertainties of the experiment file reach the corrected
+/// parameters (each source's share in material.toml), `--samples` adds the
+/// Monte Carlo beside the first-order covariance, and the report and the
+/// summary give each model's verdict.
+#[test]
+fn uncertainty_reaches_the_material_and_the_report() {
+    let dir = tempdir();
+    synth(dir.path(), 6);
+    let path = dir.path().join("exp/experiment.toml");
+    let text = fs::read_to_string(&path).unwrap();
+    let text = text
+        .replace("[specimen]\n", "[specimen]\nthickness_std_m = 1e-5\n")
+        .replace(
+            "[pressure]\n",
+            "[pressure]\nstd_pa = 3.0\nrelative_std = 0.0025\n",
+        );
+    fs::write(&path, text).unwrap();
+    bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--fit",
+            "mooney-rivlin",
+            "--models",
+            "tp",
+            "--samples",
+            "4",
+        ],
+    )
+    .ok();
+    let out = dir.path().join("out");
+    let m: toml::Table = fs::read_to_string(out.join("material.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let u = &m["fit"]["refined"]["uncertainty"];
+    let c1 = &u["parameters"]["c1_pa"];
+    let v = c1["value"].as_float().unwrap();
+    let ci = c1["ci95"].as_array().unwrap();
+    let (lo, hi) = (ci[0].as_float().unwrap(), ci[1].as_float().unwrap());
+    assert!(lo < v && v < hi, "{c1}");
+    // A thickness known to 1e-5 of 3.5e-4 m moves C1 by that fraction.
+    let th = c1["std_from_thickness"].as_float().unwrap();
+    assert!((th / (v * 1e-5 / 3.5e-4) - 1.0).abs() < 1e-3, "{c1}");
+    assert!(c1["std_from_pressure_gain"].as_float().unwrap() > 0.0);
+    assert_eq!(u["monte_carlo"]["samples"].as_integer(), Some(4));
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("Within the uncertainty?"), "no verdict");
+    let md = fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        md.contains("- tp: consistent within the uncertainty") || md.contains("- tp: misses by"),
+        "{md}"
+    );
 }
