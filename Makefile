@@ -14,7 +14,7 @@ TARGET := $(or $(CARGO_TARGET_DIR),target)
 BULGE := $(TARGET)/debug/bulge
 BULGE_RELEASE := $(TARGET)/release/bulge
 
-.PHONY: all deps build build-release demo test lint bench clean
+.PHONY: all deps build build-release demo test lint bench bench-peers clean
 
 all: demo
 
@@ -42,6 +42,15 @@ lint: deps
 
 bench: build-release
 	$(BULGE_RELEASE) bench --out $(OUT)/bench
+
+# bulge beside FElupe (a finite-element code, from PyPI) on the same bubble:
+# wall times and errors against the exact heights, in one table.
+PEERS_VENV := $(TARGET)/peers-venv
+bench-peers: build-release
+	@test -x $(PEERS_VENV)/bin/python || python3 -m venv $(PEERS_VENV) || \
+	  { echo "bench-peers: python3 -m venv failed (Debian/Ubuntu: apt-get install python3-venv)" >&2; exit 1; }
+	$(PEERS_VENV)/bin/pip install --quiet felupe==11.3.0 tensortrax==0.29.0
+	$(PEERS_VENV)/bin/python benches/peers/compare.py $(BULGE_RELEASE) benches/peers/mooney-rivlin-disc.toml
 
 clean:
 	rm -rf $(OUT)

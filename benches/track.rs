@@ -38,6 +38,7 @@ fn spec(w: usize, h: usize, seed: u64, blur: f64, noise: f64, enc: Encoding) -> 
         },
         framing: Default::default(),
         look: Default::default(),
+        window: Default::default(),
     }
 }
 

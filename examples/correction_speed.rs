@@ -101,6 +101,7 @@ fn mooney_rivlin() -> (Specimen, Material, Vec<Measured>) {
                 height_m: axisym::solve_pressure(&truth, &spec, p, &opts)
                     .expect("below the limit point")
                     .height_m,
+                height_std_m: None,
             }
         })
         .collect();

@@ -7,7 +7,24 @@
 //! thickness_m = 0.00035      # initial thickness t
 //! poisson = 0.45             # Poisson ratio nu, in [0, 0.5)
 //! prebulge_height_m = 0.0    # apex height h0 at p = 0+ (default 0)
+//! thickness_std_m = 1e-5     # standard deviation of t (default 0: exact)
+//! radius_std_m = 1e-4        # standard deviation of a (default 0: exact)
+//!
+//! [window]                   # optional: a non-circular clamped opening
+//! shape = "ellipse"          # circle (default) | ellipse | rectangle
+//! semi_axes_m = [0.0375, 0.01875]   # ellipse; rectangle: length_m, width_m
 //! ```
+//!
+//! With a non-circular `[window]`, `bulge run` simulates the window with the
+//! membrane model and corrects the law to the heights through it (the
+//! stress stage's spherical-cap formulas take `radius_m`, best the
+//! window's half-width: their law is only the correction's start).
+//!
+//! The standard deviations of the inputs (`[specimen] thickness_std_m`,
+//! `radius_std_m`; `[pressure] std_pa`, `relative_std`; `[calibration]
+//! metres_per_pixel_std`, `clamp_row_std_px`) are gathered by
+//! [`Experiment::uncertainty`] and carried to the fitted parameters
+//! ([`crate::fit::uncertainty`]).
 //!
 //! Names may grow, never change. Paths inside the file are relative to the
 //! file's own folder.
@@ -52,6 +69,120 @@ fn height_or_fit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error
             "prebulge_height_m = \"{w}\": give a height in metres (e.g. 0.0035) or \"fit\" (estimated from the heights by bulge run)"
         ))),
     }
+}
+
+/// `[window]`: the shape of the clamped opening (default a circle of the
+/// specimen's `radius_m`). The window is centred on the apex, its first
+/// axis along x.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Window {
+    /// The circle of radius `radius_m` (the exact axisymmetric path).
+    #[default]
+    Circle,
+    /// An ellipse.
+    Ellipse {
+        /// Semi-axes, m.
+        semi_axes_m: [f64; 2],
+    },
+    /// A rectangle.
+    Rectangle {
+        /// Side along x, m.
+        length_m: f64,
+        /// Side along y, m.
+        width_m: f64,
+    },
+}
+
+impl Window {
+    /// True for the circular window.
+    pub fn is_circle(&self) -> bool {
+        matches!(self, Window::Circle)
+    }
+
+    /// Checks the sizes; the message names the key, the value and the fix.
+    pub fn validate(&self) -> Result<(), String> {
+        let bad =
+            |key: &str, v: f64| format!("[window] {key} = {v} must be a positive length in metres");
+        match *self {
+            Window::Circle => Ok(()),
+            Window::Ellipse { semi_axes_m } => {
+                match semi_axes_m.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+                    Some(v) => Err(bad("semi_axes_m", *v)),
+                    None => Ok(()),
+                }
+            }
+            Window::Rectangle { length_m, width_m } => {
+                for (k, v) in [("length_m", length_m), ("width_m", width_m)] {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(bad(k, v));
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// `[specimen]` as the file has it: the specimen and the standard
+/// deviations of its dimensions.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpecimenFile {
+    radius_m: f64,
+    thickness_m: f64,
+    poisson: f64,
+    #[serde(default, deserialize_with = "height_or_fit")]
+    prebulge_height_m: f64,
+    #[serde(default)]
+    thickness_std_m: Option<f64>,
+    #[serde(default)]
+    radius_std_m: Option<f64>,
+}
+
+impl SpecimenFile {
+    fn specimen(&self) -> Specimen {
+        Specimen {
+            radius_m: self.radius_m,
+            thickness_m: self.thickness_m,
+            poisson: self.poisson,
+            prebulge_height_m: self.prebulge_height_m,
+        }
+    }
+
+    /// The standard deviations, checked: zero or positive, and below the
+    /// dimension itself.
+    fn std(&self) -> Result<SpecimenStd, String> {
+        for (key, sd, of) in [
+            ("thickness_std_m", self.thickness_std_m, self.thickness_m),
+            ("radius_std_m", self.radius_std_m, self.radius_m),
+        ] {
+            if let Some(v) = sd
+                && !(v.is_finite() && v >= 0.0 && v < of)
+            {
+                return Err(format!(
+                    "{key} = {v} must be a standard deviation in metres, zero or positive and below the dimension itself ({of} m); e.g. 1e-5 for a thickness measured to 10 micrometres"
+                ));
+            }
+        }
+        Ok(SpecimenStd {
+            thickness_std_m: self.thickness_std_m.unwrap_or(0.0),
+            radius_std_m: self.radius_std_m.unwrap_or(0.0),
+        })
+    }
+}
+
+/// The standard deviations of the specimen's dimensions, m (0: exact).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct SpecimenStd {
+    /// Of the thickness.
+    pub thickness_std_m: f64,
+    /// Of the free radius.
+    pub radius_std_m: f64,
+}
+
+fn specimen_of_file<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Specimen, D::Error> {
+    SpecimenFile::deserialize(d).map(|f| f.specimen())
 }
 
 /// A `[specimen]` field out of its range.
@@ -206,6 +337,30 @@ pub struct CalibrationConfig {
     /// absent: a level camera): the heights are corrected for it.
     #[serde(default)]
     pub elevation_deg: Option<f64>,
+    /// Standard deviation of the scale, m per pixel (however the scale is
+    /// given): every height is wrong in the same proportion.
+    #[serde(default)]
+    pub metres_per_pixel_std: Option<f64>,
+    /// Standard deviation of the clamp row, px (or, without `clamp_row_px`,
+    /// of the reference photo's apex): every height is wrong by the same
+    /// offset.
+    #[serde(default)]
+    pub clamp_row_std_px: Option<f64>,
+}
+
+impl CalibrationConfig {
+    /// The scale, m per pixel, from `metres_per_pixel` or from the two
+    /// points and their distance; `None` when neither is complete.
+    pub fn scale(&self) -> Option<f64> {
+        match (self.metres_per_pixel, self.points_px, self.distance_m) {
+            (Some(s), _, _) => Some(s),
+            (None, Some([p, q]), Some(d)) => {
+                let len = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
+                (len > 0.0).then(|| d / len)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// `[pressure]`: the pressure log, joined per photo (columns
@@ -221,6 +376,15 @@ pub struct PressureConfig {
     /// reads 0). Default 0.
     #[serde(default)]
     pub offset_s: Option<f64>,
+    /// Standard deviation of each reading's noise, Pa, independent from
+    /// reading to reading (default 0).
+    #[serde(default)]
+    pub std_pa: Option<f64>,
+    /// Standard deviation of the gauge's gain, as a fraction of the reading
+    /// (a gauge "accurate to 0.25 % of the reading": 0.0025), one factor
+    /// shared by every reading (default 0).
+    #[serde(default)]
+    pub relative_std: Option<f64>,
 }
 
 /// A whole experiment file. Stages read the tables they need and ignore the
@@ -228,6 +392,7 @@ pub struct PressureConfig {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Experiment {
     /// The specimen (required).
+    #[serde(deserialize_with = "specimen_of_file")]
     pub specimen: Specimen,
     /// Photos (needed by `track`).
     #[serde(default)]
@@ -238,6 +403,9 @@ pub struct Experiment {
     /// Pressure log (needed by `track`).
     #[serde(default)]
     pub pressure: Option<PressureConfig>,
+    /// The clamped opening (default the circle of the specimen's radius).
+    #[serde(default)]
+    pub window: Window,
     /// Other tables (settings of later stages), kept as TOML.
     #[serde(flatten)]
     pub other: toml::Table,
@@ -251,6 +419,9 @@ pub struct Experiment {
     /// estimated from the heights (the specimen then holds 0 until it is).
     #[serde(skip)]
     pub prebulge_fit: bool,
+    /// The standard deviations of the specimen's dimensions.
+    #[serde(skip)]
+    pub specimen_std: SpecimenStd,
 }
 
 impl Experiment {
@@ -265,6 +436,32 @@ impl Experiment {
         e.specimen
             .validate()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
+        e.window.validate().map_err(|m| InputError::file(path, m))?;
+        e.specimen_std = read_specimen_file(path)?
+            .std()
+            .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
+        let positive = |table: &str, key: &str, v: Option<f64>, example: &str| match v {
+            Some(v) if !(v.is_finite() && v >= 0.0) => Err(InputError::file(
+                path,
+                format!(
+                    "[{table}] {key} = {v} must be a standard deviation, zero or positive (e.g. {example})"
+                ),
+            )),
+            _ => Ok(()),
+        };
+        if let Some(p) = &e.pressure {
+            positive("pressure", "std_pa", p.std_pa, "5.0")?;
+            positive("pressure", "relative_std", p.relative_std, "0.0025")?;
+        }
+        if let Some(c) = &e.calibration {
+            positive(
+                "calibration",
+                "metres_per_pixel_std",
+                c.metres_per_pixel_std,
+                "2e-7",
+            )?;
+            positive("calibration", "clamp_row_std_px", c.clamp_row_std_px, "0.5")?;
+        }
         e.base_dir = path
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
@@ -277,21 +474,27 @@ impl Experiment {
     /// Only the `[specimen]` of an experiment file (the other tables are
     /// not read, so a file for a simulation or a fit needs no photos).
     pub fn read_specimen(path: impl AsRef<Path>) -> Result<Specimen, InputError> {
-        #[derive(Deserialize)]
-        struct Only {
-            specimen: Option<Specimen>,
-        }
         let path = path.as_ref();
-        let only: Only = crate::io::read_toml(path)?;
-        let spec = only.specimen.ok_or_else(|| {
-            InputError::file(
-                path,
-                "no [specimen] table: give radius_m, thickness_m and poisson under [specimen]",
-            )
-        })?;
+        let spec = read_specimen_file(path)?.specimen();
         spec.validate()
             .map_err(|e| InputError::file(path, format!("[specimen] {e}")))?;
         Ok(spec)
+    }
+
+    /// Only the `[window]` of an experiment file (the circle when there is
+    /// none).
+    pub fn read_window(path: impl AsRef<Path>) -> Result<Window, InputError> {
+        #[derive(Deserialize)]
+        struct Only {
+            #[serde(default)]
+            window: Window,
+        }
+        let path = path.as_ref();
+        let only: Only = crate::io::read_toml(path)?;
+        only.window
+            .validate()
+            .map_err(|m| InputError::file(path, m))?;
+        Ok(only.window)
     }
 
     /// The files this experiment reads, resolved: the experiment file, the
@@ -315,6 +518,36 @@ impl Experiment {
         (files, folder)
     }
 
+    /// The uncertainty of the inputs besides the heights' own: the
+    /// specimen's dimensions, the pressure reading and gauge, the scale and
+    /// the clamp row (converted to metres with the scale).
+    pub fn uncertainty(&self) -> crate::fit::uncertainty::Sources {
+        let (scale, cal) = match &self.calibration {
+            Some(c) => (c.scale(), Some(c)),
+            None => (None, None),
+        };
+        let scale_relative_std = match (scale, cal.and_then(|c| c.metres_per_pixel_std)) {
+            (Some(s), Some(sd)) if s > 0.0 => sd / s,
+            _ => 0.0,
+        };
+        let height_offset_std_m = match (scale, cal.and_then(|c| c.clamp_row_std_px)) {
+            (Some(s), Some(px)) => s * px,
+            _ => 0.0,
+        };
+        crate::fit::uncertainty::Sources {
+            pressure_std_pa: self.pressure.as_ref().and_then(|p| p.std_pa).unwrap_or(0.0),
+            pressure_relative_std: self
+                .pressure
+                .as_ref()
+                .and_then(|p| p.relative_std)
+                .unwrap_or(0.0),
+            thickness_std_m: self.specimen_std.thickness_std_m,
+            radius_std_m: self.specimen_std.radius_std_m,
+            scale_relative_std,
+            height_offset_std_m,
+        }
+    }
+
     /// Resolves a path written in the file against the file's folder.
     pub fn resolve(&self, p: &Path) -> PathBuf {
         if p.is_absolute() {
@@ -325,9 +558,94 @@ impl Experiment {
     }
 }
 
+/// The `[specimen]` table of an experiment file, its other tables not read.
+fn read_specimen_file(path: &Path) -> Result<SpecimenFile, InputError> {
+    #[derive(Deserialize)]
+    struct Only {
+        specimen: Option<SpecimenFile>,
+    }
+    let only: Only = crate::io::read_toml(path)?;
+    only.specimen.ok_or_else(|| {
+        InputError::file(
+            path,
+            "no [specimen] table: give radius_m, thickness_m and poisson under [specimen]",
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `[window]` reads as a circle by default, an ellipse or a rectangle
+    /// by `shape`; unknown keys and non-positive sizes are refused.
+    #[test]
+    fn window_table() {
+        let base = "[specimen]\nradius_m = 0.01875\nthickness_m = 0.00035\npoisson = 0.45\n";
+        let dir = tempfile::tempdir().unwrap();
+        let read = |extra: &str| {
+            let p = dir.path().join("e.toml");
+            std::fs::write(&p, format!("{base}{extra}")).unwrap();
+            Experiment::read(&p).map(|e| e.window)
+        };
+        assert_eq!(read("").unwrap(), Window::Circle);
+        assert_eq!(
+            read("[window]\nshape = \"ellipse\"\nsemi_axes_m = [0.0375, 0.01875]\n").unwrap(),
+            Window::Ellipse {
+                semi_axes_m: [0.0375, 0.01875]
+            }
+        );
+        assert_eq!(
+            read("[window]\nshape = \"rectangle\"\nlength_m = 0.08\nwidth_m = 0.02\n").unwrap(),
+            Window::Rectangle {
+                length_m: 0.08,
+                width_m: 0.02
+            }
+        );
+        for (extra, needle) in [
+            (
+                "[window]\nshape = \"ellipse\"\nsemi_axes_m = [0.0375, 0.0]\n",
+                "semi_axes_m = 0",
+            ),
+            (
+                "[window]\nshape = \"rectangle\"\nlength_m = 0.08\nwidth = 0.02\n",
+                "width",
+            ),
+            ("[window]\nshape = \"hexagon\"\n", "hexagon"),
+        ] {
+            let e = read(extra).unwrap_err().to_string();
+            assert!(e.contains(needle), "`{needle}` not in: {e}");
+        }
+    }
+
+    /// The standard deviations of every table read, converted, and a bad
+    /// one refused with its table, key and value.
+    #[test]
+    fn uncertainty_inputs_read_and_checked() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("e.toml");
+        let base = "[specimen]\nradius_m = 0.04\nthickness_m = 0.0004\npoisson = 0.45\nthickness_std_m = 1.2e-5\nradius_std_m = 2e-4\n\
+            [calibration]\npoints_px = [[0.0, 0.0], [300.0, 400.0]]\ndistance_m = 0.1\nmetres_per_pixel_std = 4e-7\nclamp_row_std_px = 0.5\n\
+            [pressure]\ncsv = \"p.csv\"\nstd_pa = 3.0\nrelative_std = 0.0025\n";
+        std::fs::write(&path, base).unwrap();
+        let e = Experiment::read(&path).unwrap();
+        let u = e.uncertainty();
+        // scale 0.1 m / 500 px = 2e-4 m/px
+        assert!((u.scale_relative_std - 2e-3).abs() < 1e-15);
+        assert!((u.height_offset_std_m - 1e-4).abs() < 1e-15);
+        assert_eq!(
+            (u.thickness_std_m, u.radius_std_m, u.pressure_std_pa),
+            (1.2e-5, 2e-4, 3.0)
+        );
+        assert_eq!(u.pressure_relative_std, 0.0025);
+        assert_eq!(Experiment::read_specimen(&path).unwrap().thickness_m, 4e-4);
+        std::fs::write(&path, base.replace("std_pa = 3.0", "std_pa = -3.0")).unwrap();
+        let m = Experiment::read(&path).unwrap_err().to_string();
+        assert!(m.contains("[pressure] std_pa = -3"), "{m}");
+        std::fs::write(&path, base.replace("1.2e-5", "0.001")).unwrap();
+        let m = Experiment::read(&path).unwrap_err().to_string();
+        assert!(m.contains("thickness_std_m = 0.001"), "{m}");
+    }
 
     #[test]
     fn specimen_defaults_and_validation() {

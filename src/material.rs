@@ -299,6 +299,107 @@ impl Hyperelastic<'_> {
         l * self.equibiaxial_nominal(l)
     }
 
+    /// `W` of the in-plane right Cauchy-Green tensor `C = [[c11, c12], [c12,
+    /// c22]]` (principal values `l1^2`, `l2^2`), incompressible plane stress:
+    /// `l3^2 = 1 / det C`, `I1 = tr C + 1 / det C`, `I2 = det C + tr C / det C`
+    /// (Holzapfel, *Nonlinear Solid Mechanics*, 2000). Equal to
+    /// [`Hyperelastic::w`] at the principal stretches, and smooth in `C`
+    /// even where `l1 = l2`: Ogden's `l1^a + l2^a` is taken as a symmetric
+    /// function of the two eigenvalues `m +- d / 2` of `C`, by its even
+    /// Taylor series in `d^2 = (c11 - c22)^2 + 4 c12^2` where `d^2 < 4e-4
+    /// m^2` (four terms; error below 1e-12 of the Hessian), so its dual-number
+    /// derivatives stay finite at the equibiaxial state.
+    pub fn energy_of_c<T: DualNum<f64> + Copy>(&self, c11: T, c12: T, c22: T) -> T {
+        self.energy_c(|k| T::from(self.param(k)), c11, c12, c22)
+    }
+
+    /// `W`, its gradient and Hessian in `(c11, c12, c22)` (the off-diagonal
+    /// `c12` counted once: `dW/dc12 = 2 dW/dC_12` of the symmetric tensor),
+    /// exact by second-order dual numbers.
+    pub fn derivatives_c(&self, c: [f64; 3]) -> (f64, [f64; 3], [[f64; 3]; 3]) {
+        let (w, g, h) = num_dual::hessian(
+            |v: SVector<num_dual::Dual2SVec<f64, f64, 3>, 3>| {
+                self.energy_c(
+                    |k| num_dual::Dual2SVec::from_re(self.param(k)),
+                    v[0],
+                    v[1],
+                    v[2],
+                )
+            },
+            &SVector::from(c),
+        );
+        (
+            w,
+            [g[0], g[1], g[2]],
+            std::array::from_fn(|i| std::array::from_fn(|j| h[(i, j)])),
+        )
+    }
+
+    fn energy_c<T: DualNum<f64> + Copy>(
+        &self,
+        th: impl Fn(usize) -> T,
+        c11: T,
+        c12: T,
+        c22: T,
+    ) -> T {
+        let tr = c11 + c22;
+        let det = c11 * c22 - c12 * c12;
+        let l3sq = det.recip();
+        let i1 = || tr + l3sq - 3.0;
+        match self.0 {
+            Model::NeoHookean { .. } => i1() * th(0),
+            Model::MooneyRivlin { .. } => {
+                let i2 = det + tr * l3sq - 3.0;
+                i1() * th(0) + i2 * th(1)
+            }
+            Model::Yeoh { .. } => {
+                let j = i1();
+                j * th(0) + j * j * th(1) + j * j * j * th(2)
+            }
+            Model::Ogden { mu_pa, .. } => {
+                let n = mu_pa.len();
+                let m = tr * 0.5;
+                let dsq = (c11 - c22) * (c11 - c22) + c12 * c12 * 4.0;
+                let ln_m = m.ln();
+                let mut w = T::from(0.0);
+                for k in 0..n {
+                    let (mu, a) = (th(k), th(n + k));
+                    let h = a * 0.5; // l^a = (l^2)^(a/2)
+                    let pair = if dsq.re() < 4e-4 * m.re() * m.re() {
+                        // 2 sum_j f^(2j)(m) (d^2/4)^j / (2j)!, f(x) = x^h
+                        let q = dsq * 0.25;
+                        let mut sum = T::from(0.0);
+                        let mut coef = T::from(1.0); // h (h-1) ... (h-2j+1)
+                        let mut qj = T::from(1.0);
+                        let mut fact = 1.0;
+                        for j in 0..4 {
+                            let pw = ((h - (2 * j) as f64) * ln_m).exp();
+                            sum += coef * pw * qj / fact;
+                            coef = coef * (h - (2 * j) as f64) * (h - (2 * j + 1) as f64);
+                            qj *= q;
+                            fact *= ((2 * j + 1) * (2 * j + 2)) as f64;
+                        }
+                        sum * 2.0
+                    } else {
+                        let d = dsq.sqrt();
+                        let pw = |x: T| (h * x.ln()).exp();
+                        pw(m + d * 0.5) + pw(m - d * 0.5)
+                    };
+                    let l3a = (-h * det.ln()).exp();
+                    w += (pair + l3a - 3.0) * mu / a;
+                }
+                w
+            }
+            Model::Gent { .. } => {
+                let (mu, jm) = (th(0), th(1));
+                -(T::from(1.0) - i1() / jm).ln() * mu * jm * 0.5
+            }
+            Model::Linear { .. } | Model::Quartic { .. } => {
+                unreachable!("Hyperelastic is only built for hyperelastic models")
+            }
+        }
+    }
+
     /// `W(l1, l2)` with the parameters `th` (see [`Hyperelastic::params`]),
     /// incompressible: `l3 = 1 / (l1 l2)`.
     fn energy<T: DualNum<f64> + Copy>(&self, th: impl Fn(usize) -> T, l1: T, l2: T) -> T {
@@ -386,6 +487,65 @@ pub(crate) mod tests {
                 assert!((d.hess[0][1] - h12).abs() < 1e-5 * hs, "{m:?}");
                 assert!((d.hess[1][0] - h12).abs() < 1e-5 * hs, "{m:?}");
                 assert!((d.hess[1][1] - h22).abs() < 1e-5 * hs, "{m:?}");
+            }
+        }
+    }
+
+    /// `W(C)` equals `W(l1, l2)` at the principal stretches of `C`, for
+    /// rotated, unequal and equal stretches; its gradient and Hessian in `C`
+    /// match central differences of `W(C)`, also at and near `l1 = l2`
+    /// (where Ogden's series takes over).
+    #[test]
+    fn energy_of_c_matches_stretches_and_differences() {
+        for m in models() {
+            let h = m.hyperelastic().unwrap();
+            for &(l1, l2, th) in &[
+                (1.0, 1.0, 0.0),
+                (1.3, 1.1, 0.4),
+                (2.2, 1.7, 1.1),
+                (0.9, 1.4, -0.3),
+                (1.5, 1.5, 0.2),
+                (1.5, 1.5 + 1e-4, 0.7),
+                (1.5, 1.52, 0.7),
+            ] {
+                let (c, s) = (f64::cos(th), f64::sin(th));
+                let (a, b) = (l1 * l1, l2 * l2);
+                let cc = [
+                    a * c * c + b * s * s,
+                    (a - b) * c * s,
+                    a * s * s + b * c * c,
+                ];
+                let (w, g, hh) = h.derivatives_c(cc);
+                let want = h.w(l1, l2);
+                assert!(
+                    (w - want).abs() < 1e-9 * want.abs().max(1.0),
+                    "{m:?} {l1} {l2}: {w} vs {want}"
+                );
+                let e = 1e-6;
+                let wc = |v: [f64; 3]| h.energy_of_c(v[0], v[1], v[2]);
+                let gc = |v: [f64; 3]| h.derivatives_c(v).1;
+                let scale = g.iter().fold(1e3_f64, |acc, v| acc.max(v.abs()));
+                let hscale = hh.iter().flatten().fold(1e3_f64, |acc, v| acc.max(v.abs()));
+                for i in 0..3 {
+                    let (mut p, mut q) = (cc, cc);
+                    p[i] += e;
+                    q[i] -= e;
+                    let fd = (wc(p) - wc(q)) / (2.0 * e);
+                    assert!(
+                        (g[i] - fd).abs() < 1e-6 * scale,
+                        "{m:?} grad {i}: {} vs {fd}",
+                        g[i]
+                    );
+                    let (gp, gq) = (gc(p), gc(q));
+                    for j in 0..3 {
+                        let fd = (gp[j] - gq[j]) / (2.0 * e);
+                        assert!(
+                            (hh[j][i] - fd).abs() < 1e-5 * hscale,
+                            "{m:?} ({l1}, {l2}) hess {j}{i}: {} vs {fd}",
+                            hh[j][i]
+                        );
+                    }
+                }
             }
         }
     }

@@ -26,7 +26,9 @@ use crate::axisym::{self, AxisymError};
 #[cfg(feature = "opencv")]
 use crate::experiment::Experiment;
 use crate::experiment::Specimen;
+use crate::experiment::Window;
 use crate::fit::data::Loaded;
+use crate::fit::uncertainty::Sources;
 use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
 use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
 use crate::material::Material;
@@ -157,6 +159,21 @@ pub struct Settings {
     /// Correct the fitted law until the exact axisymmetric inflation
     /// reproduces the measured heights ([`crate::fit::inverse`]).
     pub refine: bool,
+    /// The clamped opening (an experiment's `[window]`; `bulge run` takes
+    /// it from the experiment): a non-circular one is simulated with the
+    /// membrane model and the law corrected through it.
+    pub window: Window,
+    /// The uncertainty of the inputs besides the heights' own
+    /// ([`Experiment::uncertainty`](crate::experiment::Experiment::uncertainty);
+    /// [`run`] takes it from the experiment).
+    pub uncertainty: Sources,
+    /// Weigh the correction to the heights by the points' standard
+    /// deviations instead of their relative errors (default false).
+    pub weighted: bool,
+    /// Monte Carlo samples of the corrected parameters, 0 for none
+    /// ([`crate::fit::coverage::monte_carlo`], seeded: the same number
+    /// gives the same result).
+    pub samples: usize,
 }
 
 impl Default for Settings {
@@ -173,6 +190,10 @@ impl Default for Settings {
             solver: Solver::Newton,
             tolerance: 1e-8,
             refine: true,
+            window: Window::Circle,
+            uncertainty: Sources::default(),
+            weighted: false,
+            samples: 0,
         }
     }
 }
@@ -191,6 +212,10 @@ pub struct RunOptions {
     pub axisym: Option<bool>,
     /// Correct the fitted law to the measured heights.
     pub refine: Option<bool>,
+    /// Weigh the correction by the heights' standard deviations.
+    pub weighted: Option<bool>,
+    /// Monte Carlo samples of the corrected parameters (0: none).
+    pub samples: Option<usize>,
     /// Pressures to simulate, Pa (default: the measured ones).
     pub pressures_pa: Option<Vec<f64>>,
     /// Wanted relative height error of the disc mesh, in (0, 0.5).
@@ -224,6 +249,8 @@ impl RunOptions {
             models: self.models.or(base.models),
             axisym: self.axisym.or(base.axisym),
             refine: self.refine.or(base.refine),
+            weighted: self.weighted.or(base.weighted),
+            samples: self.samples.or(base.samples),
             pressures_pa: self.pressures_pa.or(base.pressures_pa),
             accuracy: self.accuracy.or(base.accuracy),
             nodes: self.nodes.or(base.nodes),
@@ -269,6 +296,8 @@ impl RunOptions {
         }
         s.axisym = self.axisym.unwrap_or(true);
         s.refine = self.refine.unwrap_or(true);
+        s.weighted = self.weighted.unwrap_or(false);
+        s.samples = self.samples.unwrap_or(0);
         if s.models.is_empty() && !s.axisym {
             return bad(
                 "nothing to simulate: give at least one model or keep the axisymmetric reference"
@@ -767,10 +796,28 @@ pub fn fit_stage(
     let mut fitted = fit_material(&data, &fit_settings, "stress_strain.csv of bulge run")?;
     if settings.refine {
         let measured = measured_heights(&s.points);
-        if let Err(e) = fitted.refine_to_heights(spec, &measured, &inverse::Options::default()) {
+        let opts = inverse::Options {
+            uncertainty: settings.uncertainty,
+            weighted: settings.weighted,
+            ..inverse::Options::default()
+        };
+        let refined = if settings.window.is_circle() {
+            fitted.refine_to_heights(spec, &measured, &opts).map(|_| ())
+        } else {
+            let scene =
+                Scene::from_window(spec, &settings.window, fitted.cap_material.clone(), vec![]);
+            fitted
+                .refine_in_scene(&scene, settings.mesh, &measured, &opts)
+                .map(|_| ())
+        };
+        if let Err(e) = refined {
             fitted.warn(format!(
                 "the law was not corrected to the heights ({e}); the cap-method law is used"
             ));
+        } else if settings.samples > 0
+            && let Err(e) = fitted.monte_carlo(spec, &measured, &opts, settings.samples, 1)
+        {
+            fitted.warn(format!("no Monte Carlo of the parameters: {e}"));
         }
     }
     let modulus_points = data
@@ -810,6 +857,7 @@ pub fn measured_heights(points: &[Point]) -> Vec<inverse::Measured> {
         .map(|p| inverse::Measured {
             pressure_pa: p.pressure_pa,
             height_m: p.height_m,
+            height_std_m: p.height_std_m,
         })
         .collect()
 }
@@ -912,7 +960,8 @@ pub fn simulate_stage(
             "pressures to simulate {pressures:?}: give them in increasing order (each is continued from the previous)"
         )));
     }
-    let mut scene = Scene::from_specimen(spec, material.clone(), pressures.to_vec());
+    let mut scene =
+        Scene::from_window(spec, &settings.window, material.clone(), pressures.to_vec());
     scene.mesh.size = settings.mesh;
     scene
         .validate(true)
@@ -1006,7 +1055,8 @@ pub fn simulate_stage(
             wall_s: t_model.elapsed().as_secs_f64(),
         });
     }
-    if settings.axisym {
+    // the exact axisymmetric reference holds for circular windows only
+    if settings.axisym && settings.window.is_circle() {
         runs.push(axisym_run(spec, material, pressures, tick)?);
     }
     Ok(runs)
@@ -1201,6 +1251,88 @@ pub fn compare(points: &[Point], runs: &[ModelRun], pressures: &[f64]) -> Vec<Co
         .collect()
 }
 
+/// How one model's heights stand against the measured ones within the
+/// uncertainty: at each compared pressure `z = (h_model - h_measured) /
+/// sd`, `sd` the standard deviation of that difference (the measured
+/// height's own, and the corrected law's through the parameters'
+/// covariance with the shared errors of both sides,
+/// [`inverse::BandPoint::diff_std_m`]). The model is consistent when
+/// every `|z|` stays below the two-sided 95 % bound for the largest of `n`
+/// independent normals (Sidak's `Phi^-1(1 - (1 - 0.95^(1/n)) / 2)`: 1.96
+/// for one pressure, 2.80 for ten), so that a model that is right passes
+/// 95 % of the time however many pressures are compared (Z. Sidak,
+/// "Rectangular confidence regions for the means of multivariate normal
+/// distributions", JASA 62(318), 1967, doi:10.1080/01621459.1967.10482935).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    /// The model.
+    pub model: HeightModel,
+    /// Pressures compared.
+    pub compared: usize,
+    /// The largest `|z|` and its pressure, Pa.
+    pub worst: Option<(f64, f64)>,
+    /// The bound on `|z|`.
+    pub bound: f64,
+}
+
+impl Verdict {
+    /// Whether every compared height is within the bound (`None`: nothing
+    /// compared).
+    pub fn consistent(&self) -> Option<bool> {
+        self.worst.map(|(z, _)| z <= self.bound)
+    }
+
+    /// "consistent within the uncertainty (largest |z| 1.3 of 2.80 allowed)"
+    /// or "misses by 4.2 standard deviations at 3200 Pa".
+    pub fn describe(&self) -> String {
+        match self.worst {
+            None => "no measured height with an uncertainty to compare".into(),
+            Some((z, _)) if z <= self.bound => format!(
+                "consistent within the uncertainty (largest |z| {z:.2} of {:.2} allowed over {} pressures)",
+                self.bound, self.compared
+            ),
+            Some((z, p_pa)) => format!(
+                "misses by {z:.1} standard deviations at {} Pa (allowed {:.2} over {} pressures)",
+                fmt_short(p_pa),
+                self.bound,
+                self.compared
+            ),
+        }
+    }
+}
+
+/// The verdict of every run against the measured heights (see [`Verdict`]);
+/// `band` at the pressures of `rows`.
+pub fn verdicts(
+    rows: &[Comparison],
+    runs: &[ModelRun],
+    band: &[Option<inverse::BandPoint>],
+) -> Vec<Verdict> {
+    runs.iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let z: Vec<(f64, f64)> = rows
+                .iter()
+                .zip(band)
+                .filter_map(|(c, b)| {
+                    let (h, m, b) = (c.simulated_m.get(k).copied()??, c.measured_m?, (*b)?);
+                    let sd = c.measured_std_m.unwrap_or(0.0).hypot(b.diff_std_m);
+                    (sd > 0.0).then(|| ((h - m).abs() / sd, c.pressure_pa))
+                })
+                .collect();
+            let n = z.len().max(1) as f64;
+            let bound =
+                crate::fit::uncertainty::normal_quantile(1.0 - 0.5 * (1.0 - 0.95f64.powf(1.0 / n)));
+            Verdict {
+                model: r.model,
+                compared: z.len(),
+                worst: z.into_iter().max_by(|a, b| a.0.total_cmp(&b.0)),
+                bound,
+            }
+        })
+        .collect()
+}
+
 /// A one-line description of the stress conventions.
 pub fn describe_stress(o: &mechanics::Options) -> String {
     format!(
@@ -1275,6 +1407,13 @@ pub struct RunOutput {
     pub runs: Vec<ModelRun>,
     /// Measured against simulated heights, one row per simulated pressure.
     pub comparison: Vec<Comparison>,
+    /// The corrected law's heights with their standard deviations at the
+    /// simulated pressures, when the law was corrected to the heights and
+    /// its uncertainty found.
+    pub band: Option<Vec<Option<inverse::BandPoint>>>,
+    /// Per model, whether its heights agree with the measured ones within
+    /// the uncertainty.
+    pub verdicts: Vec<Verdict>,
     /// Time per stage (track, stress, fit, simulate).
     pub timings: Vec<Timing>,
     /// Remarks made along the way (frames left out, a lowered degree, the
@@ -1354,6 +1493,11 @@ pub fn run_observed(
     settings: &Settings,
     obs: &dyn Observer,
 ) -> Result<RunOutput, RunError> {
+    let settings = &Settings {
+        window: exp.window,
+        uncertainty: exp.uncertainty(),
+        ..settings.clone()
+    };
     let mut partial = Partial::default();
     let fail = |stage: Stage, error: PipelineError, partial: &Partial| RunError {
         stage,
@@ -1451,10 +1595,14 @@ pub fn run_observed(
     // 4. simulate
     let t = Instant::now();
     let pressures_pa = pressures(settings, &stress.points);
-    for w in extrapolation_warnings(spec, &fit.material, &stress.points, &pressures_pa) {
-        note(Stage::Simulate, w);
+    // (the limit point behind these warnings is the circular window's)
+    if settings.window.is_circle() {
+        for w in extrapolation_warnings(spec, &fit.material, &stress.points, &pressures_pa) {
+            note(Stage::Simulate, w);
+        }
     }
-    let n_runs = settings.models.len() + usize::from(settings.axisym);
+    let n_runs =
+        settings.models.len() + usize::from(settings.axisym && settings.window.is_circle());
     obs.start(Stage::Simulate, (n_runs * pressures_pa.len()) as u64);
     let runs = simulate_stage(spec, settings, &fit.material, &pressures_pa, &|| obs.tick())
         .map_err(|e| fail(Stage::Simulate, e, &partial))?;
@@ -1490,6 +1638,24 @@ pub fn run_observed(
         note(Stage::Simulate, n);
     }
     let comparison = compare(&stress.points, &runs, &pressures_pa);
+    let band = fit
+        .refined
+        .as_ref()
+        .and_then(|r| r.uncertainty.as_ref())
+        .map(|u| {
+            inverse::band(
+                &fit.material,
+                spec,
+                u,
+                &settings.uncertainty,
+                &pressures_pa,
+                &inverse::Options::default().axisym,
+            )
+        });
+    let verdicts = band
+        .as_ref()
+        .map(|b| verdicts(&comparison, &runs, b))
+        .unwrap_or_default();
     Ok(RunOutput {
         specimen,
         tracking,
@@ -1498,6 +1664,8 @@ pub fn run_observed(
         pressures_pa,
         runs,
         comparison,
+        band,
+        verdicts,
         timings,
         notes,
     })

@@ -84,7 +84,7 @@ mod tests {
                     "nu {nu:.3} {model:?}: K = {k:.5} (Hencky {k_nu:.5}, lattice {k_lat:.5})"
                 );
                 match model {
-                    SpringModel::Tp | SpringModel::TpPaper => {
+                    SpringModel::Tp | SpringModel::TpPaper | SpringModel::Membrane => {
                         assert!(
                             (k / k_nu - 1.0).abs() < 3e-3,
                             "{model:?} nu {nu}: K {k} vs {k_nu}"

@@ -87,7 +87,9 @@ pub struct Args {
     /// docs/run.md). `material.toml` then holds the corrected law, with the
     /// fitted one and the height errors before and after under
     /// [fit.refined]; the curve, residuals and plot stay those of the fit to
-    /// the points.
+    /// the points. With a non-circular [window] in the experiment file the
+    /// heights are those of the membrane model on that window (slower: a
+    /// mesh sweep per law tried).
     #[arg(long, value_name = "EXPERIMENT")]
     pub to_heights: Option<PathBuf>,
 
@@ -233,14 +235,30 @@ fn to_heights(
             input.display()
         )));
     };
-    let r = fitted
-        .refine_to_heights(specimen, &measured, &Default::default())
-        .map_err(|err| {
-            Failure::Failed(anyhow!(
-                "{}: the law could not be corrected to the heights: {err}",
-                input.display()
-            ))
-        })?;
+    // The inputs' uncertainties of the experiment file join the heights'
+    // own in the covariance.
+    let opts = inverse::Options {
+        uncertainty: Experiment::read(exp)?.uncertainty(),
+        ..Default::default()
+    };
+    let window = Experiment::read_window(exp)?;
+    let r = if window.is_circle() {
+        fitted.refine_to_heights(specimen, &measured, &opts)
+    } else {
+        let scene = bulge::sim::scene::Scene::from_window(
+            specimen,
+            &window,
+            fitted.cap_material.clone(),
+            vec![],
+        );
+        fitted.refine_in_scene(&scene, None, &measured, &opts)
+    }
+    .map_err(|err| {
+        Failure::Failed(anyhow!(
+            "{}: the law could not be corrected to the heights: {err}",
+            input.display()
+        ))
+    })?;
     Ok(format!(
         "corrected to the heights of {} points on the specimen of {}: {}\n",
         measured.len(),

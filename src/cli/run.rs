@@ -45,9 +45,10 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
-    /// Spring models to simulate, comma-separated: tp, tp-paper,
-    /// van-gelder, lloyd. Default tp,van-gelder (the comparison of Tudruj et
-    /// al. 2023).
+    /// Membrane models to simulate, comma-separated: tp, tp-paper,
+    /// van-gelder, lloyd (mass-spring), membrane (constant-strain triangles
+    /// with the material's whole law). Default tp,van-gelder (the
+    /// comparison of Tudruj et al. 2023).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub models: Option<Vec<SpringModel>>,
 
@@ -65,6 +66,25 @@ pub struct Args {
     /// (docs/run.md). `refine = false` in [run] does the same.
     #[arg(long)]
     pub no_refine: bool,
+
+    /// Weigh each photo in the correction to the heights by its height's
+    /// standard deviation (height_std_m and [pressure] std_pa), (h_sim - h) /
+    /// sigma, instead of its relative error h_sim / h - 1 (the default, which
+    /// weighs every photo alike; docs/fit.md, "Uncertainty"). The
+    /// parameters' covariance carries the given errors either way.
+    /// `weighted = true` in [run] does the same.
+    #[arg(long)]
+    pub weighted: bool,
+
+    /// Monte Carlo of the corrected parameters: N tests drawn from the
+    /// corrected law with every error source (height_std_m, [pressure],
+    /// [calibration], [specimen] standard deviations), each corrected again,
+    /// in parallel and seeded (the same N gives the same result); their
+    /// spread is written beside the first-order covariance in material.toml
+    /// ([fit.refined.uncertainty.monte_carlo]). Costs N corrections.
+    /// `samples = N` in [run] does the same.
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
 
     /// Pressures to simulate, Pa, comma-separated, increasing. Default: the
     /// measured pressures (so that every measured height gets a simulated one).
@@ -135,6 +155,8 @@ fn settings(args: &Args, exp: &Experiment) -> Result<Settings, Failure> {
         models: args.models.clone(),
         axisym: args.no_axisym.then_some(false),
         refine: args.no_refine.then_some(false),
+        weighted: args.weighted.then_some(true),
+        samples: args.samples,
         pressures_pa: args.pressures.clone(),
         accuracy: args.accuracy,
         nodes: args.nodes,

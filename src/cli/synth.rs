@@ -17,7 +17,8 @@ use bulge::track::synth::{self, Framing, Look, SequenceSpec, Silhouette, SynthFr
 /// (file,pressure_pa), OUT_DIR/experiment.toml (ready for `bulge track`) and
 /// OUT_DIR/truth.csv (file,pressure_pa,height_m,apex_x_px,apex_y_px). The
 /// bubble is the exact axisymmetric solution for the material at each
-/// pressure, seen from the side, drawn with exact pixel-area anti-aliasing
+/// pressure (with --window-semi-axes-m the membrane model's on an elliptical
+/// window), seen from the side, drawn with exact pixel-area anti-aliasing
 /// over a textured background and a clamp fixture. With --log-rate-hz, also
 /// a pressure log by time (pressure_log.csv, experiment_log.toml); with
 /// --video, also the photos as a video (experiment_video.toml). The same
@@ -65,6 +66,16 @@ pub struct Args {
     /// them; written into [specimen] prebulge_height_m.
     #[arg(long, default_value_t = 0.0)]
     pub prebulge_height_m: f64,
+
+    /// An elliptical window instead of the disc: its semi-axes A,B in m
+    /// (A along the picture, B towards the camera). The bubble is then the
+    /// membrane model's (`--model membrane`, 24 rings of the scaled
+    /// hexagonal disc), seen from the side: its section through the long
+    /// axis. [specimen] radius_m becomes A (the extent drawn) and
+    /// experiment.toml gets the [window] table; --radius-m and
+    /// --prebulge-height-m do not apply.
+    #[arg(long, value_delimiter = ',', value_name = "A,B")]
+    pub window_semi_axes_m: Option<Vec<f64>>,
 
     /// Image width, px (default 640; the disc spans 70 % of it).
     #[arg(long, default_value_t = 640)]
@@ -312,8 +323,30 @@ pub fn run(args: Args) -> Result<(), Failure> {
             )));
         }
     }
+    let window = match &args.window_semi_axes_m {
+        None => bulge::experiment::Window::Circle,
+        Some(v) => {
+            if v.len() != 2 {
+                return Err(bad(format!(
+                    "--window-semi-axes-m {v:?}: give the two semi-axes in m, e.g. 0.0375,0.01875"
+                )));
+            }
+            if args.prebulge_height_m != 0.0 {
+                return Err(bad(
+                    "--prebulge-height-m is for the disc; an elliptical window is flat".into(),
+                ));
+            }
+            bulge::experiment::Window::Ellipse {
+                semi_axes_m: [v[0], v[1]],
+            }
+        }
+    };
+    window.validate().map_err(bad)?;
     let specimen = Specimen {
-        radius_m: args.radius_m,
+        radius_m: match window {
+            bulge::experiment::Window::Ellipse { semi_axes_m } => semi_axes_m[0],
+            _ => args.radius_m,
+        },
         thickness_m: args.thickness_m,
         poisson: args.poisson,
         prebulge_height_m: args.prebulge_height_m,
@@ -349,7 +382,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let opts = axisym::Options::default();
     let mut frames = Vec::with_capacity(n);
     let pb = super::progress(n as u64, "solve");
-    for &p in &pressures {
+    if !window.is_circle() {
+        frames = window_frames(&specimen, &window, &material, &pressures).bad_input()?;
+    }
+    for &p in pressures.iter().filter(|_| window.is_circle()) {
         let sol = axisym::solve_pressure(&material, &specimen, p, &opts)
             .map_err(|e| anyhow!("the bubble at {p} Pa: {e}"))
             .bad_input()?;
@@ -384,6 +420,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             highlight_grey: args.highlight_grey,
             clutter: args.clutter,
         },
+        window,
     };
     let w = synth::write_sequence(&args.out_dir, &spec, &frames).map_err(|e| {
         if e.is_bad_input() {
@@ -480,4 +517,40 @@ fn write_timed(
         );
     }
     Ok(extra)
+}
+
+/// The frames of a non-circular window: the membrane model swept over the
+/// pressures, and at each its section through the long axis (the nodes on
+/// `y = 0`, `x >= 0`, which stay on that mirror plane), pole first.
+fn window_frames(
+    specimen: &Specimen,
+    window: &bulge::experiment::Window,
+    material: &Material,
+    pressures: &[f64],
+) -> anyhow::Result<Vec<SynthFrame>> {
+    use bulge::sim::scene::Scene;
+    use bulge::sim::{SceneSolver, SpringModel};
+    let scene = Scene::from_window(specimen, window, material.clone(), pressures.to_vec());
+    let mesh = scene.build_mesh()?;
+    let section: Vec<usize> = (0..mesh.nodes.len())
+        .filter(|&i| mesh.nodes[i].y.abs() < 1e-12 && mesh.nodes[i].x >= 0.0)
+        .collect();
+    let mut s = SceneSolver::on_mesh(&scene, mesh, SpringModel::Membrane)?;
+    let mut frames = Vec::with_capacity(pressures.len());
+    let done = s.sweep(pressures, |solver, q| {
+        let x = solver.positions();
+        let mut pts: Vec<(f64, f64)> = section.iter().map(|&i| (x[i].x, x[i].z)).collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        frames.push(SynthFrame {
+            pressure_pa: q.pressure_pa,
+            silhouette: Silhouette {
+                rho_m: pts.iter().map(|p| p.0).collect(),
+                z_m: pts.iter().map(|p| p.1).collect(),
+            },
+        });
+    });
+    if let Err((_, stop)) = done {
+        anyhow::bail!("the bubble at {} Pa: {}", stop.pressure_pa, stop.error);
+    }
+    Ok(frames)
 }

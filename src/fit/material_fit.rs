@@ -247,20 +247,36 @@ pub struct RefinedRecord {
     /// membrane), when it was sought.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prebulge_height_m: Option<f64>,
+    /// The corrected parameters' standard errors, 95 % intervals,
+    /// covariance and the share of each source
+    /// ([`super::uncertainty::ParamUncertainty::toml_table`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<toml::Table>,
 }
 
 impl RefinedRecord {
     /// The record of a correction that started from `cap`.
     pub fn of(r: &inverse::Refined, cap: &Model) -> RefinedRecord {
         RefinedRecord {
-            method: "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+            method: match (&r.window, r.weighted) {
+                (None, false) => "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of h_sim / h - 1)".into(),
+                (None, true) => "parameters corrected so that the exact axisymmetric inflation reproduces the measured heights (least squares of (h_sim - h) / sigma, sigma the point's standard deviation)".into(),
+                (Some(w), _) => format!("parameters corrected so that the membrane model (constant-strain triangles) on the {w} reproduces the measured heights (least squares of h_sim / h - 1; {} membrane sweeps)", r.solves),
+            },
             height_rms_before: inverse::Refined::rms(&r.before),
             height_rms_after: inverse::Refined::rms(&r.after),
             iterations: r.iterations,
-            axisym_solves: r.solves,
+            axisym_solves: if r.window.is_none() { r.solves } else { 0 },
             cap_law: Some(cap.clone()),
             constraint: r.constraint.clone(),
             prebulge_height_m: r.prebulge_height_m,
+            uncertainty: r.uncertainty.as_ref().map(|u| {
+                let mut t = u.toml_table();
+                if let Some(mc) = &r.monte_carlo {
+                    t.insert("monte_carlo".into(), mc.toml_table().into());
+                }
+                t
+            }),
         }
     }
 }
@@ -338,6 +354,42 @@ impl FittedMaterial {
         Ok(self.adopt(r))
     }
 
+    /// As [`FittedMaterial::refine_to_heights`] for a non-circular window:
+    /// the heights of the membrane model on `scene` (its geometry and
+    /// thickness; meshed at `mesh`, default the scene's) reproduce
+    /// `measured` ([`inverse::refine_in_scene`]).
+    pub fn refine_in_scene(
+        &mut self,
+        scene: &crate::sim::scene::Scene,
+        mesh: Option<crate::sim::scene::MeshSize>,
+        measured: &[inverse::Measured],
+        opts: &inverse::Options,
+    ) -> Result<&inverse::Refined, FitError> {
+        let r = inverse::refine_in_scene(&self.cap_material, scene, mesh, measured, opts)?;
+        Ok(self.adopt(r))
+    }
+
+    /// Adds the Monte Carlo of the correction's parameters (`samples`
+    /// tests drawn from the corrected law, seeded by `seed`) to the
+    /// correction and its record; nothing when there is no correction.
+    pub fn monte_carlo(
+        &mut self,
+        specimen: &Specimen,
+        measured: &[inverse::Measured],
+        opts: &inverse::Options,
+        samples: usize,
+        seed: u64,
+    ) -> Result<(), FitError> {
+        let Some(r) = self.refined.as_mut() else {
+            return Ok(());
+        };
+        let mc = super::coverage::monte_carlo(r, specimen, measured, opts, samples, seed)?;
+        r.monte_carlo = Some(mc);
+        let record = RefinedRecord::of(r, &self.cap_material.model);
+        self.provenance_mut().refined = Some(record);
+        Ok(())
+    }
+
     /// Takes a correction's law and records it.
     fn adopt(&mut self, r: inverse::Refined) -> &inverse::Refined {
         let record = RefinedRecord::of(&r, &self.cap_material.model);
@@ -353,6 +405,12 @@ impl FittedMaterial {
                 .collect();
             self.warnings.extend(extra.iter().cloned());
             self.provenance_mut().warnings.extend(extra);
+        }
+        if let Some(u) = &r.uncertainty
+            && let Some(w) = u.misfit_warning()
+        {
+            self.warnings.push(w.clone());
+            self.provenance_mut().warnings.push(w);
         }
         self.material.model = r.material.model.clone();
         self.provenance_mut().refined = Some(record);

@@ -11,13 +11,19 @@
 //!   argmin solver) from one or many starting points, with a Drucker
 //!   stability check and AIC for comparing models ([`stats`]);
 //! * [`inverse`]: the law corrected until the exact axisymmetric inflation
-//!   reproduces the measured heights (the cap method's bias removed);
+//!   reproduces the measured heights (the cap method's bias removed), with
+//!   the corrected parameters' covariance and the heights' band;
+//! * [`uncertainty`]: the inputs' uncertainties (heights, pressure gauge,
+//!   calibration, specimen) carried to the parameters, first order;
+//!   [`coverage`]: synthetic tests with known errors that check it, and the
+//!   Monte Carlo of a correction; [`study`]: a material across specimens;
 //! * [`data`]: which columns of which file feed which fit, validated with
 //!   errors that name the file, line and value.
 //!
 //! Every entry point is a pure function from data to a fit; `bulge fit`
 //! (`src/cli/fit.rs`) reads the files and writes the outputs.
 
+pub mod coverage;
 pub mod data;
 pub mod hyperelastic;
 pub mod inverse;
@@ -26,6 +32,8 @@ pub(crate) mod lm;
 pub mod material_fit;
 pub mod quartic;
 pub mod stats;
+pub mod study;
+pub mod uncertainty;
 
 pub use material_fit::{
     FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, UnknownFitModel,

@@ -562,6 +562,7 @@ mod tests {
                     cap_law: Some(Model::NeoHookean { c1_pa: 1.0e5 }),
                     constraint: None,
                     prebulge_height_m: Some(0.003),
+                    uncertainty: None,
                 }),
                 ..Default::default()
             };

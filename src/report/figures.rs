@@ -6,14 +6,22 @@
 
 use super::plot::{Figure, LegendPosition, Panel, Series};
 use crate::fit::FitDetail;
+use crate::fit::inverse::BandPoint;
 use crate::fit::quartic;
 use crate::material::{Model, StrainMeasure};
 use crate::mechanics::Point;
 use crate::pipeline::{Comparison, FitOut, ModelRun};
 use crate::sim::HeightModel;
 
-/// Height against pressure (kPa, mm), and the relative error per model.
-pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figure {
+/// Height against pressure (kPa, mm), and the relative error per model;
+/// with `band`, the corrected law's 95 % band (its bounds dotted, above as
+/// heights, below as relative to the law).
+pub fn heights(
+    points: &[Point],
+    runs: &[ModelRun],
+    rows: &[Comparison],
+    band: Option<&[Option<BandPoint>]>,
+) -> Figure {
     let measured: Vec<(f64, f64)> = points
         .iter()
         .map(|p| (p.pressure_pa * 1e-3, p.height_m * 1e3))
@@ -52,6 +60,33 @@ pub fn heights(points: &[Point], runs: &[ModelRun], rows: &[Comparison]) -> Figu
             .filter_map(|row| row.rel_errors()[k].map(|e| (row.pressure_pa * 1e-3, e * 100.0)))
             .collect();
         bottom = bottom.with(series(e));
+    }
+    if let Some(b) = band {
+        let z = crate::fit::uncertainty::normal_quantile(0.975);
+        let b: Vec<BandPoint> = b.iter().flatten().copied().collect();
+        let k = runs.len() + 1;
+        for (sign, name) in [(1.0, "95 % band of the law"), (-1.0, "")] {
+            let h: Vec<(f64, f64)> = b
+                .iter()
+                .map(|q| {
+                    (
+                        q.pressure_pa * 1e-3,
+                        (q.height_m + sign * z * q.std_m) * 1e3,
+                    )
+                })
+                .collect();
+            let rel: Vec<(f64, f64)> = b
+                .iter()
+                .map(|q| {
+                    (
+                        q.pressure_pa * 1e-3,
+                        sign * 100.0 * z * q.std_m / q.height_m,
+                    )
+                })
+                .collect();
+            top = top.with(Series::line(name, h).color(k).dashed());
+            bottom = bottom.with(Series::line("", rel).color(k).dashed());
+        }
     }
     Figure::new(
         "Apex height against pressure: measured and simulated",

@@ -37,6 +37,9 @@ pub struct Report {
     pub fit: Option<Picture>,
     /// The material file as written.
     pub material_toml: String,
+    /// Per model, whether it agrees with the measured heights within the
+    /// uncertainty (model, verdict).
+    pub verdicts: Vec<(String, String)>,
     /// The comparison rows.
     pub rows: Vec<Comparison>,
     /// The simulated models.
@@ -105,6 +108,27 @@ impl Report {
             FLAG * 100.0
         ));
         s.push_str(&table::html(&self.rows, &self.runs, FLAG));
+        if !self.verdicts.is_empty() {
+            s.push_str(
+                "<p>Within the uncertainty? Each model's height minus the measured one, over the standard deviation of \
+                 that difference (the measured height's own, the corrected law's through its parameters' covariance, \
+                 the calibration, pressure gauge and specimen included):</p>\n",
+            );
+            s.push_str("<table><tr><th>model</th><th>verdict</th></tr>");
+            for (m, v) in &self.verdicts {
+                let bad = if v.starts_with("misses") {
+                    " class=\"bad\""
+                } else {
+                    ""
+                };
+                s.push_str(&format!(
+                    "<tr><td>{}</td><td{bad}>{}</td></tr>",
+                    esc(m),
+                    esc(v)
+                ));
+            }
+            s.push_str("</table>\n");
+        }
         if let Some(p) = &self.heights {
             s.push_str(&img(p));
         }

@@ -123,7 +123,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         &o.pressures_pa,
     );
     let spec = &o.specimen;
-    let hfig = figures::heights(&stress.points, runs, rows);
+    let hfig = figures::heights(&stress.points, runs, rows, o.band.as_deref());
     let heights_svg = hfig.to_svg().map_err(|e| output_error("heights.svg", e))?;
     let heights_png = hfig.to_png().map_err(|e| output_error("heights.png", e))?;
     let nrows = tracking.tracked.rows.len();
@@ -208,7 +208,12 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         experiment,
         photos,
         heights: Some(Picture {
-            caption: "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed); below, the relative error.".into(),
+            caption: if o.band.is_some() {
+                "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed), with the corrected law's 95 % band (dashed pair); below, the relative error and the band's half-width."
+            } else {
+                "Measured apex height (points, one standard deviation) and each model (lines; the axisymmetric reference dashed); below, the relative error."
+            }
+            .into(),
             png: heights_png.clone(),
         }),
         fit: Some(Picture {
@@ -216,6 +221,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
             png: fit_png,
         }),
         material_toml: material_toml.clone(),
+        verdicts: verdict_lines(o),
         rows: rows.clone(),
         runs: runs.clone(),
         settings: settings.clone(),
@@ -228,7 +234,15 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         exp.path.display()
     );
     md.push_str(&table::markdown(rows, runs));
-    md.push_str("\nRelative error = simulated / measured - 1.\n\n## Material\n\n```toml\n");
+    md.push_str("\nRelative error = simulated / measured - 1.\n\n");
+    if !o.verdicts.is_empty() {
+        md.push_str("## Within the uncertainty?\n\n");
+        for (model, v) in verdict_lines(o) {
+            md.push_str(&format!("- {model}: {v}\n"));
+        }
+        md.push('\n');
+    }
+    md.push_str("## Material\n\n```toml\n");
     md.push_str(&material_toml);
     md.push_str("```\n\n## Settings\n\n");
     for (k, v) in &settings {
@@ -258,6 +272,12 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         "\nMeasured against simulated apex heights (error = simulated / measured - 1):\n\n",
     );
     terminal.push_str(&table::terminal(rows, runs));
+    if !o.verdicts.is_empty() {
+        terminal.push_str("\nWithin the uncertainty (measured and law's 95 % band):\n");
+        for (model, v) in verdict_lines(o) {
+            terminal.push_str(&format!("  {model}: {v}\n"));
+        }
+    }
     terminal.push_str("\nTime per stage:\n");
     terminal.push_str(&table::timings_terminal(&timings));
     Ok(RunFiles {
@@ -265,6 +285,14 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         terminal,
         timings,
     })
+}
+
+/// Per model, its verdict against the measured heights.
+fn verdict_lines(o: &RunOutput) -> Vec<(String, String)> {
+    o.verdicts
+        .iter()
+        .map(|v| (v.model.to_string(), v.describe()))
+        .collect()
 }
 
 /// The settings of a run as key/value pairs for the report.
@@ -290,12 +318,22 @@ pub fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<
         (
             "fit".into(),
             format!(
-                "{}{}",
+                "{}{}{}{}",
                 s.fit.label(),
                 if s.refine {
                     ", corrected to the measured heights through the axisymmetric solution"
                 } else {
                     ", as the stress/strain points give it (refine = false)"
+                },
+                if s.refine && s.weighted {
+                    ", weighted by the heights' standard deviations"
+                } else {
+                    ""
+                },
+                if s.refine && s.samples > 0 {
+                    format!(", Monte Carlo of {} samples", s.samples)
+                } else {
+                    String::new()
                 }
             ),
         ),

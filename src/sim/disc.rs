@@ -25,7 +25,7 @@ use super::SimError;
 use std::time::Instant;
 
 use super::mesh::Mesh;
-use super::scene::{DiscPredictor, MeshSize, Scene, SceneKind};
+use super::scene::{DiscPredictor, MeshSize, Scene, SceneKind, WindowPredictor};
 use super::solve::{self, NewtonWorkspace, Options, Predictor, Solver, Stats, Stay};
 use super::springs::{Membrane, SpringModel};
 use crate::experiment::Specimen;
@@ -113,6 +113,20 @@ impl SceneSolver {
         let predictor: Box<dyn Predictor + Send + Sync> = match scene.kind {
             SceneKind::Disc { radius_m, .. } => Box::new(DiscPredictor {
                 radius_m,
+                young_pa: membrane.law.young(1.0).1,
+                thickness_m: scene.thickness_m,
+                poisson: scene.material.poisson,
+            }),
+            SceneKind::Ellipse { semi_axes_m } => Box::new(WindowPredictor {
+                half_m: semi_axes_m,
+                rectangle: false,
+                young_pa: membrane.law.young(1.0).1,
+                thickness_m: scene.thickness_m,
+                poisson: scene.material.poisson,
+            }),
+            SceneKind::Rectangle { length_m, width_m } => Box::new(WindowPredictor {
+                half_m: [length_m / 2.0, width_m / 2.0],
+                rectangle: true,
                 young_pa: membrane.law.young(1.0).1,
                 thickness_m: scene.thickness_m,
                 poisson: scene.material.poisson,

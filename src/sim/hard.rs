@@ -129,7 +129,13 @@ pub fn memory_bytes(mesh: &Mesh, membrane: &Membrane) -> usize {
     let mem_b = t * tri_b
         + e * (size_of::<[u32; 2]>() + 2 * 8)
         + n * (c + 8)
-        + membrane.node_loads.len() * 32;
+        + membrane.node_loads.len() * 32
+        // the membrane model's rest data per triangle
+        + if membrane.model == SpringModel::Membrane {
+            t * size_of::<super::cst::CstRest>()
+        } else {
+            0
+        };
     // dynamics: x, v, f, scratch (Vector3 each), inverse mass; damping and k per edge
     let dyn_b = n * (4 * p3 + 8) + e * 16;
     mesh_b + mem_b + dyn_b

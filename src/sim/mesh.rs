@@ -431,6 +431,115 @@ fn sectors_copies(sector: bool) -> usize {
     if sector { 6 } else { 1 }
 }
 
+/// The elliptical window with semi-axes `a` (along x) and `b` (along y):
+/// the whole hexagonal disc of `rings` rings of unit radius, scaled by `a`
+/// along x and `b` along y (an affine map: every triangle keeps its
+/// neighbours; at 2:1 and 24 rings the angles lie within 23.5-122.2 degrees). The
+/// rim is clamped; probe `apex` at the centre.
+pub fn ellipse(a: f64, b: f64, rings: usize) -> Result<Mesh, SimError> {
+    if !(a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0) {
+        return Err(SimError::BadMesh(format!(
+            "the ellipse needs positive semi-axes, not {a} and {b} m"
+        )));
+    }
+    let mut m = disc(DiscOptions {
+        radius_m: 1.0,
+        rings,
+        sector: false,
+    })?;
+    for n in &mut m.nodes {
+        n.x *= a;
+        n.y *= b;
+    }
+    Ok(m)
+}
+
+/// Options of the rectangular window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RectangleOptions {
+    /// Size along x, m.
+    pub length_m: f64,
+    /// Size along y, m.
+    pub width_m: f64,
+    /// Cells across the half-width (the edge length is about
+    /// `width / (2 n)`), >= 1.
+    pub half_cells: usize,
+    /// Mesh the quarter `x, y >= 0` with mirror planes on `x = 0` and
+    /// `y = 0` (the window is centred on the origin).
+    pub quarter: bool,
+}
+
+/// The rectangular window `|x| <= L/2`, `|y| <= W/2`, clamped on its
+/// four edges: a grid of square-ish cells, each cut by a diagonal that
+/// alternates with the parity of the cell ("union jack"), so that the mesh
+/// is mirror-symmetric about every grid line and the quarter with mirror
+/// planes is the same problem as the whole. Probe `apex` at the centre.
+pub fn rectangle(o: RectangleOptions) -> Result<Mesh, SimError> {
+    let (l, w) = (o.length_m, o.width_m);
+    if !(l.is_finite() && w.is_finite() && l > 0.0 && w > 0.0) || o.half_cells == 0 {
+        return Err(SimError::BadMesh(format!(
+            "the rectangle needs a positive length and width (not {l} and {w} m) and at least one cell"
+        )));
+    }
+    let hy = w / (2.0 * o.half_cells as f64);
+    let half_x = ((l / 2.0 / hy).round() as usize).max(1);
+    let hx = l / (2.0 * half_x as f64);
+    // grid indices: i along x, j along y
+    let (i0, i1, j0, j1) = if o.quarter {
+        (0, half_x as i64, 0, o.half_cells as i64)
+    } else {
+        (
+            -(half_x as i64),
+            half_x as i64,
+            -(o.half_cells as i64),
+            o.half_cells as i64,
+        )
+    };
+    let nx = (i1 - i0 + 1) as usize;
+    let id = |i: i64, j: i64| ((j - j0) as usize * nx + (i - i0) as usize) as u32;
+    let mut nodes = Vec::new();
+    let mut constraints = Vec::new();
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            nodes.push(Point3::new(i as f64 * hx, j as f64 * hy, 0.0));
+            let mut c = if i.abs() == half_x as i64 || j.abs() == o.half_cells as i64 {
+                Constraint::Fixed
+            } else {
+                Constraint::Free
+            };
+            if o.quarter {
+                if i == 0 {
+                    c = c.and_plane(Vector3::x());
+                }
+                if j == 0 {
+                    c = c.and_plane(Vector3::y());
+                }
+            }
+            constraints.push(c);
+        }
+    }
+    let mut tris = Vec::new();
+    for j in j0..j1 {
+        for i in i0..i1 {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            if (i + j).rem_euclid(2) == 0 {
+                tris.push([a, b, c]);
+                tris.push([a, c, d]);
+            } else {
+                tris.push([a, b, d]);
+                tris.push([b, c, d]);
+            }
+        }
+    }
+    let mut m = Mesh::new(nodes, tris, constraints)?;
+    m.probes.push(Probe {
+        name: "apex".into(),
+        node: id(0, 0) as usize,
+    });
+    m.symmetry_copies = if o.quarter { 4 } else { 1 };
+    Ok(m)
+}
+
 /// Corner topology of the sphere segment (Tudruj et al. (2023) Fig. 7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Corner {
@@ -720,6 +829,52 @@ mod tests {
             "{e}"
         );
         assert!(Mesh::new(nodes, vec![[0, 1, 2], [1, 3, 2]], c).is_ok());
+    }
+
+    /// The ellipse and the rectangle cover their windows' areas, are
+    /// clamped on their rims and face +z.
+    #[test]
+    fn ellipse_and_rectangle_windows() {
+        let area = |m: &Mesh| -> f64 {
+            m.triangles
+                .iter()
+                .map(|t| {
+                    let p = t.map(|i| m.nodes[i as usize]);
+                    let z = (p[1] - p[0]).cross(&(p[2] - p[0])).z / 2.0;
+                    assert!(z > 0.0);
+                    z
+                })
+                .sum()
+        };
+        let e = ellipse(0.04, 0.02, 24).unwrap();
+        let want = std::f64::consts::PI * 0.04 * 0.02;
+        // the inscribed polygon of 144 sides
+        assert!((area(&e) / want - 1.0).abs() < 2e-3, "{}", area(&e));
+        for (p, c) in e.nodes.iter().zip(&e.constraints) {
+            let on_rim = ((p.x / 0.04).powi(2) + (p.y / 0.02).powi(2) - 1.0).abs() < 1e-9;
+            assert_eq!(on_rim, *c == Constraint::Fixed);
+        }
+        for quarter in [true, false] {
+            let r = rectangle(RectangleOptions {
+                length_m: 0.16,
+                width_m: 0.02,
+                half_cells: 5,
+                quarter,
+            })
+            .unwrap();
+            let whole = 0.16 * 0.02 / if quarter { 4.0 } else { 1.0 };
+            assert!((area(&r) / whole - 1.0).abs() < 1e-12);
+            let apex = r.probe("apex").unwrap();
+            assert_eq!(r.nodes[apex], Point3::origin());
+            let fixed = r
+                .constraints
+                .iter()
+                .filter(|c| **c == Constraint::Fixed)
+                .count();
+            let (nx, ny) = (40, 5);
+            let want = if quarter { nx + ny + 1 } else { 4 * (nx + ny) };
+            assert_eq!(fixed, want);
+        }
     }
 
     #[test]

@@ -6,8 +6,9 @@
 //! * [`mesh`]: [`Mesh`] (reference nodes, triangles, edges, per-node
 //!   [`Constraint`]) and the scene meshes (disc, sphere segment, sheet);
 //! * [`springs`]: [`Membrane`], the spring model (TP MSS, Van Gelder, Lloyd)
-//!   with the modulus law of the material, follower pressure and nodal loads:
-//!   [`Membrane::forces`] and its tangent stiffness for Newton;
+//!   with the modulus law of the material, or the constant-strain triangle
+//!   membrane with the material's whole law ([`cst`]), follower pressure and
+//!   nodal loads: [`Membrane::forces`] and its tangent stiffness for Newton;
 //! * [`solve`]: quasi-static solution per pressure (Newton with a sparse LU,
 //!   dynamic relaxation with kinetic damping), continued from one pressure to
 //!   the next;
@@ -28,9 +29,11 @@
 //! # Ok::<(), bulge::sim::SimError>(())
 //! ```
 
+pub mod cst;
 pub mod disc;
 pub mod dynamics;
 pub mod hard;
+pub mod linear;
 pub mod mesh;
 pub mod par;
 pub mod scene;
@@ -66,6 +69,18 @@ pub enum SimError {
         triangle: usize,
         /// Its nodes.
         nodes: [u32; 3],
+    },
+    /// The material law has no stress at a triangle's stretches (the
+    /// membrane model).
+    #[error(
+        "triangle {triangle} is stretched to ({:.4}, {:.4}), where the material law has no finite stress (a collapsed triangle, or beyond the law's locking stretch); lower the pressure or check the law's parameters",
+        stretches[0], stretches[1]
+    )]
+    OutsideLaw {
+        /// Triangle index.
+        triangle: usize,
+        /// Its principal stretches.
+        stretches: [f64; 2],
     },
     /// Any other mesh problem.
     #[error("bad mesh: {0}")]

@@ -68,8 +68,8 @@ pub struct ParForces {
 }
 
 /// The span `[lo, hi)` of the nodes of some elements.
-fn span<'a>(nodes: impl Iterator<Item = &'a u32>) -> Option<(usize, usize)> {
-    nodes.fold(None, |s, &v| {
+fn span(nodes: impl Iterator<Item = u32>) -> Option<(usize, usize)> {
+    nodes.fold(None, |s, v| {
         let v = v as usize;
         Some(s.map_or((v, v + 1), |(lo, hi): (usize, usize)| {
             (lo.min(v), hi.max(v + 1))
@@ -86,15 +86,22 @@ impl ParForces {
     /// Indexes a mesh for a membrane built on it, in blocks for the current
     /// rayon pool (one per thread: fewer blocks, fewer shared nodes).
     pub fn new(mesh: &Mesh, membrane: &Membrane) -> ParForces {
-        let n = mesh.nodes.len();
+        debug_assert_eq!(mesh.triangles.len(), membrane.triangles());
+        ParForces::for_membrane(membrane)
+    }
+
+    /// Indexes a membrane's triangles and springs, in blocks for the current
+    /// rayon pool (one per thread: fewer blocks, fewer shared nodes).
+    pub fn for_membrane(membrane: &Membrane) -> ParForces {
+        let n = membrane.nodes();
         let springs = membrane.has_spring_path();
         let k = rayon::current_num_threads().max(1);
-        let spans: Vec<(Range<usize>, Range<usize>, usize, usize)> = cut(mesh.triangles.len(), k)
-            .zip(cut(mesh.edges.len(), k))
+        let spans: Vec<(Range<usize>, Range<usize>, usize, usize)> = cut(membrane.triangles(), k)
+            .zip(cut(membrane.springs(), k))
             .map(|(tris, edges)| {
-                let t = span(mesh.triangles[tris.clone()].iter().flatten());
+                let t = span(tris.clone().flat_map(|t| membrane.triangle_nodes(t)));
                 let e = if springs {
-                    span(mesh.edges[edges.clone()].iter().flatten())
+                    span(edges.clone().flat_map(|e| membrane.spring_nodes(e)))
                 } else {
                     None
                 };

@@ -56,10 +56,13 @@
 use nalgebra::{Point3, Vector3};
 
 use super::SimError;
+use super::cst::{CstLaw, CstRest, LawFailure};
 use super::mesh::{Constraint, Mesh};
 use crate::material::{Material, Model, StrainMeasure};
 
-/// The spring-stiffness model.
+/// The membrane model: a spring-stiffness model, or the constant-strain
+/// triangle membrane that carries the material's whole law
+/// ([`super::cst`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
@@ -72,11 +75,22 @@ pub enum SpringModel {
     VanGelder,
     /// Lloyd et al. eq 4.
     Lloyd,
+    /// Constant-strain triangles with the material's strain energy.
+    Membrane,
 }
 
 impl SpringModel {
     /// All models.
-    pub const ALL: [SpringModel; 4] = [
+    pub const ALL: [SpringModel; 5] = [
+        SpringModel::Tp,
+        SpringModel::TpPaper,
+        SpringModel::VanGelder,
+        SpringModel::Lloyd,
+        SpringModel::Membrane,
+    ];
+
+    /// The mass-spring models (all but the membrane).
+    pub const SPRINGS: [SpringModel; 4] = [
         SpringModel::Tp,
         SpringModel::TpPaper,
         SpringModel::VanGelder,
@@ -90,6 +104,7 @@ impl SpringModel {
             SpringModel::TpPaper => "tp-paper",
             SpringModel::VanGelder => "van-gelder",
             SpringModel::Lloyd => "lloyd",
+            SpringModel::Membrane => "membrane",
         }
     }
 
@@ -136,7 +151,7 @@ impl std::fmt::Display for HeightModel {
 
 /// A model name that is none of bulge's.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("`{0}` is not one of tp, tp-paper, van-gelder, lloyd, axisym")]
+#[error("`{0}` is not one of tp, tp-paper, van-gelder, lloyd, membrane, axisym")]
 pub struct UnknownHeightModel(pub String);
 
 impl std::str::FromStr for HeightModel {
@@ -309,6 +324,21 @@ impl NodeSink for &mut [Vector3<f64>] {
     }
 }
 
+/// A law failure of the membrane model as the solver's error.
+fn law_error(e: LawFailure, triangle: usize) -> SimError {
+    match e {
+        LawFailure::Modulus { strain, young_pa } => SimError::NonPositiveModulus {
+            strain,
+            young_pa,
+            triangle,
+        },
+        LawFailure::Domain { stretches } => SimError::OutsideLaw {
+            triangle,
+            stretches,
+        },
+    }
+}
+
 /// Side `k` of a triangle joins vertices `(k+1)%3` and `(k+2)%3`.
 const SIDE: [(usize, usize); 3] = [(1, 2), (2, 0), (0, 1)];
 
@@ -340,6 +370,8 @@ pub struct Membrane {
     edge_l0: Vec<f64>,
     /// Constant spring stiffness per edge (Van Gelder and Lloyd with a constant E).
     edge_k: Option<Vec<f64>>,
+    /// The membrane model: its law and the rest data of every triangle.
+    cst: Option<(CstLaw, Vec<CstRest>)>,
 }
 
 impl Membrane {
@@ -393,6 +425,7 @@ impl Membrane {
                         + t * nu / (1.0 - nu * nu) * (l0sq[i] + l0sq[j] - l0sq[k]) / (8.0 * area0)
                 }),
                 SpringModel::Lloyd => std::array::from_fn(|k| t * area0 / l0sq[k]),
+                SpringModel::Membrane => [0.0; 3],
             };
             for &i in tri {
                 masses[i as usize] += density_kg_m3 * t * area0 / 3.0;
@@ -424,6 +457,14 @@ impl Membrane {
             }
             _ => None,
         };
+        let cst = (model == SpringModel::Membrane).then(|| {
+            let rest = mesh
+                .triangles
+                .iter()
+                .map(|tri| CstRest::new(&tri.map(|i| mesh.nodes[i as usize]), t))
+                .collect();
+            (CstLaw::from_material(material), rest)
+        });
         Ok(Membrane {
             model,
             law,
@@ -437,6 +478,7 @@ impl Membrane {
             edges: mesh.edges.clone(),
             edge_l0,
             edge_k,
+            cst,
         })
     }
 
@@ -463,6 +505,11 @@ impl Membrane {
     /// Node indices of triangle `t`.
     pub fn triangle_nodes(&self, t: usize) -> [u32; 3] {
         self.tris[t].v
+    }
+
+    /// Node indices of spring `e`.
+    pub fn spring_nodes(&self, e: usize) -> [u32; 2] {
+        self.edges[e]
     }
 
     /// Rest area of triangle `t`, m^2.
@@ -505,16 +552,8 @@ impl Membrane {
         out: &mut S,
     ) -> Result<(), SimError> {
         for t in tris {
-            let tri = &self.tris[t];
-            let p = tri.v.map(|i| x[i as usize]);
-            let f =
-                self.local(tri, &p)
-                    .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
-                        strain,
-                        young_pa,
-                        triangle: t,
-                    })?;
-            for (v, fk) in tri.v.iter().zip(f) {
+            let f = self.triangle_forces(t, x)?;
+            for (v, fk) in self.tris[t].v.iter().zip(f) {
                 out.add(*v as usize, fk);
             }
         }
@@ -606,6 +645,7 @@ impl Membrane {
             SpringModel::VanGelder | SpringModel::Lloyd => {
                 std::array::from_fn(|k| e * tri.c[k] * (l[k] - tri.l0[k]))
             }
+            SpringModel::Membrane => unreachable!("the membrane model has no springs"),
         };
         let pn = n2 * (self.pressure_pa / 6.0);
         let mut out = [pn; 3];
@@ -619,15 +659,22 @@ impl Membrane {
     }
 
     /// Stiffness of triangle `t` (its springs and its pressure), `-d f / d x`
-    /// as a 9x9 matrix over its vertices' coordinates, by central differences
-    /// of the local forces (step 1e-6 of the shortest rest side; truncation
-    /// and round-off both below 1e-9 of the stiffness).
+    /// as a 9x9 matrix over its vertices' coordinates: for the spring models
+    /// by central differences of the local forces (step 1e-6 of the
+    /// shortest rest side; truncation and round-off both below 1e-9 of the
+    /// stiffness), for the membrane model exact ([`CstRest::stiffness`]).
     pub fn triangle_stiffness(
         &self,
         t: usize,
         x: &[Point3<f64>],
     ) -> Result<[[f64; 9]; 9], SimError> {
         let tri = &self.tris[t];
+        if let Some((law, rest)) = &self.cst {
+            let p = tri.v.map(|i| x[i as usize]);
+            return rest[t]
+                .stiffness(law, self.pressure_pa, &p)
+                .map_err(|e| law_error(e, t));
+        }
         let h = 1e-6 * tri.l0[0].min(tri.l0[1]).min(tri.l0[2]);
         let p0 = tri.v.map(|i| x[i as usize]);
         let err = |(strain, young_pa)| SimError::NonPositiveModulus {
@@ -683,9 +730,18 @@ impl Membrane {
             .collect()
     }
 
-    /// Energy of the springs, J, for Van Gelder and Lloyd with a constant E
-    /// (`1/2 sum k (l - l0)^2`); `None` for the others, which have none.
+    /// Elastic energy, J: of the springs for Van Gelder and Lloyd with a
+    /// constant E (`1/2 sum k (l - l0)^2`), of the triangles for the
+    /// membrane model with an energy (every law but the quartic); `None`
+    /// for the others, which have none.
     pub fn spring_energy(&self, x: &[Point3<f64>]) -> Option<f64> {
+        if let Some((law, rest)) = &self.cst {
+            return rest
+                .iter()
+                .zip(&self.tris)
+                .map(|(r, tri)| r.energy(law, &tri.v.map(|i| x[i as usize])))
+                .sum();
+        }
         let k = self.edge_k.as_ref()?;
         Some(
             self.edges
@@ -711,6 +767,11 @@ impl Membrane {
     ) -> Result<[Vector3<f64>; 3], SimError> {
         let tri = &self.tris[t];
         let p = tri.v.map(|i| x[i as usize]);
+        if let Some((law, rest)) = &self.cst {
+            return rest[t]
+                .forces(law, self.pressure_pa, &p)
+                .map_err(|e| law_error(e, t));
+        }
         self.local(tri, &p)
             .map_err(|(strain, young_pa)| SimError::NonPositiveModulus {
                 strain,

@@ -453,6 +453,9 @@ pub struct SequenceSpec {
     pub encoding: Encoding,
     /// The specimen written into `experiment.toml`.
     pub specimen: Specimen,
+    /// The window written into `experiment.toml` (a `[window]` table when
+    /// it is not the circle).
+    pub window: crate::experiment::Window,
     /// Where the specimen is in the picture.
     pub framing: Framing,
     /// What the photos show besides the plain side view.
@@ -590,7 +593,7 @@ pub fn experiment_toml(
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
          [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
-         [pressure]\n{pressure}",
+         [pressure]\n{pressure}{}",
         s.radius_m,
         s.thickness_m,
         s.poisson,
@@ -599,7 +602,23 @@ pub fn experiment_toml(
         layout.apex_in_template_px[1],
         scene.metres_per_pixel,
         scene.clamp_row_px,
+        window_toml(&spec.window),
     )
+}
+
+/// The `[window]` table of a non-circular window (empty for the circle).
+fn window_toml(w: &crate::experiment::Window) -> String {
+    use crate::experiment::Window;
+    match w {
+        Window::Circle => String::new(),
+        Window::Ellipse { semi_axes_m } => format!(
+            "\n[window]\nshape = \"ellipse\"\nsemi_axes_m = [{:?}, {:?}]\n",
+            semi_axes_m[0], semi_axes_m[1]
+        ),
+        Window::Rectangle { length_m, width_m } => format!(
+            "\n[window]\nshape = \"rectangle\"\nlength_m = {length_m:?}\nwidth_m = {width_m:?}\n"
+        ),
+    }
 }
 
 /// Renders and writes a whole synthetic experiment into `out`:

@@ -284,6 +284,7 @@ fn spec(seed: u64, blur: f64, noise: f64, enc: image::Encoding) -> synth::Sequen
         },
         framing: Default::default(),
         look: Default::default(),
+        window: Default::default(),
     }
 }
 

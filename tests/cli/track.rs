@@ -31,6 +31,7 @@ fn sequence(dir: &Path, enc: Encoding) -> synth::Written {
         },
         framing: Default::default(),
         look: Default::default(),
+        window: Default::default(),
     };
     let frames = synth::cap_frames(0.0375, 0.02, N);
     synth::write_sequence(dir, &spec, &frames).expect("synthetic sequence")

@@ -91,6 +91,7 @@ pub fn draw(case: &Case, dir: &Path, settings: &Settings) -> Result<Drawn, Pipel
         specimen: case.specimen,
         framing: Default::default(),
         look: Default::default(),
+        window: Default::default(),
     };
     let written = synth::write_sequence(dir, &spec, &frames)?;
     let experiment = Experiment::read(dir.join("experiment.toml"))

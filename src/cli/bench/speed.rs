@@ -47,7 +47,11 @@ fn disc_runs(
     for &n in rings {
         let (mesh, _) = paper003::bubble_disc(n);
         let nodes = mesh.nodes.len();
-        for &model in &[SpringModel::Tp, SpringModel::VanGelder] {
+        for &model in &[
+            SpringModel::Tp,
+            SpringModel::VanGelder,
+            SpringModel::Membrane,
+        ] {
             for solver in [Solver::Newton, Solver::Dr] {
                 if solver == Solver::Dr && n > 16 {
                     continue;

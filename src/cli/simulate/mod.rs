@@ -42,8 +42,9 @@ pub struct Args {
     pub pressures: Option<Vec<f64>>,
     /// Models, comma-separated, one output row each per pressure:
     /// tp (TP MSS force form, default), tp-paper (eq 11 with the eq 16
-    /// switch), van-gelder (eq 1), lloyd (eq 4), axisym (the exact
-    /// axisymmetric membrane solution, disc only; solver `shooting`).
+    /// switch), van-gelder (eq 1), lloyd (eq 4), membrane (constant-strain
+    /// triangles carrying the material's whole strain energy), axisym (the
+    /// exact axisymmetric membrane solution, disc only; solver `shooting`).
     #[arg(long, default_value = "tp", value_delimiter = ',', value_parser = HeightModel::from_str)]
     pub model: Vec<HeightModel>,
     /// Quasi-static solvers, comma-separated: newton (sparse LU, default) or
@@ -106,6 +107,7 @@ fn describe(mesh: &Mesh, scene: &Scene) -> String {
     let part = match (scene.kind, mesh.symmetry_copies) {
         (SceneKind::Disc { .. }, 6) => " (60 degree sector with mirror planes)",
         (SceneKind::SphereSegment { .. }, _) => " (octant with three symmetry planes)",
+        (SceneKind::Rectangle { .. }, 4) => " (quarter with mirror planes)",
         _ => "",
     };
     format!(

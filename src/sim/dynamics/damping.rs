@@ -67,7 +67,8 @@ pub fn reference_edge_stiffness(
                         + e * t * nu / (1.0 - nu * nu) * (a2 + b2 - c2) / (8.0 * area)
                 }
                 SpringModel::Lloyd => e * t * area / c2,
-                SpringModel::Tp | SpringModel::TpPaper => {
+                // the membrane model: TP MSS is the linear CST at small strain
+                SpringModel::Tp | SpringModel::TpPaper | SpringModel::Membrane => {
                     e * t / (8.0 * (1.0 - nu) * area) * (a2 + b2 - c2)
                 }
             };
