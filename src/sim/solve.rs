@@ -499,6 +499,9 @@ pub fn dynamic_relaxation(
     let mut scratch = vec![Vector3::zeros(); nn];
     let mut v = vec![Vector3::zeros(); nn];
     let mut mass = vec![0.0; nn];
+    // forces in parallel on large meshes, as Newton's
+    let mut par = (nn >= PAR_MIN_NODES && rayon::current_num_threads() > 1)
+        .then(|| ParForces::for_membrane(m));
     let fail = |reason: String| SimError::NoEquilibrium {
         pressure_pa,
         last_pressure_pa: f64::NAN,
@@ -519,7 +522,10 @@ pub fn dynamic_relaxation(
         if step > 0 && step % 500 == 0 {
             refresh(m, x, &mut mass)?;
         }
-        m.forces(x, &mut f)?;
+        match &mut par {
+            Some(p) => p.forces(m, x, &mut f)?,
+            None => m.forces(x, &mut f)?,
+        }
         m.project(&mut f);
         let rn = f.iter().map(|v| v.norm_squared()).sum::<f64>().sqrt();
         let load = load_norm(m, x, &mut scratch).max(f64::MIN_POSITIVE);
