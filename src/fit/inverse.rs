@@ -589,19 +589,13 @@ impl Problem<'_> {
     }
 }
 
-/// Corrects `material`'s parameters so that the axisymmetric inflation of
-/// `specimen` reproduces `measured` (see the module documentation).
-///
-/// Fails when there are fewer points than parameters, or when the starting
-/// law has no equilibrium at some measured pressure (the correction needs
-/// a starting point where every residual exists; leave out the photos past
-/// the limit point).
-pub fn refine(
+/// The law's free parameters and their start, once the measured points are
+/// checked: at least as many as parameters, every pressure and height
+/// positive and finite.
+fn parameters_for(
     material: &Material,
-    specimen: &Specimen,
     measured: &[Measured],
-    opts: &Options,
-) -> Result<Refined, FitError> {
+) -> Result<(Params, Vec<f64>), FitError> {
     let (params, x0) = Params::of(&material.model)?;
     if measured.len() < x0.len() {
         return Err(FitError::TooFewPoints {
@@ -621,6 +615,23 @@ pub fn refine(
             q.pressure_pa, q.height_m
         )));
     }
+    Ok((params, x0))
+}
+
+/// Corrects `material`'s parameters so that the axisymmetric inflation of
+/// `specimen` reproduces `measured` (see the module documentation).
+///
+/// Fails when there are fewer points than parameters, or when the starting
+/// law has no equilibrium at some measured pressure (the correction needs
+/// a starting point where every residual exists; leave out the photos past
+/// the limit point).
+pub fn refine(
+    material: &Material,
+    specimen: &Specimen,
+    measured: &[Measured],
+    opts: &Options,
+) -> Result<Refined, FitError> {
+    let (params, x0) = parameters_for(material, measured)?;
     let solves = AtomicUsize::new(0);
     let warm: Vec<Mutex<Option<(f64, f64)>>> = measured.iter().map(|_| Mutex::new(None)).collect();
     let problem = Problem {
@@ -1190,25 +1201,7 @@ pub fn refine_in_scene(
     measured: &[Measured],
     opts: &Options,
 ) -> Result<Refined, FitError> {
-    let (params, x0) = Params::of(&material.model)?;
-    if measured.len() < x0.len() {
-        return Err(FitError::TooFewPoints {
-            model: format!("{} (inverse fit to the heights)", material.model.name()),
-            points: measured.len(),
-            parameters: x0.len(),
-        });
-    }
-    if let Some((i, q)) = measured.iter().enumerate().find(|(_, q)| {
-        !(q.pressure_pa.is_finite()
-            && q.pressure_pa > 0.0
-            && q.height_m.is_finite()
-            && q.height_m > 0.0)
-    }) {
-        return Err(FitError::Unsupported(format!(
-            "measured point {i}: pressure {} Pa, height {} m; the inverse fit needs positive pressures and heights",
-            q.pressure_pa, q.height_m
-        )));
-    }
+    let (params, x0) = parameters_for(material, measured)?;
     let mut sc = scene.clone();
     if mesh.is_some() {
         sc.mesh.size = mesh;
