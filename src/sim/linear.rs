@@ -16,9 +16,11 @@
 //! solves `K d = r` by BiCGSTAB (van der Vorst, "Bi-CGSTAB: a fast and
 //! smoothly converging variant of Bi-CG for the solution of nonsymmetric
 //! linear systems", SIAM J. Sci. Stat. Comput. 13(2), 1992,
-//! doi:10.1137/0913035) preconditioned by that factorisation, to a relative
-//! residual of 1e-12 in double precision. Where `K` is symmetric one or two
-//! iterations give the answer; TP MSS takes a handful.
+//! doi:10.1137/0913035) preconditioned by that factorisation, in double
+//! precision, to the relative residual [`SparseSolver::tolerance`] (1e-12
+//! by default; Newton loosens it while its own residual is large). Where
+//! `K` is symmetric one or two iterations reach 1e-12; TP MSS takes a
+//! handful.
 //!
 //! The factorisation and the triangular solves run on one thread: on a
 //! 1e5-node disc faer's parallel supernodal kernels spent more time
