@@ -30,7 +30,7 @@
 //!   element's stress `dW/dC := E(l_m) dW_1/dC` (`W_1` the linear energy at
 //!   `E = 1`) has a tangent `E d2W_1/dC2 + dW_1/dC (x) E'(l_m) dl_m/dC` that
 //!   is not symmetric where `E` varies; there is no energy
-//!   ([`Cst::energy`] is `None`). Under equibiaxial stretch it is exactly
+//!   ([`CstLaw::energy`] is `None`). Under equibiaxial stretch it is exactly
 //!   the fitted law, as for the springs.
 //!
 //! Nodal forces `f_n = -t0 |T0| sum_v g_v dv/dx_n` over `v = (C11, C12,
