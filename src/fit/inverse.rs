@@ -388,17 +388,24 @@ const MONOTONE_WEIGHT: f64 = 10.0;
 /// penalty leaves of a violation stays on the rising side.
 const MONOTONE_MARGIN: f64 = 0.02;
 
+/// The law at the fit's unknowns `x`: the parameters themselves, or (in the
+/// scale stage) one factor on the start `x0`, with `base`'s Poisson ratio and
+/// provenance.
+fn material_at(params: &Params, base: &Material, scale_of: Option<&[f64]>, x: &[f64]) -> Material {
+    let x = match scale_of {
+        Some(x0) => params.scaled(x0, x[0]),
+        None => x.to_vec(),
+    };
+    Material {
+        model: params.model(&x),
+        poisson: base.poisson,
+        fit: base.fit.clone(),
+    }
+}
+
 impl Problem<'_> {
     fn material(&self, x: &[f64]) -> Material {
-        let x = match &self.scale_of {
-            Some(x0) => self.params.scaled(x0, x[0]),
-            None => x.to_vec(),
-        };
-        Material {
-            model: self.params.model(&x),
-            poisson: self.base.poisson,
-            fit: self.base.fit.clone(),
-        }
+        material_at(&self.params, self.base, self.scale_of.as_deref(), x)
     }
 
     /// `h(p_i) / h_i - 1` per point, `None` where there is no equilibrium.
@@ -1091,15 +1098,7 @@ struct SceneProblem<'a> {
 
 impl SceneProblem<'_> {
     fn material(&self, x: &[f64]) -> Material {
-        let x = match &self.scale_of {
-            Some(x0) => self.params.scaled(x0, x[0]),
-            None => x.to_vec(),
-        };
-        Material {
-            model: self.params.model(&x),
-            poisson: self.base.poisson,
-            fit: self.base.fit.clone(),
-        }
+        material_at(&self.params, self.base, self.scale_of.as_deref(), x)
     }
 
     /// `h(p_i) / h_i - 1` per point, `None` where the sweep found no
