@@ -21,11 +21,15 @@
 
 use std::time::Instant;
 
+#[path = "../tests/support/validation.rs"]
+mod validation;
+
 use bulge::axisym;
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::sim::scene::{MeshSettings, MeshSize, Scene, SceneKind, disc_mesh};
 use bulge::sim::{SceneSolver, SpringModel};
+use validation::bisect;
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
 
@@ -161,20 +165,6 @@ fn heights(scene: &Scene) -> Res<(Vec<f64>, usize, f64)> {
         nodes,
         t0.elapsed().as_secs_f64(),
     ))
-}
-
-/// The root of `f` in `[lo, hi]` by bisection (`f(lo)`, `f(hi)` of opposite signs).
-fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    let flo = f(lo);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if (f(mid) > 0.0) == (flo > 0.0) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 fn sphere() -> Res<()> {

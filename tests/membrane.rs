@@ -6,11 +6,15 @@
 //! strain (docs/theory.md section 9). The tables of these checks on more
 //! meshes: `cargo run --release --example membrane_validation`.
 
+#[path = "support/validation.rs"]
+mod validation;
+
 use bulge::axisym;
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::sim::scene::{MeshSettings, MeshSize, Scene, SceneKind, disc_mesh};
 use bulge::sim::{SceneSolver, SpringModel};
+use validation::bisect;
 
 fn material(model: Model) -> Material {
     Material {
@@ -45,20 +49,6 @@ fn scene(kind: SceneKind, m: &Material, pressures: &[f64], size: MeshSize) -> Sc
         },
         loads: Vec::new(),
     }
-}
-
-/// The root of `f` in `[lo, hi]` by bisection.
-fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    let flo = f(lo);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if (f(mid) > 0.0) == (flo > 0.0) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 /// A Mooney-Rivlin latex disc (C1 0.25 MPa, C2 0.02 MPa, a 37.5 mm, t

@@ -106,3 +106,17 @@ pub const HENCKY: [(f64, f64); 4] = [
     (1.0 / 3.0, 0.64478),
     (0.45, 0.61117),
 ];
+
+/// The root of `f` in `[lo, hi]` by bisection (`f(lo)`, `f(hi)` of opposite signs).
+pub fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let flo = f(lo);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if (f(mid) > 0.0) == (flo > 0.0) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
