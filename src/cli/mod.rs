@@ -9,6 +9,7 @@
 pub mod bench;
 mod checks;
 pub mod fit;
+pub mod init;
 pub mod run;
 pub mod simulate;
 pub mod stress;
@@ -40,6 +41,8 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 #[allow(clippy::large_enum_variant)]
 pub enum Command {
+    /// Photos -> experiment file: clamp plane, axis, region, template, scale, elevation.
+    Init(init::Args),
     /// Photos -> apex height per photo (OpenCV template matching, sub-pixel).
     Track(track::Args),
     /// Write a synthetic experiment with known truth (photos, pressures, truth).
@@ -114,6 +117,7 @@ impl<T, E: Into<anyhow::Error>> Classify<T> for Result<T, E> {
 /// Runs a parsed command line.
 pub fn dispatch(cli: Cli) -> Result<(), Failure> {
     match cli.command {
+        Command::Init(a) => init::run(a),
         Command::Track(a) => track::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Stress(a) => stress::run(a),

@@ -142,6 +142,185 @@ fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, Tra
     Ok(buf.as_slice().to_vec())
 }
 
+/// `init.png`: the photo at `path` (the last of the sequence) with what
+/// `bulge init` found drawn on it: the clamp's top edge as located (green
+/// dots) and the clamp plane (green line over the clamp's width), the
+/// opening `2a` at the clamp plane (magenta), the silhouette's sides as
+/// located (cyan), the first and last silhouettes' outlines (yellow), the
+/// axis (blue), every photo's apex (red crosses), the region `roi_px`
+/// (blue) and the template (green), with the values written at the top.
+pub fn init_png(
+    path: &Path,
+    found: &super::init::Found,
+    max_width_px: usize,
+) -> Result<Vec<u8>, TrackError> {
+    let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    let img = imgcodecs::imdecode(&Vector::<u8>::from_slice(&bytes), imgcodecs::IMREAD_COLOR)
+        .map_err(cv)?;
+    let (w, h) = (img.cols() as f64, img.rows() as f64);
+    let scale = if w > max_width_px as f64 {
+        max_width_px as f64 / w
+    } else {
+        1.0
+    };
+    let mut out = Mat::default();
+    if scale < 1.0 {
+        let size = Size::new((w * scale).round() as i32, (h * scale).round() as i32);
+        imgproc::resize(&img, &mut out, size, 0.0, 0.0, imgproc::INTER_AREA).map_err(cv)?;
+    } else {
+        out = img;
+    }
+    let thick = ((out.cols() as f64 / 500.0).round() as i32).max(1);
+    let pt = |x: f64, y: f64| {
+        Point::new(
+            ((x + 0.5) * scale).round() as i32,
+            ((y + 0.5) * scale).round() as i32,
+        )
+    };
+    let colour = |b: f64, g: f64, r: f64| Scalar::new(b, g, r, 0.0);
+    let (blue, green, red) = (
+        colour(220.0, 120.0, 0.0),
+        colour(0.0, 200.0, 0.0),
+        colour(0.0, 0.0, 255.0),
+    );
+    let (yellow, cyan, magenta) = (
+        colour(0.0, 220.0, 255.0),
+        colour(230.0, 220.0, 0.0),
+        colour(230.0, 0.0, 230.0),
+    );
+    let dot = |m: &mut Mat, p: Point, c: Scalar| {
+        imgproc::circle(m, p, thick, c, -1, imgproc::LINE_AA, 0).map_err(cv)
+    };
+    let line = |m: &mut Mat, a: Point, b: Point, c: Scalar| {
+        imgproc::line(m, a, b, c, thick, imgproc::LINE_AA, 0).map_err(cv)
+    };
+    let every = |n: usize| (n / 150).max(1);
+    for o in &found.outlines_px {
+        for p in o.iter().step_by(every(o.len())) {
+            dot(&mut out, pt(p[0], p[1]), yellow)?;
+        }
+    }
+    for p in found
+        .clamp_points_px
+        .iter()
+        .step_by(every(found.clamp_points_px.len()))
+    {
+        dot(&mut out, pt(p[0], p[1]), green)?;
+    }
+    for p in &found.side_points_px {
+        dot(&mut out, pt(p[0], p[1]), cyan)?;
+    }
+    let (x0, c) = (found.axis_x_px.value, found.clamp_row_px.value);
+    let half = found
+        .clamp_half_width_px
+        .or(found.radius_px.map(|a| 1.2 * a.value))
+        .unwrap_or(0.25 * w);
+    line(&mut out, pt(x0 - half, c), pt(x0 + half, c), green)?;
+    let top = found.apexes_px.iter().map(|a| a[1]).fold(c, f64::min);
+    line(&mut out, pt(x0, top - 0.05 * h), pt(x0, c), blue)?;
+    if let Some(a) = found.radius_px {
+        let a = a.value;
+        line(&mut out, pt(x0 - a, c), pt(x0 + a, c), magenta)?;
+        let tick = 0.02 * h;
+        line(
+            &mut out,
+            pt(x0 - a, c - tick),
+            pt(x0 - a, c + tick),
+            magenta,
+        )?;
+        line(
+            &mut out,
+            pt(x0 + a, c - tick),
+            pt(x0 + a, c + tick),
+            magenta,
+        )?;
+    }
+    let arm = 3 * thick + 2;
+    for a in &found.apexes_px {
+        let p = pt(a[0], a[1]);
+        line(
+            &mut out,
+            Point::new(p.x - arm, p.y),
+            Point::new(p.x + arm, p.y),
+            red,
+        )?;
+        line(
+            &mut out,
+            Point::new(p.x, p.y - arm),
+            Point::new(p.x, p.y + arm),
+            red,
+        )?;
+    }
+    let rect = |r: [i64; 4]| {
+        let a = pt(r[0] as f64 - 0.5, r[1] as f64 - 0.5);
+        let b = pt((r[0] + r[2]) as f64 - 0.5, (r[1] + r[3]) as f64 - 0.5);
+        Rect::new(a.x, a.y, (b.x - a.x).max(1), (b.y - a.y).max(1))
+    };
+    imgproc::rectangle(
+        &mut out,
+        rect(found.layout.roi_px),
+        blue,
+        thick,
+        imgproc::LINE_AA,
+        0,
+    )
+    .map_err(cv)?;
+    imgproc::rectangle(
+        &mut out,
+        rect(found.layout.template_rect_px),
+        green,
+        thick,
+        imgproc::LINE_AA,
+        0,
+    )
+    .map_err(cv)?;
+    let mut lines = vec![format!(
+        "clamp row {:.2} +- {:.2} px   axis {:.2} px",
+        c, found.clamp_row_px.std, x0
+    )];
+    if let Some(a) = found.radius_px {
+        lines.push(format!(
+            "2a = {:.2} +- {:.2} px: {:.4e} m/px",
+            2.0 * a.value,
+            2.0 * a.std,
+            found.metres_per_pixel.value
+        ));
+    }
+    if let Some(e) = found.elevation_deg {
+        lines.push(format!("elevation {:.2} +- {:.2} deg", e.value, e.std));
+    }
+    let font = (out.cols() as f64 / 1100.0).max(0.4);
+    for (k, text) in lines.iter().enumerate() {
+        let at = Point::new(8, ((k + 1) as f64 * 26.0 * font / 0.7) as i32);
+        for (c, t) in [
+            (colour(255.0, 255.0, 255.0), thick + 2),
+            (colour(0.0, 0.0, 0.0), thick),
+        ] {
+            imgproc::put_text(
+                &mut out,
+                text,
+                at,
+                imgproc::FONT_HERSHEY_SIMPLEX,
+                font,
+                c,
+                t,
+                imgproc::LINE_AA,
+                false,
+            )
+            .map_err(cv)?;
+        }
+    }
+    let mut buf = Vector::<u8>::new();
+    let ok = imgcodecs::imencode(".png", &out, &mut buf, &Vector::new()).map_err(cv)?;
+    if !ok {
+        return Err(TrackError::OpenCv("OpenCV could not encode a PNG".into()));
+    }
+    Ok(buf.as_slice().to_vec())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

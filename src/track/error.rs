@@ -14,6 +14,18 @@ pub enum TrackError {
         /// What went wrong.
         reason: String,
     },
+    /// Something `bulge init` looks for is not in the photos.
+    #[error(
+        "{what} not found in the photos: {detail}; set {keys} in the experiment file by hand (docs/track.md, \"The experiment file\")"
+    )]
+    NotFound {
+        /// What was looked for.
+        what: String,
+        /// Why it was not found.
+        detail: String,
+        /// The keys of the experiment file to set instead.
+        keys: &'static str,
+    },
     /// The video cannot be opened or read.
     #[error("{}: cannot read the video: {reason}; fix `video` in [photos] (a file, relative to the experiment file), or convert the video to Motion JPEG in AVI or H.264 in MP4", path.display())]
     Video {

@@ -163,11 +163,26 @@ pub struct EdgeSettings {
 /// centred window keeps it unbiased. Returns the row and the step (sum of the
 /// weighted differences, grey levels).
 fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> {
+    profile_edge(
+        |j| f64::from(img.at(c, j as usize)),
+        img.height as i64,
+        start,
+        hw,
+    )
+}
+
+/// [`column_edge`] along any profile of `len` samples `px(0..len)`: a
+/// column, a row, or an average of several.
+pub(crate) fn profile_edge(
+    px: impl Fn(i64) -> f64,
+    len: i64,
+    start: f64,
+    hw: f64,
+) -> Option<(f64, f64)> {
     // Rows beyond the window on each side over which the background slope is
     // measured.
     const SLOPE_ROWS: i64 = 6;
-    let h = img.height as i64;
-    let px = |j: i64| f64::from(img.at(c, j as usize));
+    let h = len;
     let mut e = start;
     let mut step = 0.0;
     for _ in 0..8 {

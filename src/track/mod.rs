@@ -25,6 +25,7 @@
 
 pub mod annotate;
 pub mod image;
+pub mod init;
 pub(crate) mod matcher;
 pub mod synth;
 pub mod video;
@@ -41,5 +42,7 @@ pub use setup::*;
 pub use tracker::*;
 pub use types::*;
 
+#[cfg(test)]
+mod init_tests;
 #[cfg(test)]
 mod tests;

@@ -560,6 +560,38 @@ pub struct Layout {
     pub apex_in_template_px: [f64; 2],
 }
 
+impl Layout {
+    /// The template (`size` = width, height px) centred on the apex of
+    /// photo `reference` and a region three template widths wide covering
+    /// every apex with a template's height above and below, inside a photo
+    /// of `frame` = (width, height) px.
+    pub fn around(
+        apexes: &[[f64; 2]],
+        reference: usize,
+        size: (usize, usize),
+        frame: (usize, usize),
+    ) -> Layout {
+        let (tw, th) = size;
+        let [ax0, ay0] = apexes[reference];
+        let tx = (ax0 - tw as f64 / 2.0).round() as i64;
+        let ty = (ay0 - th as f64 / 2.0).round() as i64;
+        let ymin = apexes.iter().map(|a| a[1]).fold(f64::INFINITY, f64::min);
+        let ymax = apexes
+            .iter()
+            .map(|a| a[1])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let rx = (ax0 - 1.5 * tw as f64).round().max(0.0) as i64;
+        let ry = (ymin - th as f64).floor().max(0.0) as i64;
+        let rw = ((3 * tw) as i64).min(frame.0 as i64 - rx);
+        let rh = ((ymax + th as f64).ceil() as i64 - ry).min(frame.1 as i64 - ry);
+        Layout {
+            roi_px: [rx, ry, rw, rh],
+            template_rect_px: [tx, ty, tw as i64, th as i64],
+            apex_in_template_px: [ax0 - tx as f64, ay0 - ty as f64],
+        }
+    }
+}
+
 /// The text of an experiment file for a synthetic sequence; `photos` and
 /// `pressure` are the lines saying where the frames and the pressures are
 /// (e.g. `dir = "photos"\nglob = "*.png"\n` and `csv = "pressure.csv"\n`).
@@ -714,29 +746,13 @@ pub fn write_sequence(
     let p = out.join("truth.csv");
     tcsv.write(&p).map_err(|e| write_err(&p, e))?;
 
-    // Template around the reference (first) frame's apex; region covering
-    // every apex with a template's margin.
-    let (tw, th) = template_size(spec.width);
-    let [ax0, ay0] = [truth[0].apex_x_px, truth[0].apex_y_px];
-    let tx = (ax0 - tw as f64 / 2.0).round() as i64;
-    let ty = (ay0 - th as f64 / 2.0).round() as i64;
-    let ymin = truth
-        .iter()
-        .map(|t| t.apex_y_px)
-        .fold(f64::INFINITY, f64::min);
-    let ymax = truth
-        .iter()
-        .map(|t| t.apex_y_px)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let rx = (ax0 - 1.5 * tw as f64).round().max(0.0) as i64;
-    let ry = (ymin - th as f64).floor().max(0.0) as i64;
-    let rw = ((3 * tw) as i64).min(spec.width as i64 - rx);
-    let rh = ((ymax + th as f64).ceil() as i64 - ry).min(spec.height as i64 - ry);
-    let layout = Layout {
-        roi_px: [rx, ry, rw, rh],
-        template_rect_px: [tx, ty, tw as i64, th as i64],
-        apex_in_template_px: [ax0 - tx as f64, ay0 - ty as f64],
-    };
+    let apexes: Vec<[f64; 2]> = truth.iter().map(|t| [t.apex_x_px, t.apex_y_px]).collect();
+    let layout = Layout::around(
+        &apexes,
+        0,
+        template_size(spec.width),
+        (spec.width, spec.height),
+    );
     let toml = experiment_toml(
         spec,
         &scene,

@@ -6,6 +6,7 @@ mod util;
 mod bench;
 mod dynamics;
 mod fit;
+mod init;
 mod mistakes;
 mod run;
 mod simulate;

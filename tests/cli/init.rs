@@ -1,0 +1,119 @@
+//! Integration tests of `bulge init`: the set-up of the bundled demo found
+//! from its photos alone, then tracked; what it refuses.
+
+use std::fs;
+
+use crate::util::{bulge_in, read_csv, repo, tempdir};
+
+/// The demo's photos alone: the experiment file written, commented, close
+/// to the synthetic truth (clamp row 384.4156 px, 1.674107e-4 m/px), and
+/// `bulge track` with it gives heights within 0.5 % of the truth.
+#[test]
+fn init_then_track_the_demo() {
+    let dir = tempdir();
+    let demo = repo().join("data/demo");
+    let out = dir.path().join("setup/experiment.toml");
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "init",
+            demo.join("photos").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--pressure",
+            demo.join("pressure.csv").to_str().unwrap(),
+        ],
+    )
+    .ok();
+    assert!(r.stdout.contains("clamp row"), "{}", r.stdout);
+    assert!(dir.path().join("setup/init.png").is_file());
+    let text = fs::read_to_string(&out).unwrap();
+    let value = |key: &str| -> f64 {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} =")))
+            .unwrap_or_else(|| panic!("{key} missing:\n{text}"));
+        line.split('=').nth(1).unwrap().trim().parse().unwrap()
+    };
+    assert!((value("clamp_row_px") - 384.4156).abs() < 0.5, "{text}");
+    assert!(
+        (value("metres_per_pixel") / 1.674107e-4 - 1.0).abs() < 0.003,
+        "{text}"
+    );
+    assert!(value("clamp_row_std_px") > 0.0 && value("metres_per_pixel_std") > 0.0);
+    bulge_in(
+        dir.path(),
+        &["track", out.to_str().unwrap(), "-o", "heights.csv"],
+    )
+    .ok();
+    let (head, rows) = read_csv(&dir.path().join("heights.csv"));
+    let (_, truth) = read_csv(&demo.join("truth.csv"));
+    let col = head.iter().position(|h| h == "height_m").unwrap();
+    assert_eq!(rows.len(), truth.len());
+    for (r, t) in rows.iter().zip(&truth) {
+        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
+        assert!((h / ht - 1.0).abs() < 0.005, "{h} against {ht}");
+    }
+    // An existing experiment file is not replaced without --force; an
+    // input is never an output.
+    let photos = demo.join("photos");
+    let again = [
+        "init",
+        photos.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--radius-m",
+        "0.0375",
+        "--thickness-m",
+        "0.00035",
+    ];
+    bulge_in(dir.path(), &again).bad_input(&["exists", "--force"]);
+    let mut forced = again.to_vec();
+    forced.push("--force");
+    bulge_in(dir.path(), &forced).ok();
+    let png_over_photo = demo.join("photos/frame_001.jpg");
+    let mut over = forced.clone();
+    over.extend(["--png", png_over_photo.to_str().unwrap()]);
+    bulge_in(dir.path(), &over).bad_input(&["never overwritten"]);
+}
+
+/// A folder whose photos do not change is refused, naming the keys.
+#[test]
+fn init_refuses_photos_without_a_growing_bubble() {
+    let dir = tempdir();
+    let photos = dir.path().join("photos");
+    fs::create_dir_all(&photos).unwrap();
+    let one = repo().join("data/demo/photos/frame_001.jpg");
+    for k in 1..=3 {
+        fs::copy(&one, photos.join(format!("img{k}.jpg"))).unwrap();
+    }
+    bulge_in(
+        dir.path(),
+        &[
+            "init",
+            "photos",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+        ],
+    )
+    .bad_input(&["the bubble not found", "roi_px"]);
+    assert!(!dir.path().join("experiment.toml").exists());
+    bulge_in(
+        dir.path(),
+        &[
+            "init",
+            "nowhere",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+        ],
+    )
+    .bad_input(&["nowhere", "not a folder"]);
+}
