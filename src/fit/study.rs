@@ -99,6 +99,34 @@ pub fn study(inputs: &[StudyInput], start: &Material) -> Result<Study, FitError>
             values,
         });
     }
+    gather(names, specimens)
+}
+
+/// The material across specimens already fitted (each [`SpecimenFit`]'s
+/// `values` and `std_errors` in the order of `names`; its `outlier` is
+/// set here): the statistics of [`study`] without the fits, for a caller
+/// that corrected each specimen's law itself (`bulge study` does, through
+/// the whole pipeline). At least two specimens, all with `names.len()`
+/// values.
+pub fn gather(names: Vec<String>, mut specimens: Vec<SpecimenFit>) -> Result<Study, FitError> {
+    if specimens.len() < 2 {
+        return Err(FitError::Unsupported(format!(
+            "a study needs two specimens or more, {} given",
+            specimens.len()
+        )));
+    }
+    for s in &specimens {
+        let se = s.std_errors.as_ref().map_or(names.len(), Vec::len);
+        if s.values.len() != names.len() || se != names.len() {
+            return Err(FitError::Unsupported(format!(
+                "specimen {}: {} values (and {se} standard errors) for the {} parameters {}: every specimen must be fitted with the same law",
+                s.name,
+                s.values.len(),
+                names.len(),
+                names.join(", ")
+            )));
+        }
+    }
     let n = specimens.len();
     let p = names.len();
     let col = |k: usize, skip: Option<usize>| -> Vec<f64> {
@@ -179,6 +207,57 @@ mod tests {
     use crate::fit::coverage::{Rng, draw};
     use crate::fit::uncertainty::Sources;
     use crate::material::Model;
+
+    fn given(name: &str, values: Vec<f64>, se: f64) -> SpecimenFit {
+        SpecimenFit {
+            name: name.into(),
+            std_errors: Some(vec![se; values.len()]),
+            outlier: vec![],
+            values,
+        }
+    }
+
+    /// The statistics of given fits against hand-computed ones: five values
+    /// 1..5 (x 1e5 Pa) have mean 3e5, sample standard deviation
+    /// sqrt(2.5) 1e5, and a 95 % interval of the mean of half-width
+    /// t(0.975, 4) s / sqrt(5) with t(0.975, 4) = 2.776445 (Student's t
+    /// table, Montgomery & Runger 2014, Table V); equal standard errors pool
+    /// to the plain mean with se / sqrt(5). A value five times the others'
+    /// scatter away is flagged; a specimen with a different law is refused.
+    #[test]
+    fn gathered_statistics_match_hand_computed_ones() {
+        let fits: Vec<SpecimenFit> = (1..=5)
+            .map(|i| given(&format!("s{i}"), vec![i as f64 * 1e5], 2e4))
+            .collect();
+        let s = gather(vec!["c1_pa".into()], fits.clone()).unwrap();
+        let sd = 2.5f64.sqrt() * 1e5;
+        assert!((s.mean[0] - 3e5).abs() < 1e-6);
+        assert!((s.std[0] / sd - 1.0).abs() < 1e-12);
+        assert!((s.cv[0] - sd / 3e5).abs() < 1e-12);
+        let half = 2.776445 * sd / 5f64.sqrt();
+        assert!((s.mean_ci95[0][1] - 3e5 - half).abs() < 1e-5 * half);
+        assert!((3e5 - s.mean_ci95[0][0] - half).abs() < 1e-5 * half);
+        let (pv, pse) = s.pooled.unwrap();
+        assert!((pv[0] - 3e5).abs() < 1e-6 && (pse[0] - 2e4 / 5f64.sqrt()).abs() < 1e-9);
+        assert!(s.specimens.iter().all(|f| f.outlier == [false]));
+
+        let mut odd: Vec<SpecimenFit> = [1.0, 1.02, 0.98, 1.01, 0.99]
+            .iter()
+            .enumerate()
+            .map(|(i, v)| given(&format!("s{i}"), vec![v * 1e5], 1e3))
+            .collect();
+        odd.push(given("odd", vec![1.5e5], 1e3));
+        let s = gather(vec!["c1_pa".into()], odd).unwrap();
+        assert!(s.specimens[5].outlier[0]);
+        assert!(s.specimens[..5].iter().all(|f| !f.outlier[0]));
+
+        let mut mixed = fits;
+        mixed[2].values.push(1.0);
+        let e = gather(vec!["c1_pa".into()], mixed).unwrap_err().to_string();
+        assert!(e.contains("specimen s3") && e.contains("same law"), "{e}");
+        let e = gather(vec!["c1_pa".into()], vec![given("a", vec![1.0], 1.0)]).unwrap_err();
+        assert!(e.to_string().contains("two specimens"), "{e}");
+    }
 
     /// Five specimens of one Mooney-Rivlin rubber whose thicknesses scatter
     /// by 3 % (each measured to 1 %), heights 30 um, gauge 0.5 %: the
