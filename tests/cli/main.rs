@@ -10,5 +10,6 @@ mod mistakes;
 mod run;
 mod simulate;
 mod stress;
+mod study;
 mod track;
 mod video;
