@@ -170,13 +170,17 @@ const BY_CONTENT: u64 = 1 << 20;
 
 /// The fingerprint of a specimen: the bulge version, its settings, and each
 /// input file (the experiment file, pressure log, template, video and
-/// photos) by name and content, or size and modification time when large.
+/// photos) by its name from the experiment's folder and its content, or
+/// size and modification time when large.
 fn fingerprint(exp: &Experiment, s: &Settings) -> String {
     let mut h = Fnv::new();
     h.bytes(env!("CARGO_PKG_VERSION").as_bytes());
     h.bytes(format!("{s:?}").as_bytes());
     for p in experiment_inputs(exp) {
-        h.bytes(p.to_string_lossy().as_bytes());
+        // named from the experiment's folder: the same study run from
+        // another working folder is the same
+        let name = p.strip_prefix(&exp.base_dir).unwrap_or(&p);
+        h.bytes(name.to_string_lossy().as_bytes());
         match fs::metadata(&p) {
             Ok(m) if m.len() <= BY_CONTENT => match fs::read(&p) {
                 Ok(b) => h.bytes(&b),

@@ -264,4 +264,18 @@ fn experiment_files_directly_and_bad_study_files() {
         .bad_input(&["two specimens are named `a`", "distinct `name`"]);
     bulge_in(d, &["study", "s1/experiment.toml", "--out", "o"])
         .bad_input(&["two specimens or more"]);
+    // the study's output folder may not hold its inputs
+    bulge_in(d, &["study", "study.toml", "--out", "s1"]).bad_input(&["--out", "never overwritten"]);
+    let help = bulge_in(d, &["study", "--help"]).ok();
+    for f in [
+        "--out",
+        "--redo",
+        "--fit",
+        "--models",
+        "--weighted",
+        "[[specimens]]",
+        "study_fit.toml",
+    ] {
+        assert!(help.stdout.contains(f), "--help lacks {f}");
+    }
 }
