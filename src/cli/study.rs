@@ -19,10 +19,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::run::{Done, RunFlags, run_into, settings};
 use super::{Failure, experiment_inputs, progress};
-use bulge::experiment::Experiment;
-use bulge::fit::inverse::law_parameters;
-use bulge::fit::study::{SpecimenFit, gather};
+use bulge::experiment::{Experiment, Specimen};
+use bulge::fit::inverse::{self, Measured, law_parameters};
+use bulge::fit::study::{SpecimenFit, StudyInput, gather, joint};
 use bulge::io::{InputError, OutputPlan};
+use bulge::material::Material;
+use bulge::pipeline::measured_heights;
 use bulge::pipeline::{Observer, PipelineError, RunOptions, Settings, Stage, Timing};
 use bulge::report::out_dir::OutDir;
 use bulge::report::run_files::{OutFile, settings_table};
@@ -129,6 +131,27 @@ pub struct Record {
     /// Their covariance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub covariance: Option<Vec<Vec<f64>>>,
+    /// The specimen as the correction used it (for the joint fit).
+    pub specimen: Specimen,
+    /// The corrected law (without its provenance).
+    pub material: Material,
+    /// The heights the law was corrected to, when the window is circular
+    /// and the law was corrected (for the joint fit).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub heights: Vec<Height>,
+}
+
+/// One measured height of a record.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Height {
+    /// Pressure, Pa.
+    pub pressure_pa: f64,
+    /// Apex height, m.
+    pub height_m: f64,
+    /// Its standard deviation, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_std_m: Option<f64>,
 }
 
 /// The record's file name in the specimen's folder.
@@ -370,6 +393,23 @@ fn record(m: &Member, o: &bulge::pipeline::RunOutput) -> Result<Record, Pipeline
                 .map(|i| (0..c.ncols()).map(|j| c[(i, j)]).collect())
                 .collect()
         }),
+        specimen: o.specimen,
+        material: Material {
+            fit: None,
+            ..o.fit.material.clone()
+        },
+        heights: if m.settings.window.is_circle() && o.fit.refined.is_some() {
+            measured_heights(&o.stress.points)
+                .iter()
+                .map(|q| Height {
+                    pressure_pa: q.pressure_pa,
+                    height_m: q.height_m,
+                    height_std_m: q.height_std_m,
+                })
+                .collect()
+        } else {
+            vec![]
+        },
     })
 }
 
@@ -507,6 +547,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         ..StudyInfo::default()
     };
     let mut failures = Vec::new();
+    let mut joint_inputs: Vec<(StudyInput, Material)> = Vec::new();
     for (m, o) in members.iter().zip(outcomes) {
         let r = match o {
             Outcome::Reused(r) => {
@@ -532,6 +573,25 @@ pub fn run(args: Args) -> Result<(), Failure> {
         };
         if names.is_empty() {
             names = r.parameters.clone();
+        }
+        if !r.heights.is_empty() {
+            joint_inputs.push((
+                StudyInput {
+                    name: m.name.clone(),
+                    specimen: r.specimen,
+                    measured: r
+                        .heights
+                        .iter()
+                        .map(|h| Measured {
+                            pressure_pa: h.pressure_pa,
+                            height_m: h.height_m,
+                            height_std_m: h.height_std_m,
+                        })
+                        .collect(),
+                    options: inverse::Options::default(),
+                },
+                r.material.clone(),
+            ));
         }
         info.thickness_m.push(r.thickness_m);
         fits.push(SpecimenFit {
@@ -577,6 +637,17 @@ pub fn run(args: Args) -> Result<(), Failure> {
         );
     }
     let study = gather(names, fits).map_err(|e| bad(format!("{e}")))?;
+    // one law fitted to every specimen's heights together, from the first
+    // specimen's corrected law
+    if joint_inputs.len() == study.specimens.len() {
+        let start = joint_inputs[0].1.clone();
+        let inputs: Vec<StudyInput> = joint_inputs.into_iter().map(|(i, _)| i).collect();
+        match joint(&inputs, &start) {
+            Ok(j) if j.names == study.names => info.joint = Some(j.values),
+            Ok(_) => {}
+            Err(e) => eprintln!("no joint fit of the specimens' heights: {e}"),
+        }
+    }
     info.settings = settings_table(&first.settings, &first.exp, &[])
         .into_iter()
         .filter(|(k, _)| k != "experiment" && !k.starts_with("pressures"))

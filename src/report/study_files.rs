@@ -3,7 +3,8 @@
 //! specimen, then the mean, standard deviation, coefficient of variation,
 //! the 95 % interval of the mean and the inverse-variance pooled value),
 //! `study.svg` (each parameter per specimen with its 95 % error bar, the
-//! mean and its interval) and the self-contained `study.html`; and the
+//! mean and its interval) and the self-contained `study.html`; with the
+//! joint fit of every specimen's heights when given; and the
 //! table printed on the terminal. `bulge study` writes them.
 
 use super::html::{CSS, Picture, img, kv};
@@ -30,6 +31,9 @@ pub struct StudyInfo {
     pub failed: Vec<(String, String)>,
     /// Settings shared by the specimens, key/value.
     pub settings: Vec<(String, String)>,
+    /// One law fitted to every specimen's heights together
+    /// ([`crate::fit::study::joint`]), in the order of the study's names.
+    pub joint: Option<Vec<f64>>,
 }
 
 /// The study's files and its terminal table.
@@ -62,7 +66,7 @@ fn shown(name: &str) -> (String, f64) {
 /// its standard error per parameter.
 type SummaryRow = (&'static str, Vec<f64>, Option<Vec<f64>>);
 
-fn summary(s: &Study) -> Vec<SummaryRow> {
+fn summary(s: &Study, joint: Option<&Vec<f64>>) -> Vec<SummaryRow> {
     let n = s.specimens.len() as f64;
     let mut rows: Vec<SummaryRow> = vec![
         (
@@ -82,10 +86,14 @@ fn summary(s: &Study) -> Vec<SummaryRow> {
     if let Some((v, se)) = &s.pooled {
         rows.push(("pooled", v.clone(), Some(se.clone())));
     }
+    if let Some(j) = joint {
+        rows.push(("joint", j.clone(), None));
+    }
     rows
 }
 
-/// `study.csv`.
+/// `study.csv` (the summary rows: mean, std, cv, ci95_low, ci95_high,
+/// pooled, joint, each when there is one).
 pub fn csv(s: &Study, info: &StudyInfo) -> CsvOut {
     let mut head = vec!["specimen".to_string(), "thickness_m".to_string()];
     for n in &s.names {
@@ -110,7 +118,7 @@ pub fn csv(s: &Study, info: &StudyInfo) -> CsvOut {
         row.push(flagged.join(" "));
         out.row(&row);
     }
-    for (label, v, se) in summary(s) {
+    for (label, v, se) in summary(s, info.joint.as_ref()) {
         let mut row = vec![label.to_string(), String::new()];
         for k in 0..s.names.len() {
             row.push(fmt_num(Some(v[k])));
@@ -176,8 +184,9 @@ fn number(name: &str, v: f64) -> String {
     format!("{:.4}", v * f)
 }
 
-/// The table on the terminal (stresses in kPa).
-pub fn terminal(s: &Study) -> String {
+/// The table on the terminal (stresses in kPa), with the joint fit's
+/// values when given.
+pub fn terminal(s: &Study, joint: Option<&Vec<f64>>) -> String {
     let z = normal_quantile(0.975);
     let w = s
         .specimens
@@ -239,6 +248,13 @@ pub fn terminal(s: &Study) -> String {
         }
     }
     t.push('\n');
+    if let Some(j) = joint {
+        t.push_str(&format!("{:<w$}", "joint"));
+        for (k, n) in s.names.iter().enumerate() {
+            t.push_str(&format!(" {:>24}", number(n, j[k])));
+        }
+        t.push('\n');
+    }
     t
 }
 
@@ -262,7 +278,8 @@ pub fn html(s: &Study, info: &StudyInfo, png: Vec<u8>) -> String {
     h.push_str(
         "<h2>Parameters</h2>\n<p>Per specimen: the corrected value &plusmn; 1.96 first-order standard errors. Mean: over \
          the specimens, with the 95 % interval by Student's t with n &minus; 1 degrees of freedom (the specimens' scatter). \
-         Pooled: the inverse-variance weighted mean and its standard error. A parameter in red lies outside the 99 % \
+         Pooled: the inverse-variance weighted mean and its standard error. Joint: one law fitted to every \
+         specimen's heights together, each with its own dimensions. A parameter in red lies outside the 99 % \
          prediction interval of the other specimens.</p>\n<table class=\"num\"><tr><th>specimen</th><th>thickness (mm)</th>",
     );
     for n in &s.names {
@@ -286,7 +303,7 @@ pub fn html(s: &Study, info: &StudyInfo, png: Vec<u8>) -> String {
         }
         h.push_str("</tr>");
     }
-    for (label, v, se) in summary(s) {
+    for (label, v, se) in summary(s, info.joint.as_ref()) {
         h.push_str(&format!(
             "<tr class=\"sum\"><td style=\"text-align:left\">{label}</td><td></td>"
         ));
@@ -346,7 +363,7 @@ pub fn study_files(s: &Study, info: &StudyInfo) -> Result<StudyFiles, PipelineEr
             file("study.png", png),
             file("study.html", page.into_bytes()),
         ],
-        terminal: terminal(s),
+        terminal: terminal(s, info.joint.as_ref()),
     })
 }
 
@@ -375,6 +392,7 @@ mod tests {
         let info = StudyInfo {
             title: "t".into(),
             thickness_m: vec![3.5e-4; 4],
+            joint: Some(vec![1.02e5, 2.2]),
             ..StudyInfo::default()
         };
         let text = String::from_utf8(csv(&s, &info).into_bytes()).unwrap();
@@ -399,7 +417,8 @@ mod tests {
                 "cv",
                 "ci95_low",
                 "ci95_high",
-                "pooled"
+                "pooled",
+                "joint"
             ]
         );
         assert!(lines[5].starts_with("mean,,102500,"), "{}", lines[5]);
@@ -410,5 +429,6 @@ mod tests {
             !page.contains("http://") && !page.contains("https://") && !page.contains("<script")
         );
         assert!(f.terminal.contains("mu1 (kPa) +- 95 %"), "{}", f.terminal);
+        assert!(f.terminal.contains("joint"), "{}", f.terminal);
     }
 }

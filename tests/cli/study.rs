@@ -127,7 +127,8 @@ fn five_specimens_resumed_and_redone() {
             "cv",
             "ci95_low",
             "ci95_high",
-            "pooled"
+            "pooled",
+            "joint"
         ]
     );
     // each specimen's thickness is the measured one its experiment file gives
@@ -141,6 +142,9 @@ fn five_specimens_resumed_and_redone() {
             cell(&rows, &head, "ci95_high", name),
         );
         assert!(lo <= truth && truth <= hi, "{name}: {lo}..{hi}");
+        // one law fitted to every specimen's heights: inside the interval too
+        let j = cell(&rows, &head, "joint", name);
+        assert!(lo <= j && j <= hi, "{name}: joint {j}, {lo}..{hi}");
         let cv = cell(&rows, &head, "cv", name);
         assert!(cv > 0.0 && cv < 0.1, "{name}: cv {cv}");
     }
