@@ -47,7 +47,7 @@ and it overrides each experiment's own [run]):
   experiment = \"s1/experiment.toml\"
   name = \"s1\"      # optional; default: the experiment file's folder
 
-Writes into --out: study.csv (one row per specimen, then mean, std, cv, ci95_low, ci95_high, pooled), \
+Writes into --out: study.csv (one row per specimen, then mean, std, cv, ci95_low, ci95_high, pooled, joint), \
 study.svg/png, study.html, and each specimen's run under specimens/<name>/ (the files of bulge run, with \
 study_fit.toml: its corrected parameters, covariance and the fingerprint of its inputs). A specimen whose \
 experiment file, input files (sizes and times, small ones by content) and settings did not change is read back \
