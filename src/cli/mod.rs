@@ -13,6 +13,7 @@ pub mod init;
 pub mod run;
 pub mod simulate;
 pub mod stress;
+pub mod study;
 pub mod synth;
 pub mod track;
 
@@ -55,6 +56,8 @@ pub enum Command {
     Simulate(simulate::Args),
     /// The whole pipeline on an experiment file, with the comparison report.
     Run(run::Args),
+    /// One material across several specimens: each through the whole pipeline, then mean, scatter, interval.
+    Study(study::Args),
     /// Speed against error of every solver and integrator.
     Bench(bench::Args),
 }
@@ -124,6 +127,7 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Fit(a) => fit::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Run(a) => run::run(a),
+        Command::Study(a) => study::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

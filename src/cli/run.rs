@@ -13,9 +13,9 @@ use bulge::experiment::Experiment;
 use bulge::fit::FitModel;
 use bulge::io::OutputPlan;
 use bulge::mechanics::{Modulus, ModulusStress, StrainMeasure, TrueStress};
-use bulge::pipeline::{self, PipelineError, RunOptions, Settings, Stage};
+use bulge::pipeline::{self, Observer, PipelineError, RunOptions, RunOutput, Settings, Stage};
 use bulge::report::out_dir::{OutDir, OutDirError};
-use bulge::report::run_files::{run_files, stage_files};
+use bulge::report::run_files::{OutFile, RunFiles, run_files, stage_files};
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::SpringModel;
 
@@ -45,6 +45,15 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
+    /// The run's settings (each also a key of the experiment's [run] table).
+    #[command(flatten)]
+    pub flags: RunFlags,
+}
+
+/// The settings flags of `bulge run` (and `bulge study`): each overrides
+/// the same key of a `[run]` table.
+#[derive(Debug, Clone, clap::Args)]
+pub struct RunFlags {
     /// Membrane models to simulate, comma-separated: tp, tp-paper,
     /// van-gelder, lloyd (mass-spring), membrane (constant-strain triangles
     /// with the material's whole law). Default tp,van-gelder (the
@@ -148,28 +157,35 @@ pub struct Args {
     pub skip_bad_frames: bool,
 }
 
-/// Flags over the experiment file's `[run]`/`[simulate]` tables over the defaults.
-fn settings(args: &Args, exp: &Experiment) -> Result<Settings, Failure> {
+impl RunFlags {
+    /// The flags as run options (what they leave out is `None`).
+    pub fn options(&self) -> RunOptions {
+        RunOptions {
+            models: self.models.clone(),
+            axisym: self.no_axisym.then_some(false),
+            refine: self.no_refine.then_some(false),
+            weighted: self.weighted.then_some(true),
+            samples: self.samples,
+            pressures_pa: self.pressures.clone(),
+            accuracy: self.accuracy,
+            nodes: self.nodes,
+            fit: self.fit,
+            degree: self.degree,
+            strain: self.strain,
+            true_stress: self.true_stress,
+            modulus: self.modulus,
+            modulus_stress: self.modulus_stress,
+            solver: self.solver,
+            min_score: self.min_score,
+            skip_bad_frames: self.skip_bad_frames.then_some(true),
+        }
+    }
+}
+
+/// `flags` over the experiment file's `[run]`/`[simulate]` tables over the
+/// defaults.
+pub fn settings(flags: RunOptions, exp: &Experiment) -> Result<Settings, Failure> {
     let file = RunOptions::from_experiment(exp).map_err(|e| Failure::BadInput(e.into()))?;
-    let flags = RunOptions {
-        models: args.models.clone(),
-        axisym: args.no_axisym.then_some(false),
-        refine: args.no_refine.then_some(false),
-        weighted: args.weighted.then_some(true),
-        samples: args.samples,
-        pressures_pa: args.pressures.clone(),
-        accuracy: args.accuracy,
-        nodes: args.nodes,
-        fit: args.fit,
-        degree: args.degree,
-        strain: args.strain,
-        true_stress: args.true_stress,
-        modulus: args.modulus,
-        modulus_stress: args.modulus_stress,
-        solver: args.solver,
-        min_score: args.min_score,
-        skip_bad_frames: args.skip_bad_frames.then_some(true),
-    };
     flags
         .or(file)
         .settings()
@@ -192,23 +208,29 @@ fn stage_failure(stage: Stage, out: &Path, e: PipelineError) -> Failure {
     }
 }
 
-/// Runs `bulge run`.
-pub fn run(args: Args) -> Result<(), Failure> {
-    let exp = Experiment::read(&args.experiment)?;
-    let s = settings(&args, &exp)?;
-    let plan = OutputPlan::new().inputs(super::experiment_inputs(&exp));
-    super::guard(plan.output_as("--out", &args.out))?;
-    let out = args.out.as_path();
-    let dir = OutDir::lock(out).map_err(|e| match e.is_bad_input() {
-        true => Failure::BadInput(anyhow!("--out: {e}")),
-        false => Failure::Failed(e.into()),
-    })?;
+/// A finished run into its locked folder: the pipeline's output and its files.
+pub struct Done {
+    /// Every stage's output.
+    pub output: RunOutput,
+    /// The files written (and the terminal table).
+    pub files: RunFiles,
+}
+
+/// `exp` through the whole pipeline with `s`, telling `obs`; every file of
+/// the run (with `extra`'s files of the finished run) written as one set
+/// into `dir`. A stopped run writes the files of the stages that finished
+/// and returns the failure naming the stage.
+pub fn run_into(
+    exp: &Experiment,
+    s: &Settings,
+    dir: &OutDir,
+    obs: &dyn Observer,
+    extra: impl FnOnce(&RunOutput) -> Result<Vec<OutFile>, PipelineError>,
+) -> Result<Done, Failure> {
+    let out = dir.path();
     let written =
         |e: OutDirError| stage_failure(Stage::Report, out, PipelineError::Output(e.to_string()));
-    let console = Console::default();
-    let result = pipeline::run_observed(&exp, &s, &console);
-    console.clear();
-    let o = match result {
+    let o = match pipeline::run_observed(exp, s, obs) {
         Ok(o) => o,
         Err(e) => {
             let p = &e.partial;
@@ -219,20 +241,41 @@ pub fn run(args: Args) -> Result<(), Failure> {
             return Err(stage_failure(e.stage, out, e.error));
         }
     };
+    let mut files = run_files(exp, s, &o).map_err(|e| stage_failure(Stage::Report, out, e))?;
+    files
+        .files
+        .extend(extra(&o).map_err(|e| stage_failure(Stage::Report, out, e))?);
+    let status = if o.unsolved().is_empty() {
+        "complete"
+    } else {
+        "partial"
+    };
+    dir.write_set(&files.files, status).map_err(written)?;
+    Ok(Done { output: o, files })
+}
+
+/// Runs `bulge run`.
+pub fn run(args: Args) -> Result<(), Failure> {
+    let exp = Experiment::read(&args.experiment)?;
+    let s = settings(args.flags.options(), &exp)?;
+    let plan = OutputPlan::new().inputs(super::experiment_inputs(&exp));
+    super::guard(plan.output_as("--out", &args.out))?;
+    let out = args.out.as_path();
+    let dir = OutDir::lock(out).map_err(|e| match e.is_bad_input() {
+        true => Failure::BadInput(anyhow!("--out: {e}")),
+        false => Failure::Failed(e.into()),
+    })?;
+    let console = Console::default();
+    let result = run_into(&exp, &s, &dir, &console, |_| Ok(vec![]));
+    console.clear();
+    let Done { output: o, files } = result?;
     for w in &o.fit.warnings {
         eprintln!("         warning: {w}");
     }
     for n in o.notes.iter().filter_map(|n| n.strip_prefix("simulate: ")) {
         eprintln!("         note: {n}");
     }
-    let files = run_files(&exp, &s, &o).map_err(|e| stage_failure(Stage::Report, out, e))?;
     let unsolved = o.unsolved();
-    let status = if unsolved.is_empty() {
-        "complete"
-    } else {
-        "partial"
-    };
-    dir.write_set(&files.files, status).map_err(written)?;
     eprintln!(
         "[5/5] {:<8} heights.svg, heights.png, report.html, summary.md",
         Stage::Report.name()

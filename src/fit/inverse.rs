@@ -741,6 +741,167 @@ pub fn refine(
     })
 }
 
+/// Several specimens' problems at the same unknowns: their residuals one
+/// after another, their Jacobians stacked.
+#[derive(Clone)]
+struct Joint<'a> {
+    parts: Vec<Problem<'a>>,
+}
+
+impl Joint<'_> {
+    fn residuals(&self, x: &[f64]) -> DVector<f64> {
+        let r: Vec<f64> = self
+            .parts
+            .iter()
+            .flat_map(|p| p.residuals(x).iter().copied().collect::<Vec<_>>())
+            .collect();
+        DVector::from_vec(r)
+    }
+
+    /// The relative height errors of every specimen's points.
+    fn errors(&self, x: &[f64]) -> Vec<Option<f64>> {
+        self.parts.iter().flat_map(|p| p.errors(x)).collect()
+    }
+}
+
+impl Operator for Joint<'_> {
+    type Param = DVector<f64>;
+    type Output = DVector<f64>;
+    fn apply(&self, x: &DVector<f64>) -> Result<DVector<f64>, ArgminError> {
+        Ok(self.residuals(x.as_slice()))
+    }
+}
+
+impl Jacobian for Joint<'_> {
+    type Param = DVector<f64>;
+    type Jacobian = DMatrix<f64>;
+    fn jacobian(&self, x: &DVector<f64>) -> Result<DMatrix<f64>, ArgminError> {
+        let blocks = self
+            .parts
+            .iter()
+            .map(|p| p.jacobian(x))
+            .collect::<Result<Vec<_>, _>>()?;
+        let rows = blocks.iter().map(DMatrix::nrows).sum();
+        let mut j = DMatrix::zeros(rows, x.len());
+        let mut at = 0;
+        for b in blocks {
+            j.rows_mut(at, b.nrows()).copy_from(&b);
+            at += b.nrows();
+        }
+        Ok(j)
+    }
+}
+
+/// One law fitted to several specimens' heights together ([`refine_joint`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointRefined {
+    /// The law.
+    pub material: Material,
+    /// RMS of the relative height errors over every point, before and
+    /// after.
+    pub rms_before: Option<f64>,
+    /// See `rms_before`.
+    pub rms_after: Option<f64>,
+    /// Levenberg-Marquardt iterations (both stages).
+    pub iterations: u64,
+}
+
+/// Corrects `material`'s parameters so that the axisymmetric inflation of
+/// every specimen (each with its own dimensions) reproduces its own
+/// measured heights, all at once: one law, least squares of every point's
+/// relative error `h_sim / h - 1` (every photo of every specimen weighs
+/// alike), first one factor on the stress parameters, then every
+/// parameter, as [`refine`] does for one specimen. A quartic's softening
+/// penalty is counted once. No covariance: the points of one specimen
+/// share its thickness's and calibration's errors, which a joint residual
+/// does not see; the study's interval of the mean is the uncertainty.
+pub fn refine_joint(
+    material: &Material,
+    specimens: &[(Specimen, Vec<Measured>)],
+    opts: &Options,
+) -> Result<JointRefined, FitError> {
+    if specimens.is_empty() {
+        return Err(FitError::Unsupported("a joint fit needs specimens".into()));
+    }
+    let mut x0 = Vec::new();
+    let mut params = None;
+    for (_, m) in specimens {
+        let (p, x) = parameters_for(material, m)?;
+        params = Some(p);
+        x0 = x;
+    }
+    let params = params.expect("at least one specimen");
+    let solves = AtomicUsize::new(0);
+    // per specimen, per point: Newton's start (see `Problem::warm`)
+    type Warm = Vec<Mutex<Option<(f64, f64)>>>;
+    let warm: Vec<Warm> = specimens
+        .iter()
+        .map(|(_, m)| m.iter().map(|_| Mutex::new(None)).collect())
+        .collect();
+    let parts: Vec<Problem> = specimens
+        .iter()
+        .zip(&warm)
+        .enumerate()
+        .map(|(k, ((specimen, points), warm))| Problem {
+            derivatives: opts.derivatives,
+            warm,
+            params: params.clone(),
+            base: material,
+            specimen,
+            points,
+            opts: &opts.axisym,
+            solves: &solves,
+            scale_of: None,
+            weights: None,
+            monotone: match &material.model {
+                Model::Quartic { strain_range, .. }
+                    if k == 0 && strain_range[1] > strain_range[0] =>
+                {
+                    Some(*strain_range)
+                }
+                _ => None,
+            },
+        })
+        .collect();
+    let joint = Joint { parts };
+    let before = joint.errors(&x0);
+    if let Some(i) = before.iter().position(Option::is_none) {
+        return Err(FitError::Solver(format!(
+            "the starting {} law has no axisymmetric equilibrium at measured point {i} of the specimens taken together: the measured pressures pass its limit point",
+            material.model.name()
+        )));
+    }
+    let scaled = Joint {
+        parts: joint
+            .parts
+            .iter()
+            .map(|p| Problem {
+                scale_of: Some(x0.clone()),
+                ..p.clone()
+            })
+            .collect(),
+    };
+    let scale = lm::minimize(scaled, DVector::from_vec(vec![1.0]), opts.max_iterations)
+        .map_err(|e| FitError::Solver(e.to_string()))?;
+    let x1 = params.scaled(&x0, scale.x[0]);
+    let r = lm::minimize(joint.clone(), DVector::from_vec(x1), opts.max_iterations)
+        .map_err(|e| FitError::Solver(e.to_string()))?;
+    let after = joint.errors(r.x.as_slice());
+    let (rms_before, rms_after) = (Refined::rms(&before), Refined::rms(&after));
+    let better = matches!((rms_after, rms_before), (Some(a), Some(b)) if a < b);
+    let x = if better { r.x.as_slice().to_vec() } else { x0 };
+    Ok(JointRefined {
+        material: Material {
+            model: params.model(&x),
+            poisson: material.poisson,
+            fit: material.fit.clone(),
+        },
+        rms_before,
+        rms_after: if better { rms_after } else { rms_before },
+        iterations: scale.iterations + r.iterations,
+    })
+}
+
 /// The law's parameters as the gradients of [`axisym::height_gradient`]
 /// order them: names with units, values, and whether each is a stress
 /// (scales with the thickness: all but the Ogden exponents and the Gent

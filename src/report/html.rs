@@ -52,7 +52,7 @@ pub struct Report {
     pub notes: Vec<String>,
 }
 
-const CSS: &str = "body{font-family:-apple-system,'Segoe UI',Helvetica,Arial,sans-serif;max-width:1000px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}\
+pub(crate) const CSS: &str = "body{font-family:-apple-system,'Segoe UI',Helvetica,Arial,sans-serif;max-width:1000px;margin:2em auto;padding:0 1em;color:#222;line-height:1.45}\
 h1{font-size:1.6em;border-bottom:2px solid #36c;padding-bottom:.2em}h2{font-size:1.25em;margin-top:1.8em;color:#234}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}td,th{border:1px solid #ccc;padding:.25em .6em}th{background:#eef2f8}\
 table.num td{text-align:right;font-variant-numeric:tabular-nums}tr.sum td{background:#f6f6f6;font-weight:600}\
@@ -61,7 +61,7 @@ figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}figcaption{f
 .photos{display:flex;flex-wrap:wrap;gap:12px}.photos figure{flex:1 1 300px;margin:0}\
 pre{background:#f6f8fa;padding:.8em;overflow-x:auto;font-size:.85em}ul.notes li{color:#850}";
 
-fn kv(pairs: &[(String, String)]) -> String {
+pub(crate) fn kv(pairs: &[(String, String)]) -> String {
     let mut s = String::from("<table class=\"kv\">");
     for (k, v) in pairs {
         s.push_str(&format!("<tr><td>{}</td><td>{}</td></tr>", esc(k), esc(v)));
@@ -70,7 +70,7 @@ fn kv(pairs: &[(String, String)]) -> String {
     s
 }
 
-fn img(p: &Picture) -> String {
+pub(crate) fn img(p: &Picture) -> String {
     format!(
         "<figure><img alt=\"{}\" src=\"data:image/png;base64,{}\"><figcaption>{}</figcaption></figure>\n",
         esc(&p.caption),

@@ -1,4 +1,4 @@
-//! Tables, plots and the HTML report of a run.
+//! Tables, plots and the HTML report of a run, and of a study across specimens.
 
 #[cfg(feature = "plots")]
 pub(crate) mod figures;
@@ -11,5 +11,7 @@ pub mod out_dir;
 pub mod plot;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub mod run_files;
+#[cfg(all(feature = "plots", feature = "opencv"))]
+pub mod study_files;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) mod table;

@@ -341,11 +341,15 @@ pub fn settings_table(s: &Settings, exp: &Experiment, pressures: &[f64]) -> Vec<
             "simulate".into(),
             format!(
                 "models {}{}, solver {}, tolerance {:e}",
-                s.models
-                    .iter()
-                    .map(|m| m.name())
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                if s.models.is_empty() {
+                    "none".to_string()
+                } else {
+                    s.models
+                        .iter()
+                        .map(|m| m.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
                 if s.axisym {
                     " + axisym (exact reference)"
                 } else {

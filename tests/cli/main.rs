@@ -11,5 +11,6 @@ mod mistakes;
 mod run;
 mod simulate;
 mod stress;
+mod study;
 mod track;
 mod video;
