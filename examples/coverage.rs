@@ -15,7 +15,8 @@
 //! experiment file that states the errors, and run through the pipeline
 //! (track, stress, fit with the correction and its covariance, the band);
 //! the heights' own errors are the tracker's. Each share is printed with
-//! its binomial standard error `sqrt(s (1 - s) / n)`.
+//! its binomial standard error `sqrt(s (1 - s) / n)`, the band's share with
+//! the standard error from the spread of the experiments' own shares.
 //!
 //!     cargo run --release --example coverage -- --photos 100
 
@@ -275,7 +276,12 @@ fn photos(n: usize) {
         for (j, p) in c.names.iter().enumerate() {
             let (band, tracker) = if j == 0 {
                 (
-                    format!("{} of {}", share(c.band.0, c.band.1), c.band.1),
+                    format!(
+                        "{:.1} % +- {:.1} of {}",
+                        100.0 * c.band.0 as f64 / c.band.1.max(1) as f64,
+                        100.0 * c.band_std_error,
+                        c.band.1
+                    ),
                     format!("{:.2}, {:.1} um", r.height_z_rms, 1e6 * r.mean_height_std_m),
                 )
             } else {

@@ -158,6 +158,11 @@ pub struct Coverage {
     pub covered_points_only: Vec<usize>,
     /// Photos whose true height lies in the 95 % band, and photos.
     pub band: (usize, usize),
+    /// Standard error of the band's share `band.0 / band.1`, from the
+    /// spread of the experiments' own shares (the heights of one
+    /// experiment share its law's error, so they are not independent
+    /// trials: the binomial error of `band.1` heights would be too small).
+    pub band_std_error: f64,
     /// Per parameter, the mean standard error over the experiments,
     /// relative to the true value.
     pub mean_relative_std: Vec<f64>,
@@ -257,6 +262,7 @@ impl Coverage {
             covered: vec![0; p],
             covered_points_only: vec![0; p],
             band: (0, 0),
+            band_std_error: 0.0,
             mean_relative_std: vec![0.0; p],
         };
         for j in judged {
@@ -270,6 +276,18 @@ impl Coverage {
         }
         for v in &mut out.mean_relative_std {
             *v /= out.experiments.max(1) as f64;
+        }
+        // The ratio estimator's standard error over clusters (W. G.
+        // Cochran, Sampling Techniques, 3rd ed., Wiley 1977, section 6.4).
+        let e = judged.len() as f64;
+        if e > 1.0 && out.band.1 > 0 {
+            let share = out.band.0 as f64 / out.band.1 as f64;
+            let mean_n = out.band.1 as f64 / e;
+            let ss: f64 = judged
+                .iter()
+                .map(|j| (j.hit as f64 - share * j.heights as f64).powi(2))
+                .sum();
+            out.band_std_error = (ss / (e * (e - 1.0))).sqrt() / mean_n;
         }
         out
     }
