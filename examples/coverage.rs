@@ -103,6 +103,19 @@ fn main() {
                 weighted: false,
             },
         ),
+        (
+            "neo-Hookean, 12 photos, heights 6 um (as the tracker's at 640x480)",
+            Plan {
+                truth: nh.clone(),
+                specimen,
+                pressures_pa: (0..12).map(|i| 500.0 + 450.0 * i as f64).collect(),
+                height_std_m: 6e-6,
+                sources: all,
+                experiments: n,
+                seed: 3_000_001,
+                weighted: false,
+            },
+        ),
     ];
     println!(
         "| case | fit | experiments | parameter | covered | covered, points' errors only | mean std error | heights in the band |"
@@ -131,8 +144,9 @@ fn main() {
                 100.0 * c.mean_relative_std[j],
                 if j == 0 {
                     format!(
-                        "{:.1} % of {}",
+                        "{:.1} % +- {:.1} of {}",
                         100.0 * c.band.0 as f64 / c.band.1 as f64,
+                        100.0 * c.band_std_error,
                         c.band.1
                     )
                 } else {
