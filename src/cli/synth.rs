@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use anyhow::anyhow;
 
 use super::{Classify, Failure};
-use bulge::axisym;
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::track::image::Encoding;
@@ -379,23 +378,16 @@ pub fn run(args: Args) -> Result<(), Failure> {
             }
         })
         .collect();
-    let opts = axisym::Options::default();
     let mut frames = Vec::with_capacity(n);
     let pb = super::progress(n as u64, "solve");
     if !window.is_circle() {
         frames = window_frames(&specimen, &window, &material, &pressures).bad_input()?;
     }
     for &p in pressures.iter().filter(|_| window.is_circle()) {
-        let sol = axisym::solve_pressure(&material, &specimen, p, &opts)
+        let frame = synth::axisym_frame(&material, &specimen, p, p)
             .map_err(|e| anyhow!("the bubble at {p} Pa: {e}"))
             .bad_input()?;
-        frames.push(SynthFrame {
-            pressure_pa: p,
-            silhouette: Silhouette {
-                rho_m: sol.profile.rho_m.clone(),
-                z_m: sol.profile.z_m.clone(),
-            },
-        });
+        frames.push(frame);
         pb.inc(1);
     }
     pb.finish_and_clear();

@@ -22,10 +22,13 @@ use rayon::prelude::*;
 
 use super::FitError;
 use super::inverse::{self, Measured};
-use super::uncertainty::Sources;
+use super::uncertainty::{ParamUncertainty, SourceKind, Sources, normal_quantile};
 use crate::axisym;
 use crate::experiment::Specimen;
 use crate::material::Material;
+
+#[cfg(feature = "opencv")]
+pub mod photos;
 
 /// A small deterministic generator (SplitMix64, G. Steele, D. Lea and
 /// C. Flood, "Fast splittable pseudorandom number generators", OOPSLA 2014,
@@ -155,6 +158,11 @@ pub struct Coverage {
     pub covered_points_only: Vec<usize>,
     /// Photos whose true height lies in the 95 % band, and photos.
     pub band: (usize, usize),
+    /// Standard error of the band's share `band.0 / band.1`, from the
+    /// spread of the experiments' own shares (the heights of one
+    /// experiment share its law's error, so they are not independent
+    /// trials: the binomial error of `band.1` heights would be too small).
+    pub band_std_error: f64,
     /// Per parameter, the mean standard error over the experiments,
     /// relative to the true value.
     pub mean_relative_std: Vec<f64>,
@@ -165,28 +173,17 @@ pub struct Coverage {
 pub fn run(plan: &Plan, start: &Material) -> Result<Coverage, FitError> {
     let (names, theta, _) = inverse::law_parameters(&plan.truth.model)
         .ok_or_else(|| FitError::Unsupported("the true law has no parameters".into()))?;
-    let p = theta.len();
     let opts = inverse::Options {
         uncertainty: plan.sources,
         weighted: plan.weighted,
         ..inverse::Options::default()
     };
-    type One = (Vec<bool>, Vec<bool>, usize, usize, Vec<f64>);
-    let one = |i: usize| -> Result<Option<One>, FitError> {
+    let one = |i: usize| -> Result<Option<Judged>, FitError> {
         let data = synthetic(plan, i)?;
         let r = inverse::refine(start, &plan.specimen, &data.measured, &opts)?;
         let Some(u) = r.uncertainty.as_ref() else {
             return Ok(None);
         };
-        let k = u.coverage_factor();
-        let se = u.std_errors();
-        let pts = u.std_errors_from(super::uncertainty::SourceKind::Points);
-        let inside: Vec<bool> = (0..p)
-            .map(|j| (u.values[j] - theta[j]).abs() <= k * se[j])
-            .collect();
-        let naive: Vec<bool> = (0..p)
-            .map(|j| (u.values[j] - theta[j]).abs() <= k * pts[j])
-            .collect();
         let readings: Vec<f64> = data.measured.iter().map(|q| q.pressure_pa).collect();
         let b = inverse::band(
             &r.material,
@@ -196,44 +193,104 @@ pub fn run(plan: &Plan, start: &Material) -> Result<Coverage, FitError> {
             &readings,
             &opts.axisym,
         );
-        let z = super::uncertainty::normal_quantile(0.975);
-        let (mut hit, mut n) = (0, 0);
-        for (bp, h) in b.iter().zip(&data.true_heights_m) {
+        let pairs: Vec<_> = b.into_iter().zip(data.true_heights_m).collect();
+        Ok(Some(Judged::new(u, &theta, &pairs)))
+    };
+    let all: Vec<Result<Option<Judged>, FitError>> =
+        (0..plan.experiments).into_par_iter().map(one).collect();
+    let mut judged = Vec::with_capacity(all.len());
+    for r in all {
+        judged.extend(r?);
+    }
+    Ok(Coverage::tally(names, &judged))
+}
+
+/// One experiment's verdicts: whether each parameter's 95 % interval holds
+/// the truth (with every source, and with the points' own errors alone),
+/// the true heights inside the 95 % band, and each parameter's standard
+/// error relative to its true value.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Judged {
+    inside: Vec<bool>,
+    naive: Vec<bool>,
+    hit: usize,
+    heights: usize,
+    rel: Vec<f64>,
+}
+
+impl Judged {
+    /// Judges the intervals of `u` against the true parameters `theta`, and
+    /// each band point against the true height at its reading (`None`: no
+    /// band there, not counted).
+    pub(crate) fn new(
+        u: &ParamUncertainty,
+        theta: &[f64],
+        band: &[(Option<inverse::BandPoint>, f64)],
+    ) -> Judged {
+        let k = u.coverage_factor();
+        let se = u.std_errors();
+        let pts = u.std_errors_from(SourceKind::Points);
+        let z = normal_quantile(0.975);
+        let (mut hit, mut heights) = (0, 0);
+        for (bp, h) in band {
             if let Some(bp) = bp {
-                n += 1;
+                heights += 1;
                 hit += usize::from((bp.height_m - h).abs() <= z * bp.std_m);
             }
         }
-        let rel: Vec<f64> = (0..p).map(|j| se[j] / theta[j].abs()).collect();
-        Ok(Some((inside, naive, hit, n, rel)))
-    };
-    let all: Vec<Result<Option<One>, FitError>> =
-        (0..plan.experiments).into_par_iter().map(one).collect();
-    let mut out = Coverage {
-        names,
-        experiments: 0,
-        covered: vec![0; p],
-        covered_points_only: vec![0; p],
-        band: (0, 0),
-        mean_relative_std: vec![0.0; p],
-    };
-    for r in all {
-        let Some((inside, naive, hit, n, rel)) = r? else {
-            continue;
-        };
-        out.experiments += 1;
-        for j in 0..p {
-            out.covered[j] += usize::from(inside[j]);
-            out.covered_points_only[j] += usize::from(naive[j]);
-            out.mean_relative_std[j] += rel[j];
+        Judged {
+            inside: (0..theta.len())
+                .map(|j| (u.values[j] - theta[j]).abs() <= k * se[j])
+                .collect(),
+            naive: (0..theta.len())
+                .map(|j| (u.values[j] - theta[j]).abs() <= k * pts[j])
+                .collect(),
+            hit,
+            heights,
+            rel: (0..theta.len()).map(|j| se[j] / theta[j].abs()).collect(),
         }
-        out.band.0 += hit;
-        out.band.1 += n;
     }
-    for v in &mut out.mean_relative_std {
-        *v /= out.experiments.max(1) as f64;
+}
+
+impl Coverage {
+    /// The counts over the experiments judged.
+    pub(crate) fn tally(names: Vec<String>, judged: &[Judged]) -> Coverage {
+        let p = names.len();
+        let mut out = Coverage {
+            names,
+            experiments: judged.len(),
+            covered: vec![0; p],
+            covered_points_only: vec![0; p],
+            band: (0, 0),
+            band_std_error: 0.0,
+            mean_relative_std: vec![0.0; p],
+        };
+        for j in judged {
+            for k in 0..p {
+                out.covered[k] += usize::from(j.inside[k]);
+                out.covered_points_only[k] += usize::from(j.naive[k]);
+                out.mean_relative_std[k] += j.rel[k];
+            }
+            out.band.0 += j.hit;
+            out.band.1 += j.heights;
+        }
+        for v in &mut out.mean_relative_std {
+            *v /= out.experiments.max(1) as f64;
+        }
+        // The ratio estimator's standard error over clusters (W. G.
+        // Cochran, Sampling Techniques, 3rd ed., Wiley 1977, section 6.4).
+        let e = judged.len() as f64;
+        if e > 1.0 && out.band.1 > 0 {
+            let share = out.band.0 as f64 / out.band.1 as f64;
+            let mean_n = out.band.1 as f64 / e;
+            let ss: f64 = judged
+                .iter()
+                .map(|j| (j.hit as f64 - share * j.heights as f64).powi(2))
+                .sum();
+            out.band_std_error = (ss / (e * (e - 1.0))).sqrt() / mean_n;
+        }
+        out
     }
-    Ok(out)
 }
 
 /// The corrected law's parameters by Monte Carlo (a parametric bootstrap,

@@ -1083,6 +1083,7 @@ fn covariance(
         sigma_known: sigma.is_some(),
         chi2,
         weighted: weighted && sigma.is_some(),
+        readings_pa: pts.iter().map(|q| q.pressure_pa).collect(),
     })
 }
 
@@ -1098,7 +1099,8 @@ pub struct BandPoint {
     /// about `height_m`, m: the parameters' uncertainty through the exact
     /// gradient (the delta method), with the nominal specimen's and the
     /// gauge's own errors (correlated with the parameters' through the fit)
-    /// and the reading's noise.
+    /// and the reading's noise (correlated too when it is one of the
+    /// readings the law was fitted to: the fit followed it).
     pub std_m: f64,
     /// Standard deviation of `height_m` minus a height measured at this
     /// reading, the measured height's own independent error left out: as
@@ -1142,19 +1144,35 @@ pub fn band(
                     -mom * sources.pressure_relative_std,
                 ),
             ];
-            let sd = unc.prediction_std(&g.gradient, &m);
-            let reading = mom / p * sources.pressure_std_pa;
+            // The reading's noise moves the law's height at it by dh/dp
+            // per Pa. At a reading the law was fitted to, the same noise
+            // moved the fit: one column, not independent errors.
+            let reading = -mom / p * sources.pressure_std_pa;
+            let own = unc
+                .readings_pa
+                .iter()
+                .position(|&r| r == p)
+                .and_then(|i| unc.column(SourceKind::PressureNoise, i));
             let measured = [
                 (SourceKind::Scale, -g.height_m * sources.scale_relative_std),
                 (SourceKind::HeightOffset, -sources.height_offset_std_m),
             ];
             let all: Vec<_> = m.iter().chain(&measured).copied().collect();
-            let diff = unc.prediction_std(&g.gradient, &all);
+            let (std_m, diff_std_m) = match own {
+                Some(j) => (
+                    unc.prediction_std_with(&g.gradient, &m, &[(j, reading)]),
+                    unc.prediction_std_with(&g.gradient, &all, &[(j, reading)]),
+                ),
+                None => (
+                    unc.prediction_std(&g.gradient, &m).hypot(reading),
+                    unc.prediction_std(&g.gradient, &all).hypot(reading),
+                ),
+            };
             Some(BandPoint {
                 pressure_pa: p,
                 height_m: g.height_m,
-                std_m: sd.hypot(reading),
-                diff_std_m: diff.hypot(reading),
+                std_m,
+                diff_std_m,
             })
         })
         .collect()

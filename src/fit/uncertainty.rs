@@ -166,6 +166,9 @@ pub struct ParamUncertainty {
     /// Whether the fit was weighted by the given errors (else by the
     /// relative errors).
     pub weighted: bool,
+    /// The pressure readings of the points, Pa, in the order of their
+    /// columns (empty when unknown).
+    pub readings_pa: Vec<f64>,
 }
 
 impl ParamUncertainty {
@@ -256,6 +259,18 @@ impl ParamUncertainty {
     /// in the parameters whose own dependence on the sources is `m`
     /// (`(kind, value per unit source)`, shared sources only).
     pub fn prediction_std(&self, g: &[f64], m: &[(SourceKind, f64)]) -> f64 {
+        self.prediction_std_with(g, m, &[])
+    }
+
+    /// [`Self::prediction_std`] with the prediction's own dependence on
+    /// single columns of the response too: `(column, value per unit
+    /// source)` (see [`Self::column`]).
+    pub fn prediction_std_with(
+        &self,
+        g: &[f64],
+        m: &[(SourceKind, f64)],
+        columns: &[(usize, f64)],
+    ) -> f64 {
         let gv = DVector::from_column_slice(g);
         let mut row = gv.transpose() * &self.response;
         for &(kind, v) in m {
@@ -263,7 +278,21 @@ impl ParamUncertainty {
                 row[j] += v;
             }
         }
+        for &(j, v) in columns {
+            row[j] += v;
+        }
         row.norm()
+    }
+
+    /// The column of the response of the `k`-th source of `kind` (for the
+    /// per-point kinds, point `k`'s).
+    pub fn column(&self, kind: SourceKind, k: usize) -> Option<usize> {
+        self.sources
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| **s == kind)
+            .nth(k)
+            .map(|(j, _)| j)
     }
 
     /// The `[...uncertainty]` table of `material.toml`: per parameter its
@@ -623,6 +652,7 @@ mod tests {
             sigma_known: true,
             chi2: 0.0,
             weighted: true,
+            readings_pa: vec![],
         };
         let pts = u.std_errors_from(SourceKind::Points);
         assert!((pts[0] - (5.0f64 / 6.0).sqrt()).abs() < 1e-14);

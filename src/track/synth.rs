@@ -487,6 +487,30 @@ pub struct SynthFrame {
     pub silhouette: Silhouette,
 }
 
+/// The frame of the exact axisymmetric bubble of `material` on `specimen` at
+/// `pressure_pa` (default [`crate::axisym::Options`]), labelled `label_pa`
+/// in `pressure.csv` (the pressure itself, or a gauge's reading of it).
+pub fn axisym_frame(
+    material: &crate::material::Material,
+    specimen: &Specimen,
+    pressure_pa: f64,
+    label_pa: f64,
+) -> Result<SynthFrame, crate::axisym::AxisymError> {
+    let sol = crate::axisym::solve_pressure(
+        material,
+        specimen,
+        pressure_pa,
+        &crate::axisym::Options::default(),
+    )?;
+    Ok(SynthFrame {
+        pressure_pa: label_pa,
+        silhouette: Silhouette {
+            rho_m: sol.profile.rho_m,
+            z_m: sol.profile.z_m,
+        },
+    })
+}
+
 /// The truth of one written frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Truth {
