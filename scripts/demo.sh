@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # The demo: the whole pipeline on the bundled synthetic experiment (data/demo),
-# as a new user would run it: photos -> heights -> stress/strain -> material ->
-# simulated heights (TP MSS, Van Gelder, exact axisymmetric reference) -> report.
+# as a new user would run it, from the photos alone: bulge init finds the
+# set-up (clamp plane, axis, region, template, scale) and writes an experiment
+# file and init.png; bulge run then goes photos -> heights -> stress/strain ->
+# material -> simulated heights (TP MSS, Van Gelder, exact axisymmetric
+# reference) -> report.
 set -euo pipefail
 BULGE=${1:-target/debug/bulge}
 OUT=${2:-out}
-echo "== bulge run data/demo/experiment.toml --out $OUT"
-"$BULGE" run data/demo/experiment.toml --out "$OUT"
-echo "== open $OUT/report.html in a browser (self-contained, no network needed)"
+echo "== bulge init data/demo/photos -o $OUT/init/experiment.toml --radius-m 0.0375 --thickness-m 0.00035 --pressure data/demo/pressure.csv"
+"$BULGE" init data/demo/photos -o "$OUT/init/experiment.toml" --radius-m 0.0375 \
+    --thickness-m 0.00035 --poisson 0.45 --pressure data/demo/pressure.csv --force
+echo "== check $OUT/init/init.png: what init found, drawn on the last photo"
+echo "== bulge run $OUT/init/experiment.toml --out $OUT/run"
+"$BULGE" run "$OUT/init/experiment.toml" --out "$OUT/run"
+echo "== open $OUT/run/report.html in a browser (self-contained, no network needed)"
