@@ -67,22 +67,34 @@ pub fn annotated_frame_png(
     }
 }
 
+/// The image scaled down (area interpolation) to at most `max_width_px`
+/// wide (0: no limit), and the scale applied.
+fn scaled(img: Mat, max_width_px: usize) -> Result<(Mat, f64), TrackError> {
+    let (w, h) = (img.cols() as f64, img.rows() as f64);
+    if max_width_px == 0 || w <= max_width_px as f64 {
+        return Ok((img, 1.0));
+    }
+    let scale = max_width_px as f64 / w;
+    let mut out = Mat::default();
+    let size = Size::new((w * scale).round() as i32, (h * scale).round() as i32);
+    imgproc::resize(&img, &mut out, size, 0.0, 0.0, imgproc::INTER_AREA).map_err(cv)?;
+    Ok((out, scale))
+}
+
+/// The image as PNG bytes.
+fn png(img: &Mat) -> Result<Vec<u8>, TrackError> {
+    let mut buf = Vector::<u8>::new();
+    let ok = imgcodecs::imencode(".png", img, &mut buf, &Vector::new()).map_err(cv)?;
+    if !ok {
+        return Err(TrackError::OpenCv("OpenCV could not encode a PNG".into()));
+    }
+    Ok(buf.as_slice().to_vec())
+}
+
 /// Draws `marks` on a colour image and encodes it as PNG, at most
 /// `max_width_px` wide.
 fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, TrackError> {
-    let (w, h) = (img.cols() as f64, img.rows() as f64);
-    let scale = if max_width_px > 0 && w > max_width_px as f64 {
-        max_width_px as f64 / w
-    } else {
-        1.0
-    };
-    let mut out = Mat::default();
-    if scale < 1.0 {
-        let size = Size::new((w * scale).round() as i32, (h * scale).round() as i32);
-        imgproc::resize(&img, &mut out, size, 0.0, 0.0, imgproc::INTER_AREA).map_err(cv)?;
-    } else {
-        out = img;
-    }
+    let (mut out, scale) = scaled(img, max_width_px)?;
     let thick = ((out.cols() as f64 / 400.0).round() as i32).max(1);
     // Pixel-centre coordinates to the scaled image's pixel edges.
     let px = |v: f64| ((v + 0.5) * scale).round() as i32;
@@ -134,12 +146,7 @@ fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, Tra
         0,
     )
     .map_err(cv)?;
-    let mut buf = Vector::<u8>::new();
-    let ok = imgcodecs::imencode(".png", &out, &mut buf, &Vector::new()).map_err(cv)?;
-    if !ok {
-        return Err(TrackError::OpenCv("OpenCV could not encode a PNG".into()));
-    }
-    Ok(buf.as_slice().to_vec())
+    png(&out)
 }
 
 /// `init.png`: the photo at `path` (the last of the sequence) with what
@@ -161,18 +168,7 @@ pub fn init_png(
     let img = imgcodecs::imdecode(&Vector::<u8>::from_slice(&bytes), imgcodecs::IMREAD_COLOR)
         .map_err(cv)?;
     let (w, h) = (img.cols() as f64, img.rows() as f64);
-    let scale = if w > max_width_px as f64 {
-        max_width_px as f64 / w
-    } else {
-        1.0
-    };
-    let mut out = Mat::default();
-    if scale < 1.0 {
-        let size = Size::new((w * scale).round() as i32, (h * scale).round() as i32);
-        imgproc::resize(&img, &mut out, size, 0.0, 0.0, imgproc::INTER_AREA).map_err(cv)?;
-    } else {
-        out = img;
-    }
+    let (mut out, scale) = scaled(img, max_width_px)?;
     let thick = ((out.cols() as f64 / 500.0).round() as i32).max(1);
     let pt = |x: f64, y: f64| {
         Point::new(
@@ -313,12 +309,7 @@ pub fn init_png(
             .map_err(cv)?;
         }
     }
-    let mut buf = Vector::<u8>::new();
-    let ok = imgcodecs::imencode(".png", &out, &mut buf, &Vector::new()).map_err(cv)?;
-    if !ok {
-        return Err(TrackError::OpenCv("OpenCV could not encode a PNG".into()));
-    }
-    Ok(buf.as_slice().to_vec())
+    png(&out)
 }
 
 #[cfg(test)]
