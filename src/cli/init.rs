@@ -7,7 +7,7 @@ use anyhow::anyhow;
 use super::{Classify, Failure};
 use bulge::experiment::Specimen;
 use bulge::io::OutputPlan;
-use bulge::track::init::{self, Given, Sources};
+use bulge::track::init::{self, Frames, Given, Sources};
 use bulge::track::{self, TrackError};
 
 /// Flags of `bulge init`.
@@ -26,8 +26,14 @@ use bulge::track::{self, TrackError};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The folder of photos, in the order taken (natural order of the names:
-    /// img2 before img10); the bubble must grow from the first to the last.
+    /// img2 before img10), or a video; the bubble must grow from the first
+    /// frame to the last.
     pub source: PathBuf,
+
+    /// A video only: use every N-th frame (frames 0, N, 2N, ...; default 1),
+    /// written into [photos] `every`.
+    #[arg(long, value_name = "N")]
+    pub every: Option<usize>,
 
     /// The experiment file to write (refused if it exists, unless --force).
     #[arg(short, long, default_value = "experiment.toml")]
@@ -182,9 +188,15 @@ pub fn run(args: Args) -> Result<(), Failure> {
     {
         return Err(bad(format!("--elevation-deg {e}: give 0 to 30 degrees")));
     }
-    if !args.source.is_dir() {
+    if !args.source.exists() {
         return Err(bad(format!(
-            "{}: not a folder of photos; give the folder the camera wrote the test's photos to",
+            "{}: no such folder or video; give the folder the camera wrote the test's photos to, or the video",
+            args.source.display()
+        )));
+    }
+    if args.every.is_some() && args.source.is_dir() {
+        return Err(bad(format!(
+            "--every applies to a video, and {} is a photo folder: drop --every, or use --glob to choose photos",
             args.source.display()
         )));
     }
@@ -201,11 +213,30 @@ pub fn run(args: Args) -> Result<(), Failure> {
         }
         _ => None,
     };
-    let glob = match &args.glob {
-        Some(g) => g.clone(),
-        None => default_glob(&args.source)?,
+    let (frames, glob) = if args.source.is_dir() {
+        let glob = match &args.glob {
+            Some(g) => g.clone(),
+            None => default_glob(&args.source)?,
+        };
+        let photos = track::list_photos(&args.source, &glob).bad_input()?;
+        (Frames::Photos(photos), glob)
+    } else {
+        let info = track::video::probe(&args.source).bad_input()?;
+        let indices = info
+            .select(args.every, None)
+            .map_err(|m| bad(format!("{}: {m} (--every)", args.source.display())))?;
+        (
+            Frames::Video {
+                path: args.source.clone(),
+                indices,
+            },
+            String::new(),
+        )
     };
-    let photos = track::list_photos(&args.source, &glob).bad_input()?;
+    let inputs: Vec<PathBuf> = match &frames {
+        Frames::Photos(p) => p.clone(),
+        Frames::Video { path, .. } => vec![path.clone()],
+    };
     if let Some(p) = &args.pressure
         && !p.is_file()
     {
@@ -217,7 +248,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .unwrap_or(Path::new("."))
             .join("init.png")
     });
-    let mut plan = OutputPlan::new().inputs(&photos).output(&png);
+    let mut plan = OutputPlan::new().inputs(&inputs).output(&png);
     if let Some(p) = &args.pressure {
         plan = plan.input(p);
     }
@@ -234,7 +265,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             .map(|(p, d)| d / ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())),
         elevation_deg: args.elevation_deg,
     };
-    let found = init::find(&photos, args.radius_m, given).map_err(|e: TrackError| {
+    let found = init::find_in(&frames, args.radius_m, given).map_err(|e: TrackError| {
         if e.is_bad_input() {
             Failure::BadInput(e.into())
         } else {
@@ -251,13 +282,17 @@ pub fn run(args: Args) -> Result<(), Failure> {
     })?;
     let sources = Sources {
         dir: relative(&args.source, base),
+        video_every: match frames {
+            Frames::Photos(_) => None,
+            Frames::Video { .. } => Some(args.every.unwrap_or(1)),
+        },
         glob,
-        count: photos.len(),
+        count: frames.len(),
         pressure_csv: args.pressure.as_ref().map(|p| relative(p, base)),
         points,
     };
     let toml = found.experiment_toml(&specimen, &sources);
-    let picture = track::annotate::init_png(&photos[photos.len() - 1], &found, 1600).failed()?;
+    let picture = track::annotate::init_png(&frames, frames.len() - 1, &found, 1600).failed()?;
     bulge::io::write_atomic(&png, &picture)
         .map_err(|e| Failure::Failed(anyhow!("{}: cannot write: {e}", png.display())))?;
     bulge::io::write_atomic(&args.output, toml.as_bytes())
@@ -269,8 +304,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         format!(", elevation {:.2} +- {:.2} deg", e.value, e.std)
     });
     println!(
-        "{} photos {}x{} px: clamp row {:.3} +- {:.3} px, axis {:.2} px{a}, {:.5e} m/px{e}; apex rows {:.0} to {:.0} -> {}, {}",
-        photos.len(),
+        "{} {} {}x{} px: clamp row {:.3} +- {:.3} px, axis {:.2} px{a}, {:.5e} m/px{e}; apex rows {:.0} to {:.0} -> {}, {}",
+        frames.len(),
+        match frames {
+            Frames::Photos(_) => "photos",
+            Frames::Video { .. } => "video frames",
+        },
         found.width,
         found.height,
         found.clamp_row_px.value,

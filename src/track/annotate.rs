@@ -149,7 +149,7 @@ fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, Tra
     png(&out)
 }
 
-/// `init.png`: the photo at `path` (the last of the sequence) with what
+/// `init.png`: frame `i` of `frames` (the last of the sequence) with what
 /// `bulge init` found drawn on it: the clamp's top edge as located (green
 /// dots) and the clamp plane (green line over the clamp's width), the
 /// opening `2a` at the clamp plane (magenta), the silhouette's sides as
@@ -157,16 +157,25 @@ fn draw_png(img: Mat, marks: &Marks, max_width_px: usize) -> Result<Vec<u8>, Tra
 /// axis (blue), every photo's apex (red crosses), the region `roi_px`
 /// (blue) and the template (green), with the values written at the top.
 pub fn init_png(
-    path: &Path,
+    frames: &super::init::Frames,
+    i: usize,
     found: &super::init::Found,
     max_width_px: usize,
 ) -> Result<Vec<u8>, TrackError> {
-    let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })?;
-    let img = imgcodecs::imdecode(&Vector::<u8>::from_slice(&bytes), imgcodecs::IMREAD_COLOR)
-        .map_err(cv)?;
+    let img = match frames {
+        super::init::Frames::Photos(p) => {
+            let path = &p[i];
+            let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
+                path: path.to_path_buf(),
+                reason: e.to_string(),
+            })?;
+            imgcodecs::imdecode(&Vector::<u8>::from_slice(&bytes), imgcodecs::IMREAD_COLOR)
+                .map_err(cv)?
+        }
+        super::init::Frames::Video { path, indices } => {
+            super::video::read_frame_bgr(path, indices[i])?
+        }
+    };
     let (w, h) = (img.cols() as f64, img.rows() as f64);
     let (mut out, scale) = scaled(img, max_width_px)?;
     let thick = ((out.cols() as f64 / 500.0).round() as i32).max(1);

@@ -887,32 +887,126 @@ pub fn template_size_for(a_px: f64, width: usize) -> (usize, usize) {
     (tw, tw / 2)
 }
 
+/// Where the frames of a test come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Frames {
+    /// Photo files, in the order taken.
+    Photos(Vec<PathBuf>),
+    /// A video and the indices of the frames to use, in time order.
+    Video {
+        /// The video file.
+        path: PathBuf,
+        /// The frames to use.
+        indices: Vec<usize>,
+    },
+}
+
+impl Frames {
+    /// The number of frames.
+    pub fn len(&self) -> usize {
+        match self {
+            Frames::Photos(p) => p.len(),
+            Frames::Video { indices, .. } => indices.len(),
+        }
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The file that frame `i` is (or is in), for messages.
+    pub fn path(&self, i: usize) -> &Path {
+        match self {
+            Frames::Photos(p) => &p[i],
+            Frames::Video { path, .. } => path,
+        }
+    }
+
+    /// Frame `i`, grayscale.
+    fn gray(&self, i: usize) -> Result<Gray, TrackError> {
+        match self {
+            Frames::Photos(p) => Ok(read_gray(&p[i], None)?.crop),
+            Frames::Video { path, indices } => {
+                let bgr = super::video::read_frame_bgr(path, indices[i])?;
+                let mut g = opencv::core::Mat::default();
+                opencv::imgproc::cvt_color_def(&bgr, &mut g, opencv::imgproc::COLOR_BGR2GRAY)
+                    .map_err(|e| TrackError::OpenCv(e.to_string()))?;
+                use opencv::core::MatTraitConst;
+                let whole = [0, 0, g.cols() as usize, g.rows() as usize];
+                Ok(super::image::crop_mat(path, &g, whole)?.crop)
+            }
+        }
+    }
+
+    /// `f` of every frame (grayscale), in order: photos decoded in
+    /// parallel, a video read once from start to end.
+    fn map<T: Send>(
+        &self,
+        f: impl Fn(usize, Gray) -> Result<T, TrackError> + Sync,
+    ) -> Result<Vec<T>, TrackError> {
+        match self {
+            Frames::Photos(p) => (0..p.len())
+                .into_par_iter()
+                .map(|i| f(i, read_gray(&p[i], None)?.crop))
+                .collect(),
+            Frames::Video { path, indices } => {
+                let wanted: Vec<super::video::Wanted> = indices
+                    .iter()
+                    .enumerate()
+                    .map(|(seq, &index)| super::video::Wanted {
+                        seq,
+                        index,
+                        crop: None,
+                        lenient: false,
+                    })
+                    .collect();
+                let mut out = Vec::with_capacity(indices.len());
+                let mut failed = None;
+                super::video::read_frames(path, &wanted, |i, d| {
+                    match d.and_then(|d| f(i, d.crop)) {
+                        Ok(v) => out.push(v),
+                        Err(e) => failed = Some(e),
+                    }
+                    failed.is_none()
+                });
+                match failed {
+                    Some(e) => Err(e),
+                    None => Ok(out),
+                }
+            }
+        }
+    }
+}
+
 /// Finds the set-up in a sequence of photos (in the order they were
 /// taken: the bubble grows from the first to the last), `radius_m` the
 /// specimen's free radius. See the module documentation.
 pub fn find(photos: &[PathBuf], radius_m: f64, given: Given) -> Result<Found, TrackError> {
-    if photos.len() < 2 {
+    find_in(&Frames::Photos(photos.to_vec()), radius_m, given)
+}
+
+/// [`find`] on photos or a video's frames.
+pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, TrackError> {
+    let n = frames.len();
+    if n < 2 {
         return Err(TrackError::NotFound {
             what: "the bubble".into(),
             detail: format!(
-                "{} photo given: the bubble is found by what changes between the first and the last photo, so at least two are needed",
-                photos.len()
+                "{n} photo given: the bubble is found by what changes between the first and the last photo, so at least two are needed"
             ),
             keys: "roi_px, template_rect_px, clamp_row_px and metres_per_pixel",
         });
     }
-    let (first_path, last_path) = (&photos[0], &photos[photos.len() - 1]);
-    let (first, last) = rayon::join(
-        || read_gray(first_path, None),
-        || read_gray(last_path, None),
-    );
-    let (first, last) = (first?.crop, last?.crop);
+    let (first_path, last_path) = (frames.path(0), frames.path(n - 1));
+    let (first, last) = rayon::join(|| frames.gray(0), || frames.gray(n - 1));
+    let (first, last) = (first?, last?);
     if (first.width, first.height) != (last.width, last.height) {
         return Err(TrackError::MixedSizes {
-            path: last_path.clone(),
+            path: last_path.to_path_buf(),
             width: last.width,
             height: last.height,
-            reference: first_path.clone(),
+            reference: first_path.to_path_buf(),
             ref_width: first.width,
             ref_height: first.height,
         });
@@ -1023,35 +1117,26 @@ pub fn find(photos: &[PathBuf], radius_m: f64, given: Given) -> Result<Found, Tr
         let hi = ((base + 0.1 * a0 + 2.0 * reach + 30.0).ceil() as usize).min(h);
         lo..hi
     };
-    let per_photo: Vec<(Vec<f64>, Vec<f32>)> = photos
-        .par_iter()
-        .map(|p| {
-            let d = read_gray(p, None)?;
-            if (d.width, d.height) != (w, h) {
-                return Err(TrackError::MixedSizes {
-                    path: p.clone(),
-                    width: d.width,
-                    height: d.height,
-                    reference: first_path.clone(),
-                    ref_width: w,
-                    ref_height: h,
-                });
-            }
-            let profile = (0..h)
-                .map(|y| {
-                    band.iter()
-                        .map(|&x| f64::from(d.crop.at(x, y)))
-                        .sum::<f64>()
-                        / bw as f64
-                })
-                .collect();
-            let rows = d.crop.data[band_rows.start * w..band_rows.end * w]
-                .iter()
-                .map(|&v| f32::from(v))
-                .collect();
-            Ok((profile, rows))
-        })
-        .collect::<Result<_, _>>()?;
+    let per_photo: Vec<(Vec<f64>, Vec<f32>)> = frames.map(|i, d| {
+        if (d.width, d.height) != (w, h) {
+            return Err(TrackError::MixedSizes {
+                path: frames.path(i).to_path_buf(),
+                width: d.width,
+                height: d.height,
+                reference: first_path.to_path_buf(),
+                ref_width: w,
+                ref_height: h,
+            });
+        }
+        let profile = (0..h)
+            .map(|y| band.iter().map(|&x| f64::from(d.at(x, y))).sum::<f64>() / bw as f64)
+            .collect();
+        let rows = d.data[band_rows.start * w..band_rows.end * w]
+            .iter()
+            .map(|&v| f32::from(v))
+            .collect();
+        Ok((profile, rows))
+    })?;
     let n_photos = per_photo.len() as f32;
     let mut clamp_rows = vec![0f32; band_rows.len() * w];
     for (_, rows) in &per_photo {
@@ -1190,8 +1275,8 @@ pub fn find(photos: &[PathBuf], radius_m: f64, given: Given) -> Result<Found, Tr
         .unwrap_or(apexes_px.len() - 1);
     let ref_img = match reference_frame {
         0 => first,
-        k if k == photos.len() - 1 => last,
-        k => read_gray(&photos[k], None)?.crop,
+        k if k == n - 1 => last,
+        k => frames.gray(k)?,
     };
     let guess = apexes_px[reference_frame];
     let mut cols = Columns::new(&ref_img, 3);
@@ -1256,8 +1341,11 @@ pub fn find(photos: &[PathBuf], radius_m: f64, given: Given) -> Result<Found, Tr
 /// Where the experiment file written by `bulge init` points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sources {
-    /// The photo folder, as the experiment file will name it (relative to it).
+    /// The photo folder, as the experiment file will name it (relative to
+    /// it), or with `video` the video file.
     pub dir: String,
+    /// The frames are a video's, every N-th (`dir` names the video).
+    pub video_every: Option<usize>,
     /// The glob of the photos.
     pub glob: String,
     /// The number of photos.
@@ -1301,15 +1389,18 @@ impl Found {
             .iter()
             .map(|a| a[1])
             .fold(f64::NEG_INFINITY, f64::max);
+        let source = match src.video_every {
+            None => format!("dir = {}\nglob = {}\n", quoted(&src.dir), quoted(&src.glob)),
+            Some(1) => format!("video = {}\n", quoted(&src.dir)),
+            Some(k) => format!("video = {}\nevery = {k}\n", quoted(&src.dir)),
+        };
         t.push_str(&format!(
-            "[photos]\ndir = {}\nglob = {}\n\
+            "[photos]\n{source}\
              # where the apex moves: {} apexes found on the axis (column {:.2} +- {:.2}), rows {:.0} to {:.0}, with a template's margin\n\
              roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
              # cut from reference_frame (the first photo whose template stays clear of the clamp), around its apex\n\
              template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = {}\n\
              apex_in_template_px = [{:.3}, {:.3}]\n\n",
-            quoted(&src.dir),
-            quoted(&src.glob),
             self.apexes_px.len(),
             self.axis_x_px.value,
             self.axis_x_px.std,

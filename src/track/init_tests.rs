@@ -96,6 +96,7 @@ pub(super) fn run_case(dir: &Path, spec: &SequenceSpec, n: usize, scale_given: b
         &Sources {
             dir: "photos".into(),
             glob: "*.jpg".into(),
+            video_every: None,
             count: photos.len(),
             pressure_csv: Some("pressure.csv".into()),
             points: None,

@@ -115,5 +115,78 @@ fn init_refuses_photos_without_a_growing_bubble() {
             "0.00035",
         ],
     )
-    .bad_input(&["nowhere", "not a folder"]);
+    .bad_input(&["nowhere", "no such folder or video"]);
+}
+
+/// A video as the source: `[photos] video` written, and the heights
+/// tracked with it within 0.5 % of the truth.
+#[test]
+fn init_from_a_video() {
+    let dir = tempdir();
+    bulge_in(
+        dir.path(),
+        &[
+            "synth",
+            "exp",
+            "--frames",
+            "8",
+            "--noise",
+            "3",
+            "--blur-px",
+            "1.5",
+            "--log-rate-hz",
+            "7",
+            "--video",
+            "test.avi",
+            "--seed",
+            "7",
+        ],
+    )
+    .ok();
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "init",
+            "exp/test.avi",
+            "-o",
+            "setup/experiment.toml",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--pressure",
+            "exp/pressure_log.csv",
+        ],
+    )
+    .ok();
+    assert!(r.stdout.contains("8 video frames"), "{}", r.stdout);
+    let text = fs::read_to_string(dir.path().join("setup/experiment.toml")).unwrap();
+    assert!(text.contains("video = \"../exp/test.avi\""), "{text}");
+    bulge_in(
+        dir.path(),
+        &["track", "setup/experiment.toml", "-o", "h.csv"],
+    )
+    .ok();
+    let (head, rows) = read_csv(&dir.path().join("h.csv"));
+    let (_, truth) = read_csv(&dir.path().join("exp/truth.csv"));
+    let col = head.iter().position(|h| h == "height_m").unwrap();
+    assert_eq!(rows.len(), truth.len());
+    for (r, t) in rows.iter().zip(&truth) {
+        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
+        assert!((h / ht - 1.0).abs() < 0.005, "{h} against {ht}");
+    }
+    bulge_in(
+        dir.path(),
+        &[
+            "init",
+            "exp/photos",
+            "--every",
+            "2",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+        ],
+    )
+    .bad_input(&["--every applies to a video"]);
 }
