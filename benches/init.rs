@@ -59,6 +59,7 @@ fn init_speed(c: &mut Criterion) {
         &Sources {
             dir: "photos".into(),
             glob: "*.jpg".into(),
+            video_every: None,
             count: n,
             pressure_csv: Some("pressure.csv".into()),
             points: None,
