@@ -419,6 +419,8 @@ struct Accepted {
     apex: [f64; 2],
     /// Standard error of the apex column, px.
     x_std: f64,
+    /// Standard error of the apex row, px.
+    y_std: f64,
     /// The edge fit's residual RMS (px), curvature and its standard error
     /// (1/px), and columns.
     edge: Option<(f64, f64, f64, usize)>,
@@ -513,6 +515,22 @@ impl Guard {
             return Err(format!(
                 "the edge found has no apex (its top is flat over the {:.0} px span), while the frames before had one",
                 2.0 * self.span
+            ));
+        }
+        // The edge fit's own apex error: a dome's top fits a parabola about
+        // equally well from frame to frame, while clutter or a highlight
+        // pulled into the fit raises the error many times (needs only the
+        // reference frame, so it also acts on the frame after it).
+        let worst = self
+            .history
+            .iter()
+            .map(|h| h.y_std)
+            .filter(|s| s.is_finite())
+            .fold(f64::NAN, f64::max);
+        if worst.is_finite() && std.is_finite() && std > 8.0 * worst && std - worst > 0.1 {
+            return Err(format!(
+                "the apex row's standard error jumped to {:.2} px from at most {:.2} px in the frames before: something pulls the edge fit off the bubble's top",
+                std, worst
             ));
         }
         let noise = 3.0 * std + 0.5;
@@ -652,6 +670,7 @@ impl Guard {
             p,
             apex,
             x_std: stds[0],
+            y_std: stds[1],
             edge: edge.map(|e| (e.rms, e.curvature, e.curvature_std, e.columns)),
         });
     }
