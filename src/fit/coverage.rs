@@ -104,6 +104,34 @@ pub fn synthetic(plan: &Plan, index: usize) -> Result<Synthetic, FitError> {
     )
 }
 
+/// One experiment's errors that every reading or height shares: the real
+/// specimen, the gauge's gain, the scale's factor and the clamp row's
+/// offset, m.
+pub(crate) struct Shared {
+    pub(crate) real: Specimen,
+    pub(crate) gain: f64,
+    pub(crate) scale: f64,
+    pub(crate) offset_m: f64,
+}
+
+impl Shared {
+    /// Draws them about `nominal` (thickness, radius, gain, scale, offset,
+    /// in that order from `rng`).
+    pub(crate) fn draw(s: &Sources, nominal: &Specimen, rng: &mut Rng) -> Shared {
+        let real = Specimen {
+            thickness_m: nominal.thickness_m - s.thickness_std_m * rng.normal(),
+            radius_m: nominal.radius_m - s.radius_std_m * rng.normal(),
+            ..*nominal
+        };
+        Shared {
+            real,
+            gain: 1.0 + s.pressure_relative_std * rng.normal(),
+            scale: 1.0 + s.scale_relative_std * rng.normal(),
+            offset_m: s.height_offset_std_m * rng.normal(),
+        }
+    }
+}
+
 /// One test of `truth` on a real specimen drawn about `nominal`, at the
 /// true pressures `pressures`, read with the errors `s` and each height's
 /// own standard deviation `stds`.
@@ -115,15 +143,12 @@ pub(crate) fn draw(
     s: &Sources,
     rng: &mut Rng,
 ) -> Result<Synthetic, FitError> {
-    let nominal = *nominal;
-    let real = Specimen {
-        thickness_m: nominal.thickness_m - s.thickness_std_m * rng.normal(),
-        radius_m: nominal.radius_m - s.radius_std_m * rng.normal(),
-        ..nominal
-    };
-    let gain = 1.0 + s.pressure_relative_std * rng.normal();
-    let scale = 1.0 + s.scale_relative_std * rng.normal();
-    let offset = s.height_offset_std_m * rng.normal();
+    let Shared {
+        real,
+        gain,
+        scale,
+        offset_m: offset,
+    } = Shared::draw(s, nominal, rng);
     let opts = inverse::Options::default().axisym;
     let mut measured = Vec::new();
     let mut true_heights_m = Vec::new();

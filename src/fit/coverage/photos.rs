@@ -117,14 +117,12 @@ pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> Result<Dr
     let mut rng = Rng::new(seed);
     let s = &plan.sources;
     let nominal = plan.specimen;
-    let real = Specimen {
-        thickness_m: nominal.thickness_m - s.thickness_std_m * rng.normal(),
-        radius_m: nominal.radius_m - s.radius_std_m * rng.normal(),
-        ..nominal
-    };
-    let gain = 1.0 + s.pressure_relative_std * rng.normal();
-    let scale = 1.0 + s.scale_relative_std * rng.normal();
-    let offset_m = s.height_offset_std_m * rng.normal();
+    let super::Shared {
+        real,
+        gain,
+        scale,
+        offset_m,
+    } = super::Shared::draw(s, &nominal, &mut rng);
     let mut frames = Vec::with_capacity(plan.pressures_pa.len());
     for &p in &plan.pressures_pa {
         let reading = p * gain + s.pressure_std_pa * rng.normal();
