@@ -5,11 +5,14 @@
 //!
 //! `cargo bench --bench init`; set `BULGE_BENCH_QUICK=1` for fewer samples.
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+mod support;
 
-use bulge::experiment::{Experiment, Specimen};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use support::spec;
+
+use bulge::experiment::Experiment;
 use bulge::track::image::Encoding;
-use bulge::track::synth::{self, SequenceSpec};
+use bulge::track::synth;
 use bulge::track::{self, Options};
 
 /// `init::find` on 100 photos of 1280x960 (caps from 0.15 a to 0.6 a,
@@ -20,24 +23,7 @@ fn init_speed(c: &mut Criterion) {
     let quick = std::env::var_os("BULGE_BENCH_QUICK").is_some();
     let n = 100;
     let dir = tempfile::tempdir().unwrap();
-    let s = SequenceSpec {
-        width: 1280,
-        height: 960,
-        seed: 7,
-        blur_px: 1.5,
-        noise_grey: 3.0,
-        drift: 0.03,
-        encoding: Encoding::Jpeg(90),
-        specimen: Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        },
-        framing: Default::default(),
-        look: Default::default(),
-        window: Default::default(),
-    };
+    let s = spec(1280, 960, 7, 1.5, 3.0, Encoding::Jpeg(90));
     let a = s.specimen.radius_m;
     let frames: Vec<synth::SynthFrame> = (0..n)
         .map(|k| synth::SynthFrame {

@@ -13,34 +13,16 @@
 
 use std::path::PathBuf;
 
+mod support;
+
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rayon::prelude::*;
+use support::spec;
 
-use bulge::experiment::{Experiment, Specimen};
+use bulge::experiment::Experiment;
 use bulge::track::image::{Encoding, decode_mat};
 use bulge::track::synth::{self, SequenceSpec};
 use bulge::track::{self, Options, Refine};
-
-fn spec(w: usize, h: usize, seed: u64, blur: f64, noise: f64, enc: Encoding) -> SequenceSpec {
-    SequenceSpec {
-        width: w,
-        height: h,
-        seed,
-        blur_px: blur,
-        noise_grey: noise,
-        drift: 0.03,
-        encoding: enc,
-        specimen: Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        },
-        framing: Default::default(),
-        look: Default::default(),
-        window: Default::default(),
-    }
-}
 
 fn write(dir: &std::path::Path, s: &SequenceSpec, n: usize) -> (track::Setup, synth::Written) {
     let frames = synth::cap_frames(s.specimen.radius_m, 0.6 * s.specimen.radius_m, n);
