@@ -160,26 +160,29 @@ impl Scene {
             sc.metres_per_pixel = mpp;
         }
         let mpp = sc.metres_per_pixel;
-        if let Some(x) = framing.axis_x_px {
-            sc.axis_x_px = x;
-        } else if framing.random {
-            let (lo, hi) = (half(mpp), wf - 1.0 - half(mpp));
-            sc.axis_x_px = if hi > lo {
-                lo + (hi - lo) * rng.uniform()
-            } else {
-                0.5 * wf
+        // A value given, else (random framing) drawn in `[lo, hi]`, or
+        // `fallback` when that range is empty.
+        let mut place =
+            |given: Option<f64>, lo: f64, hi: f64, fallback: f64, current: f64| match given {
+                Some(v) => v,
+                None if framing.random && hi > lo => lo + (hi - lo) * rng.uniform(),
+                None if framing.random => fallback,
+                None => current,
             };
-        }
-        if let Some(r) = framing.clamp_row_px {
-            sc.clamp_row_px = r;
-        } else if framing.random {
-            let (lo, hi) = (above(mpp), hf - 1.0 - below(mpp));
-            sc.clamp_row_px = if hi > lo {
-                lo + (hi - lo) * rng.uniform()
-            } else {
-                0.8 * hf
-            };
-        }
+        sc.axis_x_px = place(
+            framing.axis_x_px,
+            half(mpp),
+            wf - 1.0 - half(mpp),
+            0.5 * wf,
+            sc.axis_x_px,
+        );
+        sc.clamp_row_px = place(
+            framing.clamp_row_px,
+            above(mpp),
+            hf - 1.0 - below(mpp),
+            0.8 * hf,
+            sc.clamp_row_px,
+        );
         if !framing.is_default() {
             let out = |what: &str| {
                 Err(format!(
