@@ -56,6 +56,24 @@ pub(super) fn match_frames(
         }
     };
     let ref_crop = full.crop.crop(roi[0] - bx, roi[1] - by, roi[2], roi[3]);
+    // The frame where the bubble is largest (the highest pressure, the last
+    // of equals), decoded once more up front: every other frame's edge is
+    // checked against it (`matcher::Columns::with_fullest`). Not for a
+    // video, whose frames are read once in order.
+    let fullest_frame = (0..n)
+        .max_by(|&a, &b| {
+            setup.frames[a]
+                .pressure_pa
+                .total_cmp(&setup.frames[b].pressure_pa)
+        })
+        .unwrap_or(0);
+    let fullest: Option<Gray> = match (&setup.video, fullest_frame == setup.reference_frame) {
+        (None, false) => decode_frame(&setup.frames[fullest_frame].path, Some(roi))
+            .ok()
+            .map(|d| d.crop),
+        (None, true) => Some(ref_crop.clone()),
+        _ => None,
+    };
     drop(full);
     if templ.width > roi[2] || templ.height > roi[3] {
         return Err(TrackError::TemplateLargerThanRegion {
@@ -124,6 +142,7 @@ pub(super) fn match_frames(
             HeightOrigin::ClampRow(r) => Some(r - roi[1] as f64),
             HeightOrigin::Reference { .. } => None,
         },
+        Some(setup.calibration.opening_radius_m / setup.calibration.metres_per_pixel),
         edge_settings.half_span_px,
     );
     let mut locate_time = 0.0;
@@ -149,7 +168,8 @@ pub(super) fn match_frames(
             &crop_owned
         };
         let t0 = std::time::Instant::now();
-        let loc = state.locate(crop)?;
+        let fullest = fullest.as_ref().filter(|_| i != fullest_frame);
+        let loc = state.locate(crop, fullest)?;
         let low = loc.m.score < opts.min_score || !loc.m.score.is_finite();
         let score = loc.m.score;
         // A good score, then the plausibility guards; an implausible apex is
@@ -167,7 +187,7 @@ pub(super) fn match_frames(
                 Err(why) => {
                     let again = guard
                         .predict(f.pressure_pa)
-                        .and_then(|pred| state.locate_at(crop, pred).transpose())
+                        .and_then(|pred| state.locate_at(crop, fullest, pred).transpose())
                         .transpose()?
                         .filter(|l| {
                             let (a, s) = state.apex(l);
@@ -429,6 +449,8 @@ struct Accepted {
 pub(super) struct Guard {
     /// The clamp plane's row in the region, px, when known.
     clamp_row: Option<f64>,
+    /// The opening's radius, px, when known and finite.
+    opening_px: Option<f64>,
     /// Half-width of the edge fit's span of columns, px.
     span: f64,
     /// The accepted frames.
@@ -436,9 +458,10 @@ pub(super) struct Guard {
 }
 
 impl Guard {
-    pub(super) fn new(clamp_row: Option<f64>, span_px: usize) -> Self {
+    pub(super) fn new(clamp_row: Option<f64>, opening_px: Option<f64>, span_px: usize) -> Self {
         Guard {
             clamp_row,
+            opening_px: opening_px.filter(|a| a.is_finite() && *a > 0.0),
             span: span_px as f64,
             history: Vec::new(),
         }
@@ -516,6 +539,30 @@ impl Guard {
                 "the edge found has no apex (its top is flat over the {:.0} px span), while the frames before had one",
                 2.0 * self.span
             ));
+        }
+        // The top of a dome `h` px high on an opening of radius `a` px is
+        // curved about as a spherical cap through the rim, `2 h / (a^2 +
+        // h^2)`: an inflated membrane's pole is flatter or sharper than the
+        // cap by tens of percent, never by a factor of 2.5. A shelf edge or
+        // a cable along the top is nearly straight. This needs no frame
+        // before, so it also guards the reference frame.
+        if let (Some(c), Some(a), Some(e)) = (self.clamp_row, self.opening_px, edge) {
+            let h = c - y;
+            if h > 2.0 {
+                let cap = 2.0 * h / (a * a + h * h);
+                // With no frame before (the reference frame), the dome must
+                // be shown, not only not excluded, where its top sags by 2 px
+                // or more across the span: a line along the top gives a
+                // curvature with a large error.
+                let shown = self.history.is_empty() && 0.5 * cap * self.span * self.span >= 2.0;
+                let noise = if shown { -2.0 } else { 4.0 } * e.curvature_std;
+                if e.curvature < 0.4 * cap - noise || e.curvature > 2.5 * cap + noise.abs() {
+                    return Err(format!(
+                        "the edge's curvature {:.2e} 1/px is not that of a dome {:.1} px high on an opening of radius {:.1} px ({:.2e} for a spherical cap): the edge found is not the bubble's top (a shelf edge or a cable along it?)",
+                        e.curvature, h, a, cap
+                    ));
+                }
+            }
         }
         // The edge fit's own apex error: a dome's top fits a parabola about
         // equally well from frame to frame, while clutter or a highlight

@@ -5,42 +5,9 @@
 use std::path::Path;
 
 use super::init::{self, Given, Sources};
-use super::synth::{self, Framing, Look, SequenceSpec, Silhouette, SynthFrame};
+use super::synth::{self, Look, SequenceSpec, Silhouette, SynthFrame};
 use super::*;
 use crate::experiment::{Experiment, Specimen};
-
-/// A random camera: size, scale 0.05-0.12 mm/px, the disc 35-65 % of the
-/// width (its radius follows), noise, blur and JPEG quality.
-pub(super) fn random_spec(seed: u64, sizes: &[(usize, usize)], look: Look) -> SequenceSpec {
-    let mut rng = synth::Rng::new(seed ^ 0x1A17);
-    let (w, h) = sizes[(rng.next_u64() % sizes.len() as u64) as usize];
-    let mpp = 5e-5 + 7e-5 * rng.uniform();
-    let f = 0.35 + 0.3 * rng.uniform();
-    let a = f * w as f64 * mpp / 2.0;
-    let q = 80 + (rng.next_u64() % 16) as u8;
-    SequenceSpec {
-        width: w,
-        height: h,
-        seed,
-        blur_px: 0.8 + 1.2 * rng.uniform(),
-        noise_grey: 1.0 + 3.0 * rng.uniform(),
-        drift: 0.03,
-        encoding: image::Encoding::Jpeg(q),
-        specimen: Specimen {
-            radius_m: a,
-            thickness_m: 0.00035 * a / 0.0375,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        },
-        window: Default::default(),
-        framing: Framing {
-            metres_per_pixel: Some(mpp),
-            random: true,
-            ..Framing::default()
-        },
-        look,
-    }
-}
 
 /// The exact neo-Hookean bubble (C1 = 0.2 MPa) at `n` pressures up to an
 /// apex height of about 0.53 a.
@@ -169,7 +136,7 @@ fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec, bool)>, n: usize, h
 fn init_sets_up_randomly_framed_photos() {
     let sizes = [(640, 480), (800, 600), (1024, 768), (1280, 960)];
     check(
-        (201..=220).map(|s| (s, random_spec(s, &sizes, Look::default()), false)),
+        (201..=220).map(|s| (s, synth::random_camera(s, &sizes, Look::default()), false)),
         5,
         true,
     );
@@ -184,7 +151,7 @@ fn init_finds_the_elevation_of_a_raised_camera() {
     check(
         (0..=5).map(|k| {
             let seed = 241 + k;
-            let mut s = random_spec(
+            let mut s = synth::random_camera(
                 seed,
                 &sizes,
                 Look {
@@ -211,7 +178,7 @@ fn init_is_not_misled_by_clutter_and_gloss() {
     let sizes = [(1024, 768), (1280, 960)];
     check(
         (251..=253).map(|seed| {
-            let s = random_spec(
+            let s = synth::random_camera(
                 seed,
                 &sizes,
                 Look {
@@ -233,7 +200,7 @@ fn init_is_not_misled_by_clutter_and_gloss() {
 #[test]
 fn init_refuses_what_it_cannot_find() {
     let dir = tempfile::tempdir().unwrap();
-    let spec = random_spec(261, &[(640, 480)], Look::default());
+    let spec = synth::random_camera(261, &[(640, 480)], Look::default());
     let frames = bubble(&spec.specimen, 4);
     let w = synth::write_sequence(dir.path(), &spec, &frames).unwrap();
     let photos = list_photos(&dir.path().join("photos"), "*.jpg").unwrap();
@@ -275,4 +242,52 @@ fn init_refuses_what_it_cannot_find() {
     assert!(e.contains("cut by the photo's top border"), "{e}");
     let e = err(&crop("low", 0, (c - 0.15 * (c - top)) as usize));
     assert!(e.contains("clamp") && e.contains("clamp_row_px"), "{e}");
+}
+
+/// The tracker on randomly framed photos with clutter, uneven light and a
+/// highlight that sits against the apex's edge (seeds 251-253, 1024x768 or
+/// 1280x960, the true set-up): every frame kept is within 4 of its stated
+/// standard deviations (the bias floor included) and the apex row is within
+/// 0.1 px RMS over all of them. The highlight's flank under the edge moved
+/// the centroids by 0.2-0.3 px here, ten times the stated uncertainty,
+/// until the edge was tested against the step model.
+#[test]
+fn a_highlight_against_the_edge_is_tracked_within_its_uncertainty() {
+    let look = Look {
+        clutter: true,
+        highlight_grey: 80.0,
+        uneven_light: 0.3,
+        elevation_deg: 0.0,
+    };
+    let (mut sum2, mut n, mut total, mut two_sided) = (0.0, 0usize, 0usize, 0usize);
+    for seed in 251..=253 {
+        let dir = tempfile::tempdir().unwrap();
+        let spec = synth::random_camera(seed, &[(1024, 768), (1280, 960)], look);
+        let w = synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5)).unwrap();
+        let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
+        let opts = Options {
+            skip_bad_frames: true,
+            ..Options::default()
+        };
+        let t = track(&setup_from_experiment(&e).unwrap(), &opts, &|| {}).unwrap();
+        total += w.truth.len();
+        for r in &t.rows {
+            let tr = w.truth.iter().find(|x| x.file == r.file).unwrap();
+            let err = r.apex_y_px - tr.apex_y_px;
+            let std = r.apex_y_std_px;
+            eprintln!("seed {seed} {}: {err:+.3} px (std {std:.3})", r.file);
+            assert!(
+                err.abs() <= 4.0 * std,
+                "seed {seed} {}: apex row {err:+.3} px off, stated std {std:.3} px",
+                r.file
+            );
+            sum2 += err * err;
+            n += 1;
+            two_sided += usize::from(r.edge.is_some_and(|e| e.two_sided));
+        }
+    }
+    let rms = (sum2 / n as f64).sqrt();
+    eprintln!("{n} of {total} frames, apex row RMS {rms:.3} px, {two_sided} from the step model");
+    assert!(rms <= 0.1, "apex row RMS {rms:.3} px");
+    assert!(3 * n >= 2 * total, "only {n} of {total} frames tracked");
 }

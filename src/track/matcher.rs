@@ -144,6 +144,10 @@ pub struct EdgeFit {
     pub columns: usize,
     /// RMS of the column residuals, px.
     pub rms: f64,
+    /// Whether the rows come from the two-sided step model rather than the
+    /// centroids: the test of the two found the dome side under the edge
+    /// biasing the centroids (a highlight, texture).
+    pub two_sided: bool,
 }
 
 /// Settings of the edge fit.
@@ -244,6 +248,131 @@ pub(crate) fn profile_edge(
     Some((e, step))
 }
 
+/// Rows on each side of the edge over which [`step_model_edge`] fits.
+const MODEL_ROWS: i64 = 5;
+
+/// Standard normal density and distribution function.
+fn normal_pdf(x: f64) -> f64 {
+    (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt()
+}
+
+fn normal_cdf(x: f64) -> f64 {
+    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
+}
+
+/// The edge row of a profile from a model of the whole step, fitted by
+/// Levenberg-Marquardt ([`crate::fit::lm`], the solver of the hyperelastic
+/// fits) to the `2 MODEL_ROWS + 1` samples around `start`:
+/// a straight background `B + g t` on one side (`t = row - edge`), a
+/// straight dome side `B + C + (g + S) t` on the other, the step blurred by
+/// a Gaussian of width `sigma` and each sample the mean over its pixel
+/// (closed forms through `G(t) = t Phi(t/sigma) + sigma phi(t/sigma)` and
+/// its integral). The six parameters `B, g, C, S, edge, sigma` are all
+/// fitted. Unlike the centroid of [`profile_edge`], whose window takes a
+/// slope of the dome side that starts at the edge (a highlight's flank
+/// under the edge, texture) for part of the step, this model gives that
+/// slope its own parameter; it pays with about 1.5-2 times the noise.
+/// `None` when it does not converge, the blur comes out outside 0.3-4 px,
+/// or the edge moves more than 1.5 px from `start`.
+pub(crate) fn step_model_edge(px: impl Fn(i64) -> f64, len: i64, start: f64) -> Option<f64> {
+    const N: usize = (2 * MODEL_ROWS + 1) as usize;
+    let j0 = start.floor() as i64 - MODEL_ROWS;
+    if j0 < 0 || j0 + N as i64 > len {
+        return None;
+    }
+    let step = StepModel {
+        rows: std::array::from_fn(|k| (j0 + k as i64) as f64),
+        y: std::array::from_fn(|k| px(j0 + k as i64)),
+    };
+    // Start: the edge given, a blur of 1.2 px, the straight parts by linear
+    // least squares there.
+    let (e0, s0) = (start, 1.2);
+    let mut x = nalgebra::DVector::from_vec(vec![0.0, 0.0, 0.0, 0.0, e0, s0]);
+    let jac = step.jacobian_at(&x);
+    let a = jac.columns(0, 4).into_owned();
+    let lin = (a.transpose() * &a)
+        .cholesky()?
+        .solve(&(a.transpose() * nalgebra::DVector::from_column_slice(&step.y)));
+    x.rows_mut(0, 4).copy_from(&lin);
+    let fit = crate::fit::lm::minimize(step, x, 60).ok()?;
+    let (e, sigma) = (fit.x[4], fit.x[5]);
+    (e.is_finite() && (e - start).abs() <= 1.5 && (0.3..=4.0).contains(&sigma)).then_some(e)
+}
+
+/// The least-squares problem of [`step_model_edge`]: parameters `[B, g, C,
+/// S, edge, sigma]`, residuals model minus samples.
+struct StepModel {
+    rows: [f64; (2 * MODEL_ROWS + 1) as usize],
+    y: [f64; (2 * MODEL_ROWS + 1) as usize],
+}
+
+impl StepModel {
+    /// Per sample: the model's value and its derivatives with respect to
+    /// the six parameters.
+    fn terms(&self, p: &[f64]) -> impl Iterator<Item = (f64, [f64; 6])> + '_ {
+        let [b, g, c, s_ramp, e, s] = [p[0], p[1], p[2], p[3], p[4], p[5]];
+        // The blurred unit step's and ramp's antiderivatives.
+        let gg = move |t: f64| t * normal_cdf(t / s) + s * normal_pdf(t / s);
+        let kk = move |t: f64| {
+            0.5 * (t * t + s * s) * normal_cdf(t / s) + 0.5 * t * s * normal_pdf(t / s)
+        };
+        self.rows.iter().map(move |&j| {
+            let t = j - e;
+            let (lo, hi) = (t - 0.5, t + 0.5);
+            let psi1 = gg(hi) - gg(lo);
+            let psi2 = kk(hi) - kk(lo);
+            let dcdf = normal_cdf(hi / s) - normal_cdf(lo / s);
+            let dpdf = normal_pdf(hi / s) - normal_pdf(lo / s);
+            (
+                b + g * t + c * psi1 + s_ramp * psi2,
+                [
+                    1.0,
+                    t,
+                    psi1,
+                    psi2,
+                    -(g + c * dcdf + s_ramp * psi1),
+                    c * dpdf + s_ramp * s * dcdf,
+                ],
+            )
+        })
+    }
+
+    fn jacobian_at(&self, p: &nalgebra::DVector<f64>) -> nalgebra::DMatrix<f64> {
+        let mut jac = nalgebra::DMatrix::zeros(self.rows.len(), 6);
+        for (i, (_, d)) in self.terms(p.as_slice()).enumerate() {
+            for (k, v) in d.into_iter().enumerate() {
+                jac[(i, k)] = v;
+            }
+        }
+        jac
+    }
+}
+
+impl argmin::core::Operator for StepModel {
+    type Param = nalgebra::DVector<f64>;
+    type Output = nalgebra::DVector<f64>;
+    fn apply(&self, p: &Self::Param) -> Result<Self::Output, argmin::core::Error> {
+        // The blur's bounds, as non-finite residuals (the solver's way).
+        if !(0.3..=4.0).contains(&p[5]) {
+            return Ok(nalgebra::DVector::from_element(self.rows.len(), f64::NAN));
+        }
+        Ok(nalgebra::DVector::from_iterator(
+            self.rows.len(),
+            self.terms(p.as_slice())
+                .zip(&self.y)
+                .map(|((m, _), y)| m - y),
+        ))
+    }
+}
+
+impl argmin::core::Jacobian for StepModel {
+    type Param = nalgebra::DVector<f64>;
+    type Jacobian = nalgebra::DMatrix<f64>;
+    fn jacobian(&self, p: &Self::Param) -> Result<Self::Jacobian, argmin::core::Error> {
+        Ok(self.jacobian_at(p))
+    }
+}
+
 /// The edge rows found so far in the columns of one image, so that the
 /// passes of the edge fit and the wider axis fit ([`axis_fit_in`]) locate each column once:
 /// `column_edge` iterates to a fixed point, so a column already converged
@@ -252,6 +381,7 @@ pub struct Columns<'a> {
     img: &'a Gray,
     hw: f64,
     found: Vec<Option<(f64, f64)>>,
+    fullest: Option<&'a Gray>,
 }
 
 impl<'a> Columns<'a> {
@@ -261,6 +391,17 @@ impl<'a> Columns<'a> {
             img,
             hw: half_window_px.max(2) as f64,
             found: vec![None; img.width],
+            fullest: None,
+        }
+    }
+
+    /// As [`Columns::new`], each edge checked against `fullest`, the same
+    /// region in the frame where the bubble is largest (see
+    /// [`below_is_dome`]).
+    pub fn with_fullest(img: &'a Gray, half_window_px: usize, fullest: Option<&'a Gray>) -> Self {
+        Columns {
+            fullest: fullest.filter(|f| (f.width, f.height) == (img.width, img.height)),
+            ..Columns::new(img, half_window_px)
         }
     }
 
@@ -271,12 +412,46 @@ impl<'a> Columns<'a> {
         {
             return Some((e, step));
         }
-        let r = column_edge(self.img, c, start, self.hw);
+        let r = column_edge(self.img, c, start, self.hw).filter(|&(e, step)| {
+            self.fullest
+                .is_none_or(|f| below_is_dome(self.img, f, c, e, step))
+        });
         if r.is_some() {
             self.found[c] = r;
         }
         r
     }
+}
+
+/// Rows below the edge compared with the fullest frame, from this far
+/// below the edge (beyond its blur), px.
+const BELOW_FROM_PX: f64 = 2.5;
+/// ... over this many rows.
+const BELOW_ROWS: usize = 4;
+
+/// Whether the rows just below an edge found at row `e` of column `c` are
+/// the bubble's: the bubble only grows, so in the frame where it is
+/// largest (`fullest`) the rows under any frame's true edge are bubble too
+/// and look much the same, while under a line behind the bubble (a shelf
+/// edge, a cable) that the edge fit took for the top they are background
+/// in this frame and bubble in the fullest: they differ there by about the
+/// whole contrast of the edge. Refused when the mean difference, in the
+/// direction of the edge's step (`step`, the summed differences of
+/// [`profile_edge`]), exceeds half of it. The shading of the dome and a
+/// highlight differ between the frames too, but by a fraction of the
+/// contrast. Rows outside the image pass.
+fn below_is_dome(img: &Gray, fullest: &Gray, c: usize, e: f64, step: f64) -> bool {
+    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
+    if j0 + BELOW_ROWS > img.height || step == 0.0 {
+        return true;
+    }
+    let diff: f64 = (j0..j0 + BELOW_ROWS)
+        .map(|j| f64::from(img.at(c, j)) - f64::from(fullest.at(c, j)))
+        .sum::<f64>()
+        / BELOW_ROWS as f64;
+    // Under a false edge this frame shows background where the fullest
+    // shows bubble: the difference has the sign of `-step`.
+    -diff * step.signum() <= 0.5 * step.abs()
 }
 
 /// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
@@ -306,6 +481,8 @@ pub fn edge_fit_in(
     let mut centre = x0;
     let mut coef = [y0, 0.0, 0.5 * curvature];
     let mut result: Option<EdgeFit> = None;
+    // The last pass's columns, span centre and vertex offset.
+    let mut last = None;
     for pass in 0..3 {
         if pass == 2 {
             match result {
@@ -336,59 +513,144 @@ pub fn edge_fit_in(
                 located.push((u, e, step));
             }
         }
-        // Keep columns whose step has the dome's polarity and at least a
-        // quarter of the median contrast.
-        let Some(pts) = strong_columns(&located, 5) else {
-            return result;
+        // Keep columns whose step has the dome's polarity and about the
+        // contrast of most.
+        let Some(pts) = strong_columns(&located, 5, UPPER_SHARE) else {
+            break;
         };
         let (fit, pts) = robust_parabola(&pts)?;
         coef = fit.coef;
-        let (a, b, c) = (coef[0], coef[1], coef[2]);
-        let lim = span as f64;
-        let u_v = if c > 1e-9 {
-            (-b / (2.0 * c)).clamp(-lim, lim)
-        } else {
-            0.0
-        };
-        // Delta method for the vertex column u_v = -B / (2C).
-        let x_std = if c > 1e-9 {
-            let g = [0.0, -1.0 / (2.0 * c), b / (2.0 * c * c)];
-            quad_form(&fit.cov, &g).sqrt()
-        } else {
-            f64::INFINITY
-        };
-        // Residual correlation along the edge: inflate by sqrt((1 + r) / (1 - r)).
-        let res: Vec<f64> = pts
-            .iter()
-            .map(|&(u, y)| y - (a + b * u + c * u * u))
-            .collect();
-        let num: f64 = res.windows(2).map(|p| p[0] * p[1]).sum();
-        let den: f64 = res.iter().map(|r| r * r).sum();
-        let rho = if den > 0.0 {
-            (num / den).clamp(0.0, 0.9)
-        } else {
-            0.0
-        };
-        let inflate = ((1.0 + rho) / (1.0 - rho)).sqrt();
-        let n = pts.len() as f64;
-        result = Some(EdgeFit {
-            y: a + b * u_v + c * u_v * u_v,
-            y_std: fit.var_at(u_v).sqrt() * inflate,
-            x_vertex: centre + u_v,
-            x_std: x_std * inflate,
-            curvature: 2.0 * c,
-            curvature_std: 2.0 * fit.cov[2][2].max(0.0).sqrt() * inflate,
-            columns: pts.len(),
-            rms: (fit.rss / n).sqrt(),
-        });
+        let r = summarise(&fit, &pts, centre, span as f64, false);
+        last = Some((pts, centre, r.x_vertex - centre));
+        result = Some(r);
+    }
+    if let Some((pts, centre, u_v)) = last
+        && let Some((fit, kept)) = two_sided_refit(cols, &pts, centre, u_v)
+    {
+        return Some(summarise(&fit, &kept, centre, span as f64, true));
     }
     result
 }
 
+/// The fit's apex, vertex, curvature and their standard errors, each
+/// inflated for the residuals' correlation along the edge.
+fn summarise(
+    fit: &Parabola,
+    pts: &[(f64, f64)],
+    centre: f64,
+    lim: f64,
+    two_sided: bool,
+) -> EdgeFit {
+    let [a, b, c] = fit.coef;
+    let u_v = if c > 1e-9 {
+        (-b / (2.0 * c)).clamp(-lim, lim)
+    } else {
+        0.0
+    };
+    // Delta method for the vertex column u_v = -B / (2C).
+    let x_std = if c > 1e-9 {
+        let g = [0.0, -1.0 / (2.0 * c), b / (2.0 * c * c)];
+        quad_form(&fit.cov, &g).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    let inflate = lag1_inflation(&fit.residuals(pts));
+    EdgeFit {
+        y: a + b * u_v + c * u_v * u_v,
+        y_std: fit.var_at(u_v).sqrt() * inflate,
+        x_vertex: centre + u_v,
+        x_std: x_std * inflate,
+        curvature: 2.0 * c,
+        curvature_std: 2.0 * fit.cov[2][2].max(0.0).sqrt() * inflate,
+        columns: pts.len(),
+        rms: (fit.rss / pts.len() as f64).sqrt(),
+        two_sided,
+    }
+}
+
+/// Residual correlation along the edge: the factor `sqrt((1 + r) / (1 - r))`
+/// of the lag-1 autocorrelation `r` (clamped to 0-0.9) by which standard
+/// errors computed for independent residuals are too small.
+fn lag1_inflation(res: &[f64]) -> f64 {
+    let num: f64 = res.windows(2).map(|p| p[0] * p[1]).sum();
+    let den: f64 = res.iter().map(|r| r * r).sum();
+    let rho = if den > 0.0 {
+        (num / den).clamp(0.0, 0.9)
+    } else {
+        0.0
+    };
+    ((1.0 + rho) / (1.0 - rho)).sqrt()
+}
+
+/// How far apart the two estimators may be on a clean edge, px, beyond
+/// their noise: the centroid and the step model differ slightly in how they
+/// treat pixel sampling and the blur's shape (on clean synthetic edges the
+/// difference at the apex stays within about 0.01-0.04 px).
+const TWO_SIDED_MARGIN_PX: f64 = 0.02;
+
+/// The share of the upper quartile's contrast below which an apex column
+/// is left out ([`strong_columns`]).
+const UPPER_SHARE: f64 = 0.8;
+
+/// A test of the centroid edge against the step model, in the manner of
+/// Hausman's specification test (J. A. Hausman, "Specification tests in
+/// econometrics", Econometrica 46, 1978, doi:10.2307/1913827): the
+/// centroids ([`profile_edge`]) are the precise estimate, unbiased when the
+/// dome side under the edge is flat; the step model ([`step_model_edge`])
+/// stays unbiased when it is not, at more noise. Each column's difference
+/// between the two is fitted by a parabola and evaluated at the apex
+/// (`u_v`); its standard error comes from the differences' own scatter
+/// (what the shared noise cancels from). When the difference exceeds 3
+/// standard errors plus [`TWO_SIDED_MARGIN_PX`], something under the edge (a
+/// highlight's flank, texture) biased the centroids, and the robust
+/// parabola through the step model's rows is returned instead.
+fn two_sided_refit(
+    cols: &Columns,
+    pts: &[(f64, f64)],
+    centre: f64,
+    u_v: f64,
+) -> Option<(Parabola, Vec<(f64, f64)>)> {
+    let img = cols.img;
+    let mut model = Vec::with_capacity(pts.len());
+    let mut diff = Vec::with_capacity(pts.len());
+    for &(u, e) in pts {
+        // `u` is a column minus `centre`, so rounding recovers the column.
+        let c = (centre + u).round() as usize;
+        let column = |j: i64| f64::from(img.at(c, j as usize));
+        if let Some(m) = step_model_edge(column, img.height as i64, e) {
+            model.push((u, m));
+            diff.push((u, m - e));
+        }
+    }
+    if diff.len() < 8.max(pts.len() / 2) {
+        return None;
+    }
+    let d = parabola(&diff)?;
+    let sd = d.var_at(u_v).sqrt() * lag1_inflation(&d.residuals(&diff));
+    let [a, b, c] = d.coef;
+    let at_apex = a + b * u_v + c * u_v * u_v;
+    if at_apex.abs() <= 3.0 * sd + TWO_SIDED_MARGIN_PX {
+        return None;
+    }
+    robust_parabola(&model)
+}
+
 /// The `(column, edge row)` of the located columns whose step has the
 /// dome's polarity (the sign of the summed steps) and at least a quarter of
-/// the median contrast; `None` when fewer than `min` remain.
-fn strong_columns(located: &[(f64, f64, f64)], min: usize) -> Option<Vec<(f64, f64)>> {
+/// the median contrast, and at least `upper_share` of the upper quartile's
+/// contrast; `None` when fewer than `min` remain.
+///
+/// The second bound is for the apex: the contrast of a matte dome against
+/// its background changes slowly along the edge, so a column whose step is
+/// markedly weaker than most has something added where it is measured: a
+/// highlight on the dome against the edge, a dark line behind it. Such a
+/// column's centroid is pulled off the edge, most by a highlight's flank
+/// within the window (0.5-1.2 px on a 640x480 synthetic dome).
+fn strong_columns(
+    located: &[(f64, f64, f64)],
+    min: usize,
+    upper_share: f64,
+) -> Option<Vec<(f64, f64)>> {
     let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
     let mut mags: Vec<f64> = located
         .iter()
@@ -400,9 +662,11 @@ fn strong_columns(located: &[(f64, f64, f64)], min: usize) -> Option<Vec<(f64, f
     }
     mags.sort_by(f64::total_cmp);
     let med = mags[mags.len() / 2];
+    let upper = mags[3 * mags.len() / 4];
+    let floor = (0.25 * med).max(upper_share * upper);
     let pts: Vec<(f64, f64)> = located
         .iter()
-        .filter(|l| l.2 * sign > 0.25 * med)
+        .filter(|l| l.2 * sign > floor)
         .map(|l| (l.0, l.1))
         .collect();
     (pts.len() >= min).then_some(pts)
@@ -447,7 +711,7 @@ pub fn axis_fit_in(cols: &mut Columns, apex: &EdgeFit, half_span_px: usize) -> O
             located.push((c as f64, e, step));
         }
     }
-    let pts = strong_columns(&located, 9)?;
+    let pts = strong_columns(&located, 9, 0.0)?;
     let rss = even_fit_rss(&pts, apex.x_vertex, half_span_px.max(1) as f64);
     let (mut a, mut b) = (apex.x_vertex - 8.0, apex.x_vertex + 8.0);
     let g = 0.5 * (5f64.sqrt() - 1.0);
@@ -565,6 +829,14 @@ struct Parabola {
 impl Parabola {
     fn var_at(&self, u: f64) -> f64 {
         quad_form(&self.cov, &[1.0, u, u * u])
+    }
+
+    /// `y - fit(u)` of each point.
+    fn residuals(&self, pts: &[(f64, f64)]) -> Vec<f64> {
+        let [a, b, c] = self.coef;
+        pts.iter()
+            .map(|&(u, y)| y - (a + b * u + c * u * u))
+            .collect()
     }
 }
 
@@ -712,6 +984,58 @@ mod tests {
                 (fast - direct).abs() <= 1e-9 * direct.max(1.0),
                 "s = {s}: {fast} vs {direct}"
             );
+        }
+    }
+
+    /// A step blurred by a Gaussian and averaged over each pixel, built by
+    /// numerical quadrature (not through the model's closed forms): 200
+    /// above the edge, `60 + ramp (y - e)` below it.
+    fn blurred_step(e: f64, sigma: f64, ramp: f64, len: usize) -> Vec<f64> {
+        let f = |y: f64| if y < e { 200.0 } else { 60.0 + ramp * (y - e) };
+        let (n_px, n_k) = (24, 3000);
+        (0..len)
+            .map(|j| {
+                let mut acc = 0.0;
+                let mut wsum = 0.0;
+                for a in 0..n_px {
+                    let y = j as f64 - 0.5 + (a as f64 + 0.5) / n_px as f64;
+                    for b in 0..n_k {
+                        let t = -6.0 * sigma + 12.0 * sigma * (b as f64 + 0.5) / n_k as f64;
+                        let w = (-0.5 * (t / sigma).powi(2)).exp();
+                        acc += w * f(y - t);
+                        wsum += w;
+                    }
+                }
+                acc / wsum
+            })
+            .collect()
+    }
+
+    /// The step model finds the edge of blurred, pixel-averaged steps to
+    /// 0.01 px at blurs of 0.8-2.5 px and any sub-pixel position, also with
+    /// a slope on the dome side that starts at the edge, which moves the
+    /// centroid by more than 0.05 px.
+    #[test]
+    fn the_step_model_is_not_moved_by_a_slope_under_the_edge() {
+        for sigma in [0.8, 1.5, 2.5] {
+            for e in [20.0, 20.27, 20.5, 20.81] {
+                for ramp in [0.0, 10.0] {
+                    let p = blurred_step(e, sigma, ramp, 40);
+                    let px = |j: i64| p[j as usize];
+                    let m = step_model_edge(px, 40, e.round() + 0.3).unwrap();
+                    assert!(
+                        (m - e).abs() < 0.01,
+                        "sigma {sigma} edge {e} ramp {ramp}: model {m}"
+                    );
+                    if ramp > 0.0 && sigma >= 1.5 {
+                        let (c, _) = profile_edge(px, 40, e, 3.0).unwrap();
+                        assert!(
+                            (c - e).abs() > 0.05,
+                            "sigma {sigma} edge {e}: centroid {c}, no bias to show"
+                        );
+                    }
+                }
+            }
         }
     }
 

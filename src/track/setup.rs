@@ -264,6 +264,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             metres_per_pixel: scale,
             origin,
             elevation,
+            opening_radius_m: e.specimen.radius_m,
         },
     })
 }

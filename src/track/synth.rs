@@ -478,6 +478,41 @@ impl SequenceSpec {
     }
 }
 
+/// A random camera for `seed`: a size of `sizes`, scale 0.05-0.12 mm/px,
+/// the disc 35-65 % of the width (its radius follows, the thickness in
+/// proportion), blur 0.8-2 px, noise 1-4 grey levels, JPEG quality 80-95,
+/// the framing random ([`Framing::random`]) and the look given.
+pub fn random_camera(seed: u64, sizes: &[(usize, usize)], look: Look) -> SequenceSpec {
+    let mut rng = Rng::new(seed ^ 0x1A17);
+    let (w, h) = sizes[(rng.next_u64() % sizes.len() as u64) as usize];
+    let mpp = 5e-5 + 7e-5 * rng.uniform();
+    let f = 0.35 + 0.3 * rng.uniform();
+    let a = f * w as f64 * mpp / 2.0;
+    let q = 80 + (rng.next_u64() % 16) as u8;
+    SequenceSpec {
+        width: w,
+        height: h,
+        seed,
+        blur_px: 0.8 + 1.2 * rng.uniform(),
+        noise_grey: 1.0 + 3.0 * rng.uniform(),
+        drift: 0.03,
+        encoding: Encoding::Jpeg(q),
+        specimen: Specimen {
+            radius_m: a,
+            thickness_m: 0.00035 * a / 0.0375,
+            poisson: 0.45,
+            prebulge_height_m: 0.0,
+        },
+        window: Default::default(),
+        framing: Framing {
+            metres_per_pixel: Some(mpp),
+            random: true,
+            ..Framing::default()
+        },
+        look,
+    }
+}
+
 /// One frame to draw: the pressure and the bubble's profile at it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SynthFrame {

@@ -222,7 +222,11 @@ impl Tracker<'_> {
         }
     }
 
-    pub(super) fn locate(&self, crop: &Gray) -> Result<Located, TrackError> {
+    pub(super) fn locate(
+        &self,
+        crop: &Gray,
+        fullest: Option<&Gray>,
+    ) -> Result<Located, TrackError> {
         let margin = self.opts.search_margin_px as f64;
         let m = match &self.reduced {
             None => self.search(crop, self.templ, self.last, self.prev, margin)?,
@@ -271,7 +275,8 @@ impl Tracker<'_> {
             self.last.map_or(m.quadratic[0], |l| l[0]) + self.apex_in_t[0],
             m.quadratic[1] + self.apex_in_t[1],
         ];
-        let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
+        let mut cols =
+            matcher::Columns::with_fullest(crop, self.edge_settings.half_window_px, fullest);
         let edge = matcher::edge_fit_in(
             &mut cols,
             apex[0],
@@ -294,9 +299,11 @@ impl Tracker<'_> {
     pub(super) fn locate_at(
         &self,
         crop: &Gray,
+        fullest: Option<&Gray>,
         pred: [f64; 2],
     ) -> Result<Option<Located>, TrackError> {
-        let mut cols = matcher::Columns::new(crop, self.edge_settings.half_window_px);
+        let mut cols =
+            matcher::Columns::with_fullest(crop, self.edge_settings.half_window_px, fullest);
         let Some(edge) = matcher::edge_fit_in(
             &mut cols,
             pred[0],

@@ -43,6 +43,9 @@ pub struct Calibration {
     pub origin: HeightOrigin,
     /// The camera's elevation above the clamp plane, when not level.
     pub elevation: Option<Elevation>,
+    /// Free radius of the specimen, m: the dome's opening, against which
+    /// the curvature of the top edge found is checked.
+    pub opening_radius_m: f64,
 }
 
 /// A camera raised above the clamp plane (see [`Elevation::height_px`]).
