@@ -10,7 +10,8 @@
 //! standard deviations off (silently wrong) and the worst ratio.
 //! Seeds 1..=N (`--seeds N`, default 16); the tests use other seeds.
 //!
-//! Run: `cargo run --release --example track_looks [-- --seeds N]`.
+//! Run: `cargo run --release --example track_looks [-- --seeds N] [--verbose]`
+//! (`--verbose` names every photo beyond 4 standard deviations).
 
 use bulge::experiment::Experiment;
 use bulge::material::{Material, Model};
@@ -23,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some(i) => args.get(i + 1).ok_or("--seeds needs a number")?.parse()?,
         None => 16,
     };
+    let verbose = args.iter().any(|a| a == "--verbose");
     let gloss = Look {
         highlight_grey: 80.0,
         ..Look::default()
@@ -77,6 +79,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 tracked += 1;
                 sum2 += err * err;
                 beyond += usize::from(z > 4.0);
+                if verbose && z > 4.0 {
+                    eprintln!(
+                        "{name}, seed {seed} ({}x{}), {}: apex row {err:+.3} px off, stated std {:.3} px",
+                        spec.width, spec.height, r.file, r.apex_y_std_px
+                    );
+                }
                 worst = worst.max(z);
             }
         }

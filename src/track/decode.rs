@@ -550,12 +550,21 @@ impl Guard {
             let h = c - y;
             if h > 2.0 {
                 let cap = 2.0 * h / (a * a + h * h);
-                // With no frame before (the reference frame), the dome must
-                // be shown, not only not excluded, where its top sags by 2 px
-                // or more across the span: a line along the top gives a
-                // curvature with a large error.
-                let shown = self.history.is_empty() && 0.5 * cap * self.span * self.span >= 2.0;
+                // Where the cap's top sags by 1 px or more across the span,
+                // the curvature must be measured to half the cap's at least,
+                // and with no frame before (the reference frame) the dome
+                // must be shown, not only not excluded: a line along the
+                // top, or an edge inside the dome, gives a curvature with a
+                // large error.
+                let visible = 0.5 * cap * self.span * self.span >= 1.0;
+                let shown = self.history.is_empty() && visible;
                 let noise = if shown { -2.0 } else { 4.0 } * e.curvature_std;
+                if visible && e.curvature_std > 0.5 * cap {
+                    return Err(format!(
+                        "the edge found does not show a dome's curvature ({:.2e} +- {:.2e} 1/px, against {:.2e} for a spherical cap {:.1} px high on an opening of radius {:.1} px): something other than the bubble's top was fitted",
+                        e.curvature, e.curvature_std, cap, h, a
+                    ));
+                }
                 if e.curvature < 0.4 * cap - noise || e.curvature > 2.5 * cap + noise.abs() {
                     return Err(format!(
                         "the edge's curvature {:.2e} 1/px is not that of a dome {:.1} px high on an opening of radius {:.1} px ({:.2e} for a spherical cap): the edge found is not the bubble's top (a shelf edge or a cable along it?)",

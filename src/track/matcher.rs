@@ -518,10 +518,12 @@ pub fn edge_fit_in(
         let Some(pts) = strong_columns(&located, 5, UPPER_SHARE) else {
             break;
         };
+        // Something on the edge weakened a tenth of its columns or more.
+        let weakened = 10 * (located.len() - pts.len()) >= located.len();
         let (fit, pts) = robust_parabola(&pts)?;
         coef = fit.coef;
         let r = summarise(&fit, &pts, centre, span as f64, false);
-        last = Some((pts, centre, r.x_vertex - centre));
+        last = weakened.then_some((pts, centre, r.x_vertex - centre));
         result = Some(r);
     }
     if let Some((pts, centre, u_v)) = last
