@@ -58,7 +58,7 @@ use rayon::prelude::*;
 
 use super::TrackError;
 use super::image::{Gray, read_gray};
-use super::matcher::{Columns, EdgeSettings, edge_fit_in, profile_edge};
+use super::matcher::{Columns, EdgeSettings, edge_fit_in, lag1_inflation, profile_edge};
 use super::synth::Layout;
 
 /// A value found in the photos and its standard deviation.
@@ -393,20 +393,6 @@ fn robust_lstsq(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<(Fit, Vec<bo
     fit.map(|f| (f, keep))
 }
 
-/// The factor `sqrt((1 + r) / (1 - r))` by which residuals correlated
-/// from point to point (lag-1 correlation `r`, clamped to 0..0.9) widen a
-/// standard error.
-fn correlation_inflation(res: &[f64]) -> f64 {
-    let num: f64 = res.windows(2).map(|p| p[0] * p[1]).sum();
-    let den: f64 = res.iter().map(|r| r * r).sum();
-    let r = if den > 0.0 {
-        (num / den).clamp(0.0, 0.9)
-    } else {
-        0.0
-    };
-    ((1.0 + r) / (1.0 - r)).sqrt()
-}
-
 /// The strongest step of a profile inside `lo..hi` (as the difference
 /// `p(j + 1) - p(j)` smoothed over two samples each side, at `j + 1/2`):
 /// its position and value.
@@ -673,7 +659,7 @@ fn find_clamp(
             let ((coef, cov, res), keep) =
                 robust_lstsq(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
             check_inliers(&keep, ambiguous)?;
-            let infl = correlation_inflation(&res);
+            let infl = lag1_inflation(&res);
             (
                 Estimate {
                     value: coef[0],
@@ -704,7 +690,7 @@ fn find_clamp(
             (
                 Estimate {
                     value: coef[0],
-                    std: cov[0][0].sqrt() * correlation_inflation(&res),
+                    std: cov[0][0].sqrt() * lag1_inflation(&res),
                 },
                 None,
             )
@@ -741,7 +727,7 @@ fn find_clamp(
             (
                 Estimate {
                     value: c[0],
-                    std: ccov[0][0].sqrt() * correlation_inflation(&cres),
+                    std: ccov[0][0].sqrt() * lag1_inflation(&cres),
                 },
                 None,
             )
@@ -857,7 +843,7 @@ fn find_radius(
     }
     let a = w0 * f.sqrt();
     let uu = w0 * b;
-    let infl = correlation_inflation(&res);
+    let infl = lag1_inflation(&res);
     let g = [f.sqrt(), -w0 * b * tan2 / f.sqrt()];
     let var_fit =
         (g[0] * g[0] * cov[0][0] + 2.0 * g[0] * g[1] * cov[0][1] + g[1] * g[1] * cov[1][1])

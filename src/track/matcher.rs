@@ -573,7 +573,7 @@ fn summarise(
 /// Residual correlation along the edge: the factor `sqrt((1 + r) / (1 - r))`
 /// of the lag-1 autocorrelation `r` (clamped to 0-0.9) by which standard
 /// errors computed for independent residuals are too small.
-fn lag1_inflation(res: &[f64]) -> f64 {
+pub(crate) fn lag1_inflation(res: &[f64]) -> f64 {
     let num: f64 = res.windows(2).map(|p| p[0] * p[1]).sum();
     let den: f64 = res.iter().map(|r| r * r).sum();
     let rho = if den > 0.0 {
