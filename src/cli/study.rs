@@ -643,7 +643,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         let start = joint_inputs[0].1.clone();
         let inputs: Vec<StudyInput> = joint_inputs.into_iter().map(|(i, _)| i).collect();
         match joint(&inputs, &start) {
-            Ok(j) if j.names == study.names => info.joint = Some(j.values),
+            Ok(j) if j.names == study.names => info.joint = Some((j.values, j.std_errors)),
             Ok(_) => {}
             Err(e) => eprintln!("no joint fit of the specimens' heights: {e}"),
         }

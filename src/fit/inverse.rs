@@ -804,6 +804,10 @@ pub struct JointRefined {
     pub rms_after: Option<f64>,
     /// Levenberg-Marquardt iterations (both stages).
     pub iterations: u64,
+    /// Standard errors of the law's parameters ([`law_parameters`]' order),
+    /// cluster-robust by specimen (see [`refine_joint`]); `None` when the
+    /// fit did not improve on the start or the covariance is singular.
+    pub std_errors: Option<Vec<f64>>,
 }
 
 /// Corrects `material`'s parameters so that the axisymmetric inflation of
@@ -812,9 +816,18 @@ pub struct JointRefined {
 /// relative error `h_sim / h - 1` (every photo of every specimen weighs
 /// alike), first one factor on the stress parameters, then every
 /// parameter, as [`refine`] does for one specimen. A quartic's softening
-/// penalty is counted once. No covariance: the points of one specimen
-/// share its thickness's and calibration's errors, which a joint residual
-/// does not see; the study's interval of the mean is the uncertainty.
+/// penalty is counted once.
+///
+/// The standard errors are cluster-robust by specimen (K.-Y. Liang and S. L.
+/// Zeger, "Longitudinal data analysis using generalized linear models",
+/// Biometrika 73, 1986, doi:10.1093/biomet/73.1.13): the points of one
+/// specimen share its thickness's and calibration's errors, which make its
+/// residuals move together, so the covariance is the sandwich `B M B` with
+/// `B = (J^T J)^-1` and `M = sum_k (J_k^T r_k)(J_k^T r_k)^T` over the
+/// specimens `k` (their Jacobian rows `J_k` and residuals `r_k`), times the
+/// small-sample factor `G/(G-1) (N-1)/(N-P)` (`G` specimens, `N` points,
+/// `P` parameters). With few specimens it is itself uncertain (it rests on
+/// `G` terms): beside it, the study's interval of the mean.
 pub fn refine_joint(
     material: &Material,
     specimens: &[(Specimen, Vec<Measured>)],
@@ -889,8 +902,10 @@ pub fn refine_joint(
     let after = joint.errors(r.x.as_slice());
     let (rms_before, rms_after) = (Refined::rms(&before), Refined::rms(&after));
     let better = matches!((rms_after, rms_before), (Some(a), Some(b)) if a < b);
+    let std_errors = better.then(|| joint_std(&joint, r.x.as_slice())).flatten();
     let x = if better { r.x.as_slice().to_vec() } else { x0 };
     Ok(JointRefined {
+        std_errors,
         material: Material {
             model: params.model(&x),
             poisson: material.poisson,
@@ -900,6 +915,60 @@ pub fn refine_joint(
         rms_after: if better { rms_after } else { rms_before },
         iterations: scale.iterations + r.iterations,
     })
+}
+
+/// The joint law's cluster-robust standard errors at `x`, in the law's own
+/// parameters ([`law_parameters`]): every point's relative error and its
+/// gradient from the axisymmetric sensitivities, one cluster a specimen.
+fn joint_std(joint: &Joint, x: &[f64]) -> Option<Vec<f64>> {
+    let mut rows: Vec<(f64, Vec<f64>)> = Vec::new();
+    let mut sizes = Vec::new();
+    for part in &joint.parts {
+        let m = part.material(x);
+        let p = law_parameters(&m.model)?.1.len();
+        let part_rows: Option<Vec<(f64, Vec<f64>)>> = (0..part.points.len())
+            .into_par_iter()
+            .map(|i| {
+                let g = part.solve(&m, i, true).filter(|g| g.gradient.len() == p)?;
+                let h = part.points[i].height_m;
+                Some((
+                    (g.height_m - h) / h,
+                    g.gradient.iter().map(|d| d / h).collect(),
+                ))
+            })
+            .collect();
+        let part_rows = part_rows?;
+        sizes.push(part_rows.len());
+        rows.extend(part_rows);
+    }
+    let p = rows.first()?.1.len();
+    let jac = DMatrix::from_fn(rows.len(), p, |i, k| rows[i].1[k]);
+    let res = DVector::from_iterator(rows.len(), rows.iter().map(|r| r.0));
+    cluster_robust_std(&jac, &res, &sizes)
+}
+
+/// The cluster-robust standard errors of a least-squares fit ([`refine_joint`]):
+/// `jac` and `res` at the solution, their rows in consecutive clusters of
+/// `sizes` rows. `None` when `J^T J` is singular or fewer than two clusters.
+fn cluster_robust_std(jac: &DMatrix<f64>, res: &DVector<f64>, sizes: &[usize]) -> Option<Vec<f64>> {
+    let (n, p) = jac.shape();
+    let g = sizes.len();
+    if g < 2 || n <= p || sizes.iter().sum::<usize>() != n {
+        return None;
+    }
+    let bread = (jac.transpose() * jac).try_inverse()?;
+    let mut meat = DMatrix::zeros(p, p);
+    let mut at = 0;
+    for &m in sizes {
+        let score = jac.rows(at, m).transpose() * res.rows(at, m);
+        meat += &score * score.transpose();
+        at += m;
+    }
+    let factor = (g as f64 / (g as f64 - 1.0)) * ((n as f64 - 1.0) / (n as f64 - p as f64));
+    let cov = &bread * meat * &bread * factor;
+    (0..p)
+        .map(|k| cov[(k, k)].is_finite().then(|| cov[(k, k)].max(0.0).sqrt()))
+        .collect()
 }
 
 /// The law's parameters as the gradients of [`axisym::height_gradient`]

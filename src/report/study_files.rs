@@ -32,8 +32,9 @@ pub struct StudyInfo {
     /// Settings shared by the specimens, key/value.
     pub settings: Vec<(String, String)>,
     /// One law fitted to every specimen's heights together
-    /// ([`crate::fit::study::joint`]), in the order of the study's names.
-    pub joint: Option<Vec<f64>>,
+    /// ([`crate::fit::study::joint`]), in the order of the study's names,
+    /// and its standard errors when known.
+    pub joint: Option<(Vec<f64>, Option<Vec<f64>>)>,
 }
 
 /// The study's files and its terminal table.
@@ -66,7 +67,7 @@ fn shown(name: &str) -> (String, f64) {
 /// its standard error per parameter.
 type SummaryRow = (&'static str, Vec<f64>, Option<Vec<f64>>);
 
-fn summary(s: &Study, joint: Option<&Vec<f64>>) -> Vec<SummaryRow> {
+fn summary(s: &Study, joint: Option<&(Vec<f64>, Option<Vec<f64>>)>) -> Vec<SummaryRow> {
     let n = s.specimens.len() as f64;
     let mut rows: Vec<SummaryRow> = vec![
         (
@@ -86,8 +87,8 @@ fn summary(s: &Study, joint: Option<&Vec<f64>>) -> Vec<SummaryRow> {
     if let Some((v, se)) = &s.pooled {
         rows.push(("pooled", v.clone(), Some(se.clone())));
     }
-    if let Some(j) = joint {
-        rows.push(("joint", j.clone(), None));
+    if let Some((v, se)) = joint {
+        rows.push(("joint", v.clone(), se.clone()));
     }
     rows
 }
@@ -185,8 +186,8 @@ fn number(name: &str, v: f64) -> String {
 }
 
 /// The table on the terminal (stresses in kPa), with the joint fit's
-/// values when given.
-pub fn terminal(s: &Study, joint: Option<&Vec<f64>>) -> String {
+/// values (and their 95 % intervals when known) when given.
+pub fn terminal(s: &Study, joint: Option<&(Vec<f64>, Option<Vec<f64>>)>) -> String {
     let z = normal_quantile(0.975);
     let w = s
         .specimens
@@ -248,10 +249,14 @@ pub fn terminal(s: &Study, joint: Option<&Vec<f64>>) -> String {
         }
     }
     t.push('\n');
-    if let Some(j) = joint {
+    if let Some((j, se)) = joint {
         t.push_str(&format!("{:<w$}", "joint"));
         for (k, n) in s.names.iter().enumerate() {
-            t.push_str(&format!(" {:>24}", number(n, j[k])));
+            let cell = match se {
+                Some(se) => format!("{} +- {}", number(n, j[k]), number(n, z * se[k])),
+                None => number(n, j[k]),
+            };
+            t.push_str(&format!(" {cell:>24}"));
         }
         t.push('\n');
     }
@@ -392,7 +397,7 @@ mod tests {
         let info = StudyInfo {
             title: "t".into(),
             thickness_m: vec![3.5e-4; 4],
-            joint: Some(vec![1.02e5, 2.2]),
+            joint: Some((vec![1.02e5, 2.2], Some(vec![1.5e3, 0.1]))),
             ..StudyInfo::default()
         };
         let text = String::from_utf8(csv(&s, &info).into_bytes()).unwrap();

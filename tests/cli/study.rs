@@ -145,6 +145,10 @@ fn five_specimens_resumed_and_redone() {
         // one law fitted to every specimen's heights: inside the interval too
         let j = cell(&rows, &head, "joint", name);
         assert!(lo <= j && j <= hi, "{name}: joint {j}, {lo}..{hi}");
+        // with its own standard error (cluster-robust by specimen)
+        let j_std = cell(&rows, &head, "joint", &name.replace("_pa", "_std_pa"));
+        eprintln!("{name}: joint {j} +- {j_std} (1 sigma)");
+        assert!(j_std > 0.0 && j_std < 0.05 * j, "{name}: joint std {j_std}");
         let cv = cell(&rows, &head, "cv", name);
         assert!(cv > 0.0 && cv < 0.1, "{name}: cv {cv}");
     }
