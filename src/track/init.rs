@@ -772,9 +772,16 @@ fn find_radius(
 ) -> Result<(Estimate, Vec<[f64; 2]>), TrackError> {
     let (w, h) = (last.w as i64, last.h as i64);
     let c = clamp.row.value;
-    // From a raised camera the clamp's top face is seen behind the rim, up
-    // to `A sin e` above the plane: the sides are located above it.
-    let above_face = clamp.half_width_px.map_or(0.0, |a_f| a_f * sin_e) + 3.0;
+    // From a raised camera the clamp's top face (outer radius `A`) is seen
+    // behind the rim: its back edge runs `sqrt(A^2 - x^2) sin e` above the
+    // plane at `x` from the axis, so beside the opening (`x` about `a`) the
+    // sides are seen from `sqrt(A^2 - a^2) sin e` up (0.75 a sin e for a
+    // clamp 1.25 a wide, against `A sin e` on the axis: the shorter the
+    // extrapolation to the plane below, the smaller its error).
+    let above_face = clamp
+        .half_width_px
+        .map_or(0.0, |a_f| (a_f * a_f - a0 * a0).max(0.0).sqrt() * sin_e)
+        + 3.0;
     let u0 = 6.0f64.max(0.03 * a0).max(above_face);
     let k = 14.0f64.max(0.15 * a0);
     let mut rows: Vec<(f64, [f64; 2])> = Vec::new();
