@@ -518,7 +518,8 @@ pub fn edge_fit_in(
         let Some(pts) = strong_columns(&located, 5, UPPER_SHARE) else {
             break;
         };
-        // Something on the edge weakened a tenth of its columns or more.
+        // Something on the edge weakened a tenth of its columns or more:
+        // then (only, it costs) the rows are tested against the step model.
         let weakened = 10 * (located.len() - pts.len()) >= located.len();
         let (fit, pts) = robust_parabola(&pts)?;
         coef = fit.coef;
