@@ -527,12 +527,28 @@ pub fn edge_fit_in(
         last = weakened.then_some((pts, centre, r.x_vertex - centre));
         result = Some(r);
     }
-    if let Some((pts, centre, u_v)) = last
-        && let Some((fit, kept)) = two_sided_refit(cols, &pts, centre, u_v)
-    {
-        return Some(summarise(&fit, &kept, centre, span as f64, true));
+    match last.and_then(|(pts, centre, u_v)| {
+        two_sided_refit(cols, &pts, centre, u_v).map(|t| (t, centre))
+    }) {
+        Some((TwoSided::Model(fit, kept), centre)) => {
+            Some(summarise(&fit, &kept, centre, span as f64, true))
+        }
+        Some((TwoSided::Bias(b2), _)) => result.map(|r| EdgeFit {
+            y_std: (r.y_std * r.y_std + b2).sqrt(),
+            ..r
+        }),
+        None => result,
     }
-    result
+}
+
+/// What the test of the centroids against the step model says.
+enum TwoSided {
+    /// The centroids are biased: the robust parabola through the model's
+    /// rows and the columns it kept.
+    Model(Parabola, Vec<(f64, f64)>),
+    /// Not significantly: the squared difference at the apex beyond its
+    /// variance, an estimate of the centroid apex's squared bias, px^2.
+    Bias(f64),
 }
 
 /// The fit's apex, vertex, curvature and their standard errors, each
@@ -606,13 +622,12 @@ const UPPER_SHARE: f64 = 0.8;
 /// (what the shared noise cancels from). When the difference exceeds 3
 /// standard errors plus [`TWO_SIDED_MARGIN_PX`], something under the edge (a
 /// highlight's flank, texture) biased the centroids, and the robust
-/// parabola through the step model's rows is returned instead.
-fn two_sided_refit(
-    cols: &Columns,
-    pts: &[(f64, f64)],
-    centre: f64,
-    u_v: f64,
-) -> Option<(Parabola, Vec<(f64, f64)>)> {
+/// parabola through the step model's rows is returned instead. Below it,
+/// the difference still estimates the centroids' bias on a frame where
+/// something lies on the edge (the test is made only there): its square
+/// beyond its variance, `max(0, D^2 - sd^2)` (unbiased for the squared
+/// bias), is returned to be added to the apex row's variance.
+fn two_sided_refit(cols: &Columns, pts: &[(f64, f64)], centre: f64, u_v: f64) -> Option<TwoSided> {
     let img = cols.img;
     let mut model = Vec::with_capacity(pts.len());
     let mut diff = Vec::with_capacity(pts.len());
@@ -633,9 +648,10 @@ fn two_sided_refit(
     let [a, b, c] = d.coef;
     let at_apex = a + b * u_v + c * u_v * u_v;
     if at_apex.abs() <= 3.0 * sd + TWO_SIDED_MARGIN_PX {
-        return None;
+        return Some(TwoSided::Bias((at_apex * at_apex - sd * sd).max(0.0)));
     }
-    robust_parabola(&model)
+    let (fit, kept) = robust_parabola(&model)?;
+    Some(TwoSided::Model(fit, kept))
 }
 
 /// The `(column, edge row)` of the located columns whose step has the
