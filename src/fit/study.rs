@@ -252,6 +252,42 @@ mod tests {
     use crate::fit::uncertainty::Sources;
     use crate::material::Model;
 
+    /// The Mooney-Rivlin law of the joint-fit tests (C1 = 0.12 MPa, C2 =
+    /// 0.03 MPa).
+    fn mooney_rivlin() -> Material {
+        Material {
+            model: Model::MooneyRivlin {
+                c1_pa: 0.12e6,
+                c2_pa: 0.03e6,
+            },
+            poisson: 0.45,
+            fit: None,
+        }
+    }
+
+    /// The exact heights of `law` on `real` at 800, 1400, ... 3800 Pa, each
+    /// times `1 + noise()`.
+    fn heights(
+        law: &Material,
+        real: &Specimen,
+        opts: &inverse::Options,
+        mut noise: impl FnMut() -> f64,
+    ) -> Vec<Measured> {
+        (0..6)
+            .map(|i| {
+                let p = 800.0 + 600.0 * i as f64;
+                let h = crate::axisym::solve_pressure(law, real, p, &opts.axisym)
+                    .unwrap()
+                    .height_m;
+                Measured {
+                    pressure_pa: p,
+                    height_m: h * (1.0 + noise()),
+                    height_std_m: None,
+                }
+            })
+            .collect()
+    }
+
     /// Heights of the exact inflation of one Mooney-Rivlin law (C1 = 0.12
     /// MPa, C2 = 0.03 MPa) on five specimens of different thicknesses (330
     /// to 370 um) and radii, noise-free: the joint fit from a start 20 %
@@ -261,14 +297,7 @@ mod tests {
     /// thickness do not.
     #[test]
     fn joint_fit_recovers_one_law_from_specimens_of_different_thickness() {
-        let truth = Material {
-            model: Model::MooneyRivlin {
-                c1_pa: 0.12e6,
-                c2_pa: 0.03e6,
-            },
-            poisson: 0.45,
-            fit: None,
-        };
+        let truth = mooney_rivlin();
         let opts = inverse::Options::default();
         let make = |k: usize| {
             let specimen = Specimen {
@@ -276,19 +305,7 @@ mod tests {
                 radius_m: [0.0375, 0.0370, 0.0380, 0.0375, 0.0372][k],
                 ..Specimen::latex()
             };
-            let measured = (0..6)
-                .map(|i| {
-                    let p = 800.0 + 600.0 * i as f64;
-                    let h = crate::axisym::solve_pressure(&truth, &specimen, p, &opts.axisym)
-                        .unwrap()
-                        .height_m;
-                    Measured {
-                        pressure_pa: p,
-                        height_m: h,
-                        height_std_m: None,
-                    }
-                })
-                .collect();
+            let measured = heights(&truth, &specimen, &opts, || 0.0);
             StudyInput {
                 name: format!("s{k}"),
                 specimen,
@@ -334,14 +351,7 @@ mod tests {
     /// 95 % intervals hold the truth.
     #[test]
     fn joint_standard_errors_match_the_scatter_of_the_joint_fit() {
-        let truth = Material {
-            model: Model::MooneyRivlin {
-                c1_pa: 0.12e6,
-                c2_pa: 0.03e6,
-            },
-            poisson: 0.45,
-            fit: None,
-        };
+        let truth = mooney_rivlin();
         let opts = inverse::Options::default();
         let stated = Specimen {
             thickness_m: 3.5e-4,
@@ -357,19 +367,7 @@ mod tests {
                         thickness_m: stated.thickness_m * (1.0 + 0.03 * rng.normal()),
                         ..stated
                     };
-                    let measured = (0..6)
-                        .map(|i| {
-                            let p = 800.0 + 600.0 * i as f64;
-                            let h = crate::axisym::solve_pressure(&truth, &real, p, &opts.axisym)
-                                .unwrap()
-                                .height_m;
-                            Measured {
-                                pressure_pa: p,
-                                height_m: h * (1.0 + 0.003 * rng.normal()),
-                                height_std_m: None,
-                            }
-                        })
-                        .collect();
+                    let measured = heights(&truth, &real, &opts, || 0.003 * rng.normal());
                     StudyInput {
                         name: format!("s{k}"),
                         specimen: stated,
