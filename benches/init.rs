@@ -5,14 +5,11 @@
 //!
 //! `cargo bench --bench init`; set `BULGE_BENCH_QUICK=1` for fewer samples.
 
-mod support;
-
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use support::spec;
 
 use bulge::experiment::Experiment;
 use bulge::track::image::Encoding;
-use bulge::track::synth;
+use bulge::track::synth::{self, SequenceSpec};
 use bulge::track::{self, Options};
 
 /// `init::find` on 100 photos of 1280x960 (caps from 0.15 a to 0.6 a,
@@ -23,7 +20,7 @@ fn init_speed(c: &mut Criterion) {
     let quick = std::env::var_os("BULGE_BENCH_QUICK").is_some();
     let n = 100;
     let dir = tempfile::tempdir().unwrap();
-    let s = spec(1280, 960, 7, 1.5, 3.0, Encoding::Jpeg(90));
+    let s = SequenceSpec::plain(1280, 960, 7, 1.5, 3.0, Encoding::Jpeg(90));
     let a = s.specimen.radius_m;
     let frames: Vec<synth::SynthFrame> = (0..n)
         .map(|k| synth::SynthFrame {

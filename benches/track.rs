@@ -13,11 +13,8 @@
 
 use std::path::PathBuf;
 
-mod support;
-
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rayon::prelude::*;
-use support::spec;
 
 use bulge::experiment::Experiment;
 use bulge::track::image::{Encoding, decode_mat};
@@ -46,7 +43,11 @@ fn accuracy_table() {
         let mut n = 0usize;
         for seed in 1..=3u64 {
             let dir = tempfile::tempdir().unwrap();
-            let (setup, w) = write(dir.path(), &spec(640, 480, seed, blur, noise, enc), 20);
+            let (setup, w) = write(
+                dir.path(),
+                &SequenceSpec::plain(640, 480, seed, blur, noise, enc),
+                20,
+            );
             // Each refinement tracked on its own (the edge mode's seed is a
             // coarser match, not the full-resolution one).
             let errors = |refine| {
@@ -101,7 +102,11 @@ fn speed(c: &mut Criterion) {
     println!("|---|---|---|---|---|");
     for (w, h, n) in [(640usize, 480usize, 32usize), (4000, 3000, 8)] {
         let dir = tempfile::tempdir().unwrap();
-        let (setup, written) = write(dir.path(), &spec(w, h, 9, 1.0, 2.0, Encoding::Jpeg(90)), n);
+        let (setup, written) = write(
+            dir.path(),
+            &SequenceSpec::plain(w, h, 9, 1.0, 2.0, Encoding::Jpeg(90)),
+            n,
+        );
         let paths: Vec<PathBuf> = setup.frames.iter().map(|f| f.path.clone()).collect();
         eprintln!(
             "{w}x{h}: {n} JPEG photos, {:.1} MB",

@@ -463,6 +463,38 @@ pub struct SequenceSpec {
 }
 
 impl SequenceSpec {
+    /// A `width` x `height` sequence of the latex disc of the paper
+    /// (a = 37.5 mm, t = 0.35 mm, nu = 0.45, flat) with the default
+    /// framing, the plain look, the circular window and an exposure drift
+    /// of 3 %: the camera of the tests and benchmarks.
+    pub fn plain(
+        width: usize,
+        height: usize,
+        seed: u64,
+        blur_px: f64,
+        noise_grey: f64,
+        encoding: Encoding,
+    ) -> SequenceSpec {
+        SequenceSpec {
+            width,
+            height,
+            seed,
+            blur_px,
+            noise_grey,
+            drift: 0.03,
+            encoding,
+            specimen: Specimen {
+                radius_m: 0.0375,
+                thickness_m: 0.00035,
+                poisson: 0.45,
+                prebulge_height_m: 0.0,
+            },
+            window: Default::default(),
+            framing: Default::default(),
+            look: Default::default(),
+        }
+    }
+
     /// The scene of this sequence drawing `frames` (see [`Scene::framed`]).
     pub fn scene(&self, frames: &[SynthFrame]) -> Result<Scene, String> {
         let s: Vec<&Silhouette> = frames.iter().map(|f| &f.silhouette).collect();

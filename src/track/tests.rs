@@ -268,24 +268,7 @@ fn assert_row_rms(a: &synth::ApexErrors, bound: f64) {
 }
 
 fn spec(seed: u64, blur: f64, noise: f64, enc: image::Encoding) -> synth::SequenceSpec {
-    synth::SequenceSpec {
-        width: 640,
-        height: 480,
-        seed,
-        blur_px: blur,
-        noise_grey: noise,
-        drift: 0.03,
-        encoding: enc,
-        specimen: crate::experiment::Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        },
-        framing: Default::default(),
-        look: Default::default(),
-        window: Default::default(),
-    }
+    synth::SequenceSpec::plain(640, 480, seed, blur, noise, enc)
 }
 
 // Seeds 101.. are used by tests only; the benchmarks use seeds 1..=3.

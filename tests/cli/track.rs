@@ -5,7 +5,6 @@
 use std::fs;
 use std::path::Path;
 
-use bulge::experiment::Specimen;
 use bulge::track::image::{Encoding, Gray, encode};
 use bulge::track::synth::{self, SequenceSpec};
 
@@ -16,22 +15,8 @@ const N: usize = 6;
 /// A 320x240 sequence of `N` caps in `dir` (seed 201: used by no benchmark).
 fn sequence(dir: &Path, enc: Encoding) -> synth::Written {
     let spec = SequenceSpec {
-        width: 320,
-        height: 240,
-        seed: 201,
-        blur_px: 1.0,
-        noise_grey: 2.0,
         drift: 0.02,
-        encoding: enc,
-        specimen: Specimen {
-            radius_m: 0.0375,
-            thickness_m: 0.00035,
-            poisson: 0.45,
-            prebulge_height_m: 0.0,
-        },
-        framing: Default::default(),
-        look: Default::default(),
-        window: Default::default(),
+        ..SequenceSpec::plain(320, 240, 201, 1.0, 2.0, enc)
     };
     let frames = synth::cap_frames(0.0375, 0.02, N);
     synth::write_sequence(dir, &spec, &frames).expect("synthetic sequence")
