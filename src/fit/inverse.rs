@@ -423,6 +423,15 @@ impl Problem<'_> {
             .collect()
     }
 
+    /// Every point's height and its gradient in the law's `p` parameters,
+    /// in parallel; `None` when a point has no solution.
+    fn gradients(&self, m: &Material, p: usize) -> Option<Vec<axisym::HeightGradient>> {
+        (0..self.points.len())
+            .into_par_iter()
+            .map(|i| self.solve(m, i, true).filter(|g| g.gradient.len() == p))
+            .collect()
+    }
+
     /// The height at point `i` (with its gradient in the law's parameters
     /// when asked), by Newton from the point's last solution when there is
     /// one on the same branch, else from scratch.
@@ -926,20 +935,15 @@ fn joint_std(joint: &Joint, x: &[f64]) -> Option<Vec<f64>> {
     for part in &joint.parts {
         let m = part.material(x);
         let p = law_parameters(&m.model)?.1.len();
-        let part_rows: Option<Vec<(f64, Vec<f64>)>> = (0..part.points.len())
-            .into_par_iter()
-            .map(|i| {
-                let g = part.solve(&m, i, true).filter(|g| g.gradient.len() == p)?;
-                let h = part.points[i].height_m;
-                Some((
-                    (g.height_m - h) / h,
-                    g.gradient.iter().map(|d| d / h).collect(),
-                ))
-            })
-            .collect();
-        let part_rows = part_rows?;
-        sizes.push(part_rows.len());
-        rows.extend(part_rows);
+        let grads = part.gradients(&m, p)?;
+        sizes.push(grads.len());
+        rows.extend(grads.iter().zip(part.points).map(|(g, q)| {
+            let h = q.height_m;
+            (
+                (g.height_m - h) / h,
+                g.gradient.iter().map(|d| d / h).collect(),
+            )
+        }));
     }
     let p = rows.first()?.1.len();
     let jac = DMatrix::from_fn(rows.len(), p, |i, k| rows[i].1[k]);
@@ -1049,11 +1053,7 @@ fn covariance(
     let (names, theta, stress) = law_parameters(&m.model)?;
     let pts = problem.points;
     let (n, p) = (pts.len(), theta.len());
-    let grads: Option<Vec<axisym::HeightGradient>> = (0..n)
-        .into_par_iter()
-        .map(|i| problem.solve(&m, i, true).filter(|g| g.gradient.len() == p))
-        .collect();
-    let grads = grads?;
+    let grads = problem.gradients(&m, p)?;
     // w_i: the residual's divisor, the point's independent standard
     // deviation (a weighted fit) or its height (the relative error).
     let w: Vec<f64> = match (sigma, weighted) {
