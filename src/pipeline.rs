@@ -33,8 +33,8 @@ use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inver
 use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
 use crate::material::Material;
 use crate::mechanics::{
-    self, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS, StrainMeasure,
-    StressError, TrueStress,
+    self, CORR_COLUMNS, DERIVED_COLUMNS, Modulus, ModulusStress, Point, Row, STD_COLUMNS,
+    StrainMeasure, StressError, TrueStress,
 };
 use crate::sim::DiscSolver;
 use crate::sim::SimError;
@@ -168,7 +168,9 @@ pub struct Settings {
     /// [`run`] takes it from the experiment).
     pub uncertainty: Sources,
     /// Weigh the correction to the heights by the points' standard
-    /// deviations instead of their relative errors (default false).
+    /// deviations instead of their relative errors, and the fit to the
+    /// stress/strain points by the uncertainties carried from the heights'
+    /// (default false).
     pub weighted: bool,
     /// Monte Carlo samples of the corrected parameters, 0 for none
     /// ([`crate::fit::coverage::monte_carlo`], seeded: the same number
@@ -581,6 +583,7 @@ impl StressOut {
         header.extend(DERIVED_COLUMNS);
         header.push("height_std_m");
         header.extend(STD_COLUMNS);
+        header.extend(CORR_COLUMNS);
         let mut out = CsvOut::new(&header);
         for (i, (p, r)) in self.points.iter().zip(&self.rows).enumerate() {
             let mut f = Vec::new();
@@ -599,6 +602,7 @@ impl StressOut {
                     .into_iter()
                     .map(fmt_num),
             );
+            f.extend(r.correlations().into_iter().map(fmt_num));
             out.row(&f);
         }
         out
@@ -701,7 +705,10 @@ pub fn stress_csv_of_table(
     let with_std = points.iter().any(|p| p.height_std_m.is_some());
     let written = |name: &str| {
         DERIVED_COLUMNS.contains(&name)
-            || (with_std && (STD_COLUMNS.contains(&name) || (std_given && name == "height_std_m")))
+            || (with_std
+                && (STD_COLUMNS.contains(&name)
+                    || CORR_COLUMNS.contains(&name)
+                    || (std_given && name == "height_std_m")))
     };
     if let Some(&c) = carried.iter().find(|&&c| written(&table.headers[c])) {
         let name = &table.headers[c];
@@ -722,6 +729,7 @@ pub fn stress_csv_of_table(
             header.push("height_std_m");
         }
         header.extend(STD_COLUMNS);
+        header.extend(CORR_COLUMNS);
     }
     let mut out = CsvOut::new(&header);
     for (r, row) in rows.iter().enumerate() {
@@ -743,6 +751,7 @@ pub fn stress_csv_of_table(
                     .into_iter()
                     .map(fmt_num),
             );
+            fields.extend(row.correlations().into_iter().map(fmt_num));
         }
         out.row(&fields);
     }
@@ -792,6 +801,7 @@ pub fn fit_stage(
         modulus: settings.stress.modulus,
         modulus_stress: Some(settings.stress.modulus_stress),
         lower_degree: true,
+        weighted: settings.weighted,
     };
     let mut fitted = fit_material(&data, &fit_settings, "stress_strain.csv of bulge run")?;
     if settings.refine {

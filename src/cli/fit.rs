@@ -93,6 +93,15 @@ pub struct Args {
     #[arg(long, value_name = "EXPERIMENT")]
     pub to_heights: Option<PathBuf>,
 
+    /// Weigh every point by its standard deviation instead of alike: in the
+    /// fit to the points, each row's uncertainty carried from its height's
+    /// along the law (the std and corr columns that `bulge stress
+    /// --height-std-m` writes; without them the fit stays unweighted, with a
+    /// warning); with --to-heights, each photo by its height's standard
+    /// deviation, (h_sim - h) / sigma, instead of its relative error.
+    #[arg(long)]
+    pub weighted: bool,
+
     /// Number of points of the fitted curve in `<stem>_curve.csv` and the
     /// plot (default 200).
     #[arg(long, default_value_t = 200)]
@@ -146,6 +155,7 @@ fn settings(args: &Args) -> Result<FitSettings, Failure> {
         modulus: args.modulus,
         modulus_stress: None,
         lower_degree: false,
+        weighted: args.weighted,
     })
 }
 
@@ -186,7 +196,14 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let files = fit_outputs(&fitted, &loaded, &set, &input, args.samples);
     let mut summary = files.summary.clone();
     if let (Some(exp), Some(spec)) = (&args.to_heights, &specimen) {
-        summary.push_str(&to_heights(&args.input, &table, exp, spec, &mut fitted)?);
+        summary.push_str(&to_heights(
+            &args.input,
+            &table,
+            exp,
+            spec,
+            &mut fitted,
+            args.weighted,
+        )?);
     }
     // Render everything before writing anything.
     let mut files_out = vec![
@@ -228,6 +245,7 @@ fn to_heights(
     exp: &Path,
     specimen: &bulge::Specimen,
     fitted: &mut bulge::fit::FittedMaterial,
+    weighted: bool,
 ) -> Result<String, Failure> {
     let Some(measured) = inverse::Measured::from_table(table)? else {
         return Err(Failure::BadInput(anyhow!(
@@ -239,6 +257,7 @@ fn to_heights(
     // own in the covariance.
     let opts = inverse::Options {
         uncertainty: Experiment::read(exp)?.uncertainty(),
+        weighted,
         ..Default::default()
     };
     let window = Experiment::read_window(exp)?;

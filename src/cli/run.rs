@@ -79,9 +79,10 @@ pub struct RunFlags {
     /// Weigh each photo in the correction to the heights by its height's
     /// standard deviation (height_std_m and [pressure] std_pa), (h_sim - h) /
     /// sigma, instead of its relative error h_sim / h - 1 (the default, which
-    /// weighs every photo alike; docs/fit.md, "Uncertainty"). The
-    /// parameters' covariance carries the given errors either way.
-    /// `weighted = true` in [run] does the same.
+    /// weighs every photo alike; docs/fit.md, "Uncertainty"), and each point
+    /// of the fit to the stress/strain points by its uncertainty carried
+    /// from its height's. The parameters' covariance carries the given
+    /// errors either way. `weighted = true` in [run] does the same.
     #[arg(long)]
     pub weighted: bool,
 

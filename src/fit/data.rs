@@ -78,10 +78,58 @@ pub struct Loaded {
     pub modulus_pa: Vec<Option<f64>>,
     /// Its standard deviation where the input gives one, Pa.
     pub modulus_std_pa: Vec<Option<f64>>,
+    /// How every row moves when its height rises by one standard
+    /// deviation, where the input says (`bulge stress` with a height
+    /// uncertainty): what weights the fits.
+    pub shifts: Vec<Option<HeightShift>>,
     /// The strain measure of `strain`.
     pub strain_measure: StrainMeasure,
     /// 1-based file line of every row.
     pub lines: Vec<u64>,
+}
+
+/// The signed change of one row's values when its height rises by one
+/// standard deviation. The stretch, strain, stress and modulus of a row all
+/// follow from one measured height at a known pressure, so their errors are
+/// one vector: a point of the modulus curve moves along `(strain,
+/// modulus_pa)`, not in the modulus alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightShift {
+    /// Of the stretch.
+    pub stretch: f64,
+    /// Of the strain.
+    pub strain: f64,
+    /// Of the stress the hyperelastic models are fitted to
+    /// ([`Loaded::equibiaxial`]), Pa.
+    pub stress_pa: f64,
+    /// Of the secant modulus, Pa (`None` at zero strain).
+    pub modulus_pa: Option<f64>,
+}
+
+impl HeightShift {
+    /// From the shifts of the stretch, strain, pole stress `s` and secant
+    /// modulus of a row at stretch `l` and pole stress `sigma`, the stress
+    /// converted as [`load`] converts it for an incompressible membrane
+    /// (Cauchy `l^2 s`, nominal `l s`).
+    fn of_stage(
+        l: f64,
+        sigma: f64,
+        d: [f64; 3],
+        d_modulus: Option<f64>,
+        measure: StressMeasure,
+    ) -> HeightShift {
+        let [dl, de, ds] = d;
+        let stress_pa = match measure {
+            StressMeasure::Cauchy => 2.0 * l * sigma * dl + l * l * ds,
+            StressMeasure::Nominal => sigma * dl + l * ds,
+        };
+        HeightShift {
+            stretch: dl,
+            strain: de,
+            stress_pa,
+            modulus_pa: d_modulus,
+        }
+    }
 }
 
 impl Loaded {
@@ -96,6 +144,61 @@ impl Loaded {
 }
 
 impl Loaded {
+    /// The `(strain, modulus)` shifts of the points of [`Self::modulus_points`];
+    /// `None` unless every one of them has its shift.
+    pub fn modulus_shifts(&self) -> Option<Vec<(f64, f64)>> {
+        self.modulus_pa
+            .iter()
+            .zip(&self.shifts)
+            .filter(|(m, _)| m.is_some())
+            .map(|(_, s)| s.and_then(|s| Some((s.strain, s.modulus_pa?))))
+            .collect::<Option<Vec<_>>>()
+            .filter(|v| moves(v))
+    }
+
+    /// The `(stretch, stress)` shifts of the hyperelastic fits' points;
+    /// `None` unless every row has its shift.
+    pub fn stress_shifts(&self) -> Option<Vec<(f64, f64)>> {
+        self.shifts
+            .iter()
+            .map(|s| s.map(|s| (s.stretch, s.stress_pa)))
+            .collect::<Option<Vec<_>>>()
+            .filter(|v| moves(v))
+    }
+}
+
+/// Whether any point moves with its height (all heights exact: nothing to
+/// weight by).
+fn moves(shifts: &[(f64, f64)]) -> bool {
+    shifts.iter().any(|&(a, b)| a != 0.0 || b != 0.0)
+}
+
+/// Below this share of the median, an effective standard deviation is
+/// raised to it: where a point's shift runs along the law, its own would be
+/// near zero and one point would pull the fit to itself.
+pub const EFFECTIVE_STD_FLOOR: f64 = 0.05;
+
+/// The effective standard deviations of points `(x_i, y_i)` fitted by
+/// `y = f(x)`, when each point moves by `(dx_i, dy_i)` for a one-standard-
+/// deviation rise of its height: the residual `y - f(x)` moves by
+/// `dy - f'(x) dx`, its size is the point's standard deviation (the
+/// effective-variance method with fully correlated errors), raised to
+/// [`EFFECTIVE_STD_FLOOR`] of the median. `slope` is `f'`.
+pub fn effective_std(shifts: &[(f64, f64)], x: &[f64], slope: impl Fn(f64) -> f64) -> Vec<f64> {
+    let raw: Vec<f64> = shifts
+        .iter()
+        .zip(x)
+        .map(|(&(dx, dy), &x)| (dy - slope(x) * dx).abs())
+        .collect();
+    let mut sorted: Vec<f64> = raw.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0);
+    let smallest = sorted.iter().copied().find(|&v| v > 0.0).unwrap_or(0.0);
+    let floor = (EFFECTIVE_STD_FLOOR * median).max(smallest);
+    raw.iter().map(|&v| v.max(floor)).collect()
+}
+
+impl Loaded {
     /// The stress stage's rows as fit data, as `bulge fit` reads the
     /// `stress_strain.csv` that `bulge stress` writes: the rows with a
     /// stretch above 1, a stress and a secant modulus, sorted by stretch
@@ -104,14 +207,24 @@ impl Loaded {
     /// an incompressible membrane. `lines` are the rows' lines in
     /// `stress_strain.csv` (header on line 1, in the stage's order).
     pub fn from_stress_rows(rows: &[Row], strain_measure: StrainMeasure) -> Loaded {
-        let mut v: Vec<(f64, f64, f64, f64, Option<f64>, u64)> = rows
+        type Kept = (f64, f64, f64, f64, Option<f64>, u64, Option<HeightShift>);
+        let mut v: Vec<Kept> = rows
             .iter()
             .enumerate()
             .filter_map(|(i, r)| {
                 let d = &r.value;
                 let (l, e, st, m) = (d.stretch?, d.strain?, d.stress_pa?, d.secant_modulus_pa?);
                 let sd = r.std.and_then(|s| s.secant_modulus_pa);
-                (l > 1.0).then_some((l, e, st, m, sd, i as u64 + 2))
+                let shift = r.shift.and_then(|s| {
+                    Some(HeightShift::of_stage(
+                        l,
+                        st,
+                        [s.stretch?, s.strain?, s.stress_pa?],
+                        s.secant_modulus_pa,
+                        StressMeasure::Cauchy,
+                    ))
+                });
+                (l > 1.0).then_some((l, e, st, m, sd, i as u64 + 2, shift))
             })
             .collect();
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -127,6 +240,7 @@ impl Loaded {
             strain: v.iter().map(|r| r.1).collect(),
             modulus_pa: v.iter().map(|r| Some(r.3)).collect(),
             modulus_std_pa: v.iter().map(|r| r.4).collect(),
+            shifts: v.iter().map(|r| r.6).collect(),
             strain_measure,
             lines: v.iter().map(|r| r.5).collect(),
         }
@@ -253,6 +367,7 @@ fn load_stress_stage(
             .optional_numbers("secant_modulus_pa_std")?
             .unwrap_or_else(|| vec![None; strain.len()]),
     };
+    let shifts = stage_shifts(t, &stretch, &stress, measure)?;
     Ok(Loaded {
         source: Source::StressStage,
         equibiaxial: Equibiaxial {
@@ -264,9 +379,66 @@ fn load_stress_stage(
         strain,
         modulus_pa,
         modulus_std_pa,
+        shifts,
         strain_measure,
         lines: t.lines.clone(),
     })
+}
+
+/// The rows' [`HeightShift`]s from the standard deviations and the
+/// correlations that `bulge stress` writes with a height uncertainty
+/// (`stretch_std`, `strain_std`, `stress_std_pa`, `secant_modulus_std_pa`,
+/// `strain_stress_corr`, `strain_modulus_corr`); none where a column or a
+/// cell is missing. The stretch and strain rise with the height, so their
+/// shifts are their standard deviations; the correlations give the stress's
+/// and the modulus's signs.
+fn stage_shifts(
+    t: &Table,
+    stretch: &[f64],
+    stress: &[f64],
+    measure: StressMeasure,
+) -> Result<Vec<Option<HeightShift>>, InputError> {
+    let none = || vec![None; stretch.len()];
+    let mut cols = Vec::new();
+    for name in [
+        "stretch_std",
+        "strain_std",
+        "stress_std_pa",
+        "strain_stress_corr",
+        "secant_modulus_std_pa",
+        "strain_modulus_corr",
+    ] {
+        match t.optional_numbers(name)? {
+            Some(c) => cols.push(c),
+            None => return Ok(none()),
+        }
+    }
+    for (r, (a, b)) in cols[3].iter().zip(&cols[5]).enumerate() {
+        for (name, c) in [("strain_stress_corr", a), ("strain_modulus_corr", b)] {
+            if let Some(c) = c
+                && !(-1.0..=1.0).contains(c)
+            {
+                return Err(t.error_at(
+                    r,
+                    name,
+                    format!("{name} {c} is not a correlation (between -1 and 1): regenerate the file with `bulge stress`"),
+                ));
+            }
+        }
+    }
+    Ok((0..stretch.len())
+        .map(|r| {
+            let (dl, de, sd_s, rho_s) = (cols[0][r]?, cols[1][r]?, cols[2][r]?, cols[3][r]?);
+            let d_modulus = cols[4][r].zip(cols[5][r]).map(|(sd, rho)| sd * rho);
+            Some(HeightShift::of_stage(
+                stretch[r],
+                stress[r],
+                [dl, de, sd_s * rho_s],
+                d_modulus,
+                measure,
+            ))
+        })
+        .collect())
 }
 
 fn measure_name(m: StrainMeasure) -> &'static str {
@@ -338,6 +510,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
         })
         .collect();
     let modulus_std_pa = vec![None; strain.len()];
+    let shifts = vec![None; strain.len()];
     Ok(Loaded {
         source: Source::Raw,
         equibiaxial: Equibiaxial {
@@ -349,6 +522,7 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
         strain,
         modulus_pa,
         modulus_std_pa,
+        shifts,
         strain_measure,
         lines: t.lines.clone(),
     })

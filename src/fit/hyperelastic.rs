@@ -19,7 +19,8 @@
 //!
 //! The residuals are `model - data` in the stress measure of the data
 //! (nominal for Treloar-style tables, Cauchy for `stress_strain.csv`),
-//! unweighted. Neo-Hookean, Mooney-Rivlin and Yeoh are linear in their
+//! unweighted, or divided by each point's standard deviation
+//! ([`fit_weighted`]). Neo-Hookean, Mooney-Rivlin and Yeoh are linear in their
 //! parameters for either measure: their least-squares problem is convex and
 //! the linear solution (the SVD) is the global minimum; it starts
 //! the Levenberg-Marquardt iteration (run by argmin), which
@@ -239,18 +240,29 @@ struct Problem<'a> {
     kind: Kind,
     stretch: &'a [f64],
     target: Vec<f64>,
+    /// Every residual's factor: 1, or the point's inverse standard
+    /// deviation over their mean (a weighted fit).
+    weight: Vec<f64>,
     measure: StressMeasure,
     scale: f64,
     jm_min: f64,
 }
 
 impl<'a> Problem<'a> {
-    /// The least-squares problem of `kind` on `data`, stresses over `scale`.
-    fn on(kind: Kind, data: &'a Equibiaxial, scale: f64, jm_min: f64) -> Self {
+    /// The least-squares problem of `kind` on `data`, stresses over `scale`,
+    /// residuals times `weight` (all 1 when `None`).
+    fn on(
+        kind: Kind,
+        data: &'a Equibiaxial,
+        weight: Option<&[f64]>,
+        scale: f64,
+        jm_min: f64,
+    ) -> Self {
         Problem {
             kind,
             stretch: &data.stretch,
             target: data.stress_pa.iter().map(|s| s / scale).collect(),
+            weight: weight.map_or_else(|| vec![1.0; data.stretch.len()], <[f64]>::to_vec),
             measure: data.measure,
             scale,
             jm_min,
@@ -299,13 +311,14 @@ impl<'a> Problem<'a> {
                     StressMeasure::Cauchy => l,
                 };
                 let v = nominal_and_grad(self.kind, &xu, l, g) * factor;
+                let w = self.weight[i];
                 head[0] = if gent_ok {
-                    v / self.scale - self.target[i]
+                    (v / self.scale - self.target[i]) * w
                 } else {
                     f64::NAN
                 };
                 for (gk, s) in g.iter_mut().zip(&col_scale) {
-                    *gk *= factor * s;
+                    *gk *= factor * s * w;
                 }
             });
         let r = DVector::from_iterator(n, rows.iter().step_by(p + 1).copied());
@@ -334,6 +347,12 @@ impl Jacobian for Problem<'_> {
     }
 }
 
+/// `n` indices evenly spaced in `0..len`, the first and the last kept;
+/// `None` when there are at most `n` (or `n < 2`).
+fn thin(len: usize, n: usize) -> Option<Vec<usize>> {
+    (len > n && n >= 2).then(|| (0..n).map(|k| k * (len - 1) / (n - 1)).collect())
+}
+
 /// Equibiaxial data: stretch and stress in a stated measure.
 #[derive(Debug, Clone)]
 pub struct Equibiaxial {
@@ -349,11 +368,9 @@ impl Equibiaxial {
     /// At most `n` points, evenly spaced in index (so in stretch, the rows
     /// being sorted), the first and the last kept.
     pub fn thinned(&self, n: usize) -> Equibiaxial {
-        let len = self.stretch.len();
-        if len <= n || n < 2 {
+        let Some(idx) = thin(self.stretch.len(), n) else {
             return self.clone();
-        }
-        let idx: Vec<usize> = (0..n).map(|k| k * (len - 1) / (n - 1)).collect();
+        };
         Equibiaxial {
             stretch: idx.iter().map(|&i| self.stretch[i]).collect(),
             stress_pa: idx.iter().map(|&i| self.stress_pa[i]).collect(),
@@ -440,6 +457,10 @@ pub struct HyperFit {
     pub iterations: u64,
     /// Levenberg-Marquardt iterations summed over every start.
     pub iterations_total: u64,
+    /// For a weighted fit, the weighted residuals' sum of squares per
+    /// degree of freedom (about 1 when the weights' standard deviations are
+    /// right and the model fits).
+    pub chi2_per_dof: Option<f64>,
 }
 
 /// Candidate Ogden exponents for the multi-start grid.
@@ -458,6 +479,18 @@ const MAX_POLISH_ITERS: u64 = 20;
 
 /// Fits `kind` to `data` (see the module docs for the method).
 pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
+    fit_weighted(kind, data, None)
+}
+
+/// [`fit`] with every point's residual divided by its standard deviation
+/// `std_pa` (positive, Pa) when given: weighted least squares, every start
+/// and the polish alike. The standard errors are scaled by the weighted
+/// residuals (`chi2_per_dof`), as for the unweighted fit.
+pub fn fit_weighted(
+    kind: Kind,
+    data: &Equibiaxial,
+    std_pa: Option<&[f64]>,
+) -> Result<HyperFit, FitError> {
     if let Kind::Ogden(n) = kind
         && !(1..=3).contains(&n)
     {
@@ -466,6 +499,26 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         )));
     }
     data.validate(kind)?;
+    if let Some(s) = std_pa {
+        if s.len() != data.stretch.len() {
+            return Err(FitError::LengthMismatch {
+                x: data.stretch.len(),
+                y: s.len(),
+            });
+        }
+        super::check_finite(s)?;
+        if let Some(&v) = s.iter().find(|&&v| v <= 0.0) {
+            return Err(FitError::Unsupported(format!(
+                "a point's standard deviation is {v} Pa: a weighted fit needs positive ones"
+            )));
+        }
+    }
+    // Inverse standard deviations over their mean: the scaled problem keeps
+    // residuals of order one.
+    let weight: Option<Vec<f64>> = std_pa.map(|s| {
+        let mean = s.iter().map(|v| 1.0 / v).sum::<f64>() / s.len() as f64;
+        s.iter().map(|v| 1.0 / (v * mean)).collect()
+    });
     let scale = data.stress_pa.iter().fold(0.0f64, |m, s| m.max(s.abs()));
     if scale == 0.0 {
         return Err(FitError::ZeroStress);
@@ -474,10 +527,20 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
     // Many points: the starts run on an evenly spaced subset (the curve is
     // as well resolved, the cost of a start no longer grows with the data),
     // then the chosen end point is polished on every point.
-    let sub = (data.stretch.len() > MAX_START_POINTS).then(|| data.thinned(MAX_START_POINTS));
+    let idx = thin(data.stretch.len(), MAX_START_POINTS);
+    let sub = idx.as_ref().map(|_| data.thinned(MAX_START_POINTS));
+    let sub_weight: Option<Vec<f64>> = idx
+        .as_ref()
+        .zip(weight.as_ref())
+        .map(|(idx, w)| idx.iter().map(|&i| w[i]).collect());
     let starts_data = sub.as_ref().unwrap_or(data);
-    let problem = || Problem::on(kind, starts_data, scale, jm_min);
-    let starts = starting_points(kind, starts_data, scale, jm_min)?;
+    let starts_weight = if sub.is_some() {
+        sub_weight.as_deref()
+    } else {
+        weight.as_deref()
+    };
+    let problem = || Problem::on(kind, starts_data, starts_weight, scale, jm_min);
+    let starts = starting_points(kind, starts_data, starts_weight, scale, jm_min)?;
     let n_starts = starts.len();
     let mut ends: Vec<(f64, lm::LmResult)> = Vec::new();
     let mut total_iterations = 0;
@@ -514,7 +577,7 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         // The polish starts at the chosen end point: on a subset as dense
         // as this one it moves little, and LM never raises the RSS.
         match lm::minimize(
-            Problem::on(kind, data, scale, jm_min),
+            Problem::on(kind, data, weight.as_deref(), scale, jm_min),
             run.x.clone(),
             MAX_POLISH_ITERS,
         ) {
@@ -531,18 +594,30 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
             }
         }
     }
-    let pb = Problem::on(kind, data, scale, jm_min);
+    let pb = Problem::on(kind, data, weight.as_deref(), scale, jm_min);
     let xu = pb.unscale(&run.x);
     let model = kind.model(&xu);
     let residuals_pa = data.residuals(&model);
     let stats = Stats::new(&data.stress_pa, &residuals_pa, kind.n_params());
-    let std_errors = param_std_errors(
-        &run.jacobian,
-        stats.rss / (scale * scale),
-        stats.n,
-        &kind,
-        scale,
-    );
+    // The Jacobian is the weighted one: its residuals are too.
+    let rss_scaled = match &weight {
+        Some(w) => residuals_pa
+            .iter()
+            .zip(w)
+            .map(|(r, w)| (r * w / scale).powi(2))
+            .sum(),
+        None => stats.rss / (scale * scale),
+    };
+    let std_errors = param_std_errors(&run.jacobian, rss_scaled, stats.n, &kind, scale);
+    let dof = stats.n.saturating_sub(kind.n_params());
+    let chi2_per_dof = std_pa.filter(|_| dof > 0).map(|s| {
+        residuals_pa
+            .iter()
+            .zip(s)
+            .map(|(r, s)| (r / s).powi(2))
+            .sum::<f64>()
+            / dof as f64
+    });
     let params = kind
         .param_names()
         .into_iter()
@@ -564,6 +639,7 @@ pub fn fit(kind: Kind, data: &Equibiaxial) -> Result<HyperFit, FitError> {
         starts: n_starts,
         iterations: run.iterations,
         iterations_total: total_iterations,
+        chi2_per_dof,
     })
 }
 
@@ -644,11 +720,18 @@ fn param_std_errors(
 fn starting_points(
     kind: Kind,
     data: &Equibiaxial,
+    weight: Option<&[f64]>,
     scale: f64,
     jm_min: f64,
 ) -> Result<Vec<DVector<f64>>, FitError> {
-    let target =
-        DVector::from_iterator(data.stretch.len(), data.stress_pa.iter().map(|s| s / scale));
+    let w = |i: usize| weight.map_or(1.0, |w| w[i]);
+    let target = DVector::from_iterator(
+        data.stretch.len(),
+        data.stress_pa
+            .iter()
+            .enumerate()
+            .map(|(i, s)| s / scale * w(i)),
+    );
     // Design matrix of the linear parameters at fixed nonlinear ones.
     let design = |x_fixed: &[f64]| -> DMatrix<f64> {
         let p = kind.n_params();
@@ -672,7 +755,7 @@ fn starting_points(
             }
             nominal_and_grad(kind, &xu, l, &mut g);
             for k in 0..n_lin {
-                a[(i, k)] = factor * g[k];
+                a[(i, k)] = factor * g[k] * w(i);
             }
         }
         a

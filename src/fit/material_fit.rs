@@ -10,7 +10,7 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::data::{Loaded, Source};
+use super::data::{Loaded, Source, effective_std};
 use super::hyperelastic::{self, HyperFit, Kind};
 use super::quartic::{self, PolyFit};
 use super::{FitError, StressMeasure, inverse};
@@ -128,6 +128,10 @@ pub struct FitSettings {
     /// Lower the polynomial degree to `points - 1` when there are too few
     /// points for it (with a warning) instead of refusing the data.
     pub lower_degree: bool,
+    /// Weight every point by its standard deviation, carried from its
+    /// height's (the effective variance, [`super::data::effective_std`]),
+    /// when the data carry them; else fitted unweighted with a warning.
+    pub weighted: bool,
 }
 
 impl Default for FitSettings {
@@ -138,6 +142,7 @@ impl Default for FitSettings {
             modulus: Modulus::Biaxial,
             modulus_stress: None,
             lower_degree: false,
+            weighted: false,
         }
     }
 }
@@ -197,6 +202,13 @@ pub struct Provenance {
     /// Standard errors of the coefficients, Pa (modulus law).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub std_errors_pa: Option<Vec<f64>>,
+    /// How the points were weighted, when they were.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<String>,
+    /// The weighted residuals' sum of squares per degree of freedom (about
+    /// 1 when the heights' standard deviations are right and the law fits).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chi2_per_dof: Option<f64>,
     /// Drucker stability inside the fitted range (hyperelastic models).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub drucker_stable: Option<bool>,
@@ -456,6 +468,20 @@ pub fn fit_material(
     let mut warnings = Vec::new();
     let mut model_used = settings.model;
     let mut skipped = Vec::new();
+    // The hyperelastic fits' shifts, when weighted.
+    let weights = match settings.model {
+        FitModel::Quartic { .. } => None,
+        _ if !settings.weighted => None,
+        _ => {
+            let shifts = data.stress_shifts();
+            if shifts.is_some() {
+                prov.weights = Some(WEIGHTS.into());
+            } else {
+                warnings.push(UNWEIGHTED.into());
+            }
+            shifts
+        }
+    };
     let (model, detail) = match settings.model {
         FitModel::Quartic { degree } => {
             let (strain, modulus) = data.modulus_points();
@@ -469,7 +495,22 @@ pub fn fit_material(
                 degree = strain.len() - 1;
                 model_used = FitModel::Quartic { degree };
             }
-            let f = quartic::fit(&strain, &modulus, degree)?;
+            let mut f = quartic::fit(&strain, &modulus, degree)?;
+            if settings.weighted {
+                match data.modulus_shifts() {
+                    Some(shifts) => {
+                        for _ in 0..REWEIGHTS {
+                            let sd = effective_std(&shifts, &strain, |e| {
+                                quartic::eval_derivative(&f.coefficients_pa, e)
+                            });
+                            f = quartic::fit_weighted(&strain, &modulus, degree, Some(&sd))?;
+                        }
+                        prov.weights = Some(WEIGHTS.into());
+                        prov.chi2_per_dof = f.chi2_per_dof;
+                    }
+                    None => warnings.push(UNWEIGHTED.into()),
+                }
+            }
             warnings.extend(f.warnings.iter().map(|w| w.to_string()));
             if f.condition_scaled > 1e8 {
                 warnings.push(format!(
@@ -498,7 +539,7 @@ pub fn fit_material(
             (model, FitDetail::Quartic(f))
         }
         FitModel::Hyperelastic(kind) => {
-            let f = hyperelastic::fit(kind, &data.equibiaxial)?;
+            let f = fit_hyper(kind, data, weights.as_deref())?;
             (
                 f.model.clone(),
                 FitDetail::Hyper {
@@ -510,7 +551,7 @@ pub fn fit_material(
         FitModel::AllHyperelastic => {
             let mut fits = Vec::new();
             for kind in Kind::all() {
-                match hyperelastic::fit(kind, &data.equibiaxial) {
+                match fit_hyper(kind, data, weights.as_deref()) {
                     Ok(f) => fits.push(f),
                     Err(e @ FitError::TooFewPoints { .. }) => {
                         skipped.push(format!("{}: {e}", kind.label()))
@@ -571,6 +612,7 @@ pub fn fit_material(
                 .filter_map(|p| p.std_error.map(|e| (p.name.clone(), e)))
                 .collect(),
         );
+        prov.chi2_per_dof = chosen.chi2_per_dof;
         prov.drucker_stable = Some(chosen.drucker.stable);
         prov.drucker_stretch_range = Some(chosen.drucker.range);
         prov.starts = Some(chosen.starts);
@@ -599,6 +641,40 @@ pub fn fit_material(
         skipped,
         warnings,
     })
+}
+
+/// Weighted fits: the unweighted fit, then this many refits, each weighted
+/// by the effective standard deviations of the last one's law (they depend
+/// on its slope; two refits change them by well under a percent).
+const REWEIGHTS: usize = 2;
+
+/// `weights` of the provenance of a weighted fit.
+const WEIGHTS: &str = "inverse variance of each point, carried from its height's standard deviation along the law (effective variance)";
+
+/// The warning when a weighted fit was asked of data without shifts.
+const UNWEIGHTED: &str = "a weighted fit was asked but the rows carry no height uncertainty \
+     (give `bulge stress --height-std-m`, or heights with a height_std_m column): fitted unweighted";
+
+/// `kind` fitted to the equibiaxial data, weighted (see [`REWEIGHTS`]) when
+/// the rows' `(stretch, stress)` shifts are given.
+fn fit_hyper(
+    kind: Kind,
+    data: &Loaded,
+    shifts: Option<&[(f64, f64)]>,
+) -> Result<HyperFit, FitError> {
+    let eq = &data.equibiaxial;
+    let mut f = hyperelastic::fit(kind, eq)?;
+    if let Some(shifts) = shifts {
+        for _ in 0..REWEIGHTS {
+            let slope = |l: f64| {
+                let d = 1e-6 * l;
+                (eq.predict(&f.model, l + d) - eq.predict(&f.model, l - d)) / (2.0 * d)
+            };
+            let sd = effective_std(shifts, &eq.stretch, slope);
+            f = hyperelastic::fit_weighted(kind, eq, Some(&sd))?;
+        }
+    }
+    Ok(f)
 }
 
 /// Lowest AICc among the Drucker-stable fits, else among all. A model with
@@ -641,6 +717,7 @@ mod tests {
             strain: strain.to_vec(),
             modulus_pa: modulus.iter().map(|&m| Some(m)).collect(),
             modulus_std_pa: vec![None; strain.len()],
+            shifts: vec![None; strain.len()],
             strain_measure: StrainMeasure::Engineering,
             lines: (2..2 + strain.len() as u64).collect(),
         }

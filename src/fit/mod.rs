@@ -34,6 +34,8 @@ pub mod quartic;
 pub mod stats;
 pub mod study;
 pub mod uncertainty;
+#[cfg(test)]
+mod weighted_tests;
 
 pub use material_fit::{
     FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, UnknownFitModel,

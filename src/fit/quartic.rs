@@ -42,6 +42,10 @@ pub struct PolyFit {
     pub condition_raw: f64,
     /// Where the law is unphysical inside the fitted range.
     pub warnings: Vec<LawWarning>,
+    /// For a weighted fit, the weighted residuals' sum of squares per
+    /// degree of freedom (about 1 when the weights' standard deviations are
+    /// right and the law fits).
+    pub chi2_per_dof: Option<f64>,
 }
 
 /// Evaluates `sum c_k x^k` by Horner's rule.
@@ -75,6 +79,20 @@ pub fn implied_stress_slope(coefficients: &[f64], eps: f64) -> f64 {
 /// The strains must be finite and strictly increasing, with at least
 /// `degree + 1` points.
 pub fn fit(strain: &[f64], modulus_pa: &[f64], degree: usize) -> Result<PolyFit, FitError> {
+    fit_weighted(strain, modulus_pa, degree, None)
+}
+
+/// [`fit`] with every point's residual divided by its standard deviation
+/// `std_pa` (positive, Pa) when given: weighted least squares. The standard
+/// errors are then scaled by the weighted residuals (`chi2_per_dof`), so
+/// that standard deviations known only up to a factor still give honest
+/// errors.
+pub fn fit_weighted(
+    strain: &[f64],
+    modulus_pa: &[f64],
+    degree: usize,
+    std_pa: Option<&[f64]>,
+) -> Result<PolyFit, FitError> {
     let p = degree + 1;
     let n = strain.len();
     if n != modulus_pa.len() {
@@ -93,14 +111,28 @@ pub fn fit(strain: &[f64], modulus_pa: &[f64], degree: usize) -> Result<PolyFit,
     super::check_finite(strain)?;
     super::check_finite(modulus_pa)?;
     super::check_increasing(strain)?;
-    let a = DMatrix::from_fn(n, p, |i, j| strain[i].powi(j as i32));
-    let y = DVector::from_column_slice(modulus_pa);
+    if let Some(s) = std_pa {
+        if s.len() != n {
+            return Err(FitError::LengthMismatch { x: n, y: s.len() });
+        }
+        super::check_finite(s)?;
+        if let Some(&v) = s.iter().find(|&&v| v <= 0.0) {
+            return Err(FitError::Unsupported(format!(
+                "a point's standard deviation is {v} Pa: a weighted fit needs positive ones"
+            )));
+        }
+    }
+    let w = |i: usize| std_pa.map_or(1.0, |s| 1.0 / s[i]);
+    let a = DMatrix::from_fn(n, p, |i, j| strain[i].powi(j as i32) * w(i));
+    let y = DVector::from_fn(n, |i, _| modulus_pa[i] * w(i));
     let sol = linear::solve(&a, &y).map_err(|e| FitError::Linear {
         model: format!("polynomial of degree {degree}"),
         source: e,
     })?;
     let coefficients_pa: Vec<f64> = sol.coefficients.iter().copied().collect();
-    let residuals_pa: Vec<f64> = sol.residuals.iter().copied().collect();
+    let residuals_pa: Vec<f64> = (0..n).map(|i| sol.residuals[i] / w(i)).collect();
+    let chi2_per_dof =
+        (std_pa.is_some() && n > p).then(|| sol.residuals.norm_squared() / (n - p) as f64);
     let strain_range = [strain[0], strain[n - 1]];
     let warnings = check_law(&coefficients_pa, strain_range);
     Ok(PolyFit {
@@ -112,6 +144,7 @@ pub fn fit(strain: &[f64], modulus_pa: &[f64], degree: usize) -> Result<PolyFit,
         condition_scaled: sol.condition_scaled,
         condition_raw: sol.condition_raw,
         warnings,
+        chi2_per_dof,
     })
 }
 

@@ -137,9 +137,9 @@ pub fn stress_strain(
         .map(|(index, pt)| {
             check_point(spec, pt).map_err(|problem| StressError::Point { index, problem })?;
             let (value, slope) = evaluate(spec, opts, pt.pressure_pa, pt.height_m);
-            let std = pt.height_std_m.map(|sd| {
+            let shift = pt.height_std_m.map(|sd| {
                 let f = |v: Option<f64>, d: Option<f64>| match (v, d) {
-                    (Some(_), Some(d)) => finite(d.abs() * sd),
+                    (Some(_), Some(d)) => finite(d * sd),
                     _ => None,
                 };
                 Derived {
@@ -152,7 +152,8 @@ pub fn stress_strain(
                     secant_modulus_pa: f(value.secant_modulus_pa, slope.secant_modulus_pa),
                 }
             });
-            Ok(Row { value, std })
+            let std = shift.map(|s| s.map(f64::abs));
+            Ok(Row { value, std, shift })
         })
         .collect()
 }

@@ -133,6 +133,19 @@ pub struct Derived {
 }
 
 impl Derived {
+    /// `f` applied to every value present.
+    pub fn map(&self, f: impl Fn(f64) -> f64) -> Derived {
+        Derived {
+            radius_m: self.radius_m.map(&f),
+            arc_length_m: self.arc_length_m.map(&f),
+            stretch: self.stretch.map(&f),
+            strain: self.strain.map(&f),
+            stress_pa: self.stress_pa.map(&f),
+            true_stress_pa: self.true_stress_pa.map(&f),
+            secant_modulus_pa: self.secant_modulus_pa.map(&f),
+        }
+    }
+
     /// The values in output-column order.
     pub fn to_array(&self) -> [Option<f64>; 7] {
         [
@@ -178,7 +191,34 @@ pub struct Row {
     pub value: Derived,
     /// Standard deviations (first-order propagation of `height_std_m`).
     pub std: Option<Derived>,
+    /// The signed change of every value when the height rises by its
+    /// standard deviation, `dq/dH height_std_m` (so `std` is its size).
+    /// Every value of a row follows from the one measured height, so their
+    /// errors are one vector: a fit of one value against another needs the
+    /// signs, not only the sizes.
+    pub shift: Option<Derived>,
 }
+
+impl Row {
+    /// The correlations of the strain's error with the stress's and with
+    /// the secant modulus's ([`CORR_COLUMNS`]): +1 or -1 (one source, the
+    /// height), `None` without a shift or where a value is missing.
+    pub fn correlations(&self) -> [Option<f64>; 2] {
+        let Some(s) = &self.shift else {
+            return [None, None];
+        };
+        let corr = |other: Option<f64>| match (s.strain, other) {
+            // A zero shift (no pressure, no stress) takes either sign: +1.
+            (Some(e), Some(o)) if e != 0.0 => Some(if o == 0.0 { 1.0 } else { (e * o).signum() }),
+            _ => None,
+        };
+        [corr(s.stress_pa), corr(s.secant_modulus_pa)]
+    }
+}
+
+/// Output column names of [`Row::correlations`]: the correlation of the
+/// strain's error with the stress's and with the secant modulus's.
+pub const CORR_COLUMNS: [&str; 2] = ["strain_stress_corr", "strain_modulus_corr"];
 
 /// What is wrong with one point.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

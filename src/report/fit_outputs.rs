@@ -282,6 +282,7 @@ fn quartic_outputs(
         "RMSE {:.4e} Pa, R^2 {:.6}, AIC {:.3}, condition number {:.3e} (scaled; {:.3e} unscaled)\n",
         fit.stats.rmse, fit.stats.r2, fit.stats.aic, fit.condition_scaled, fit.condition_raw
     ));
+    s.push_str(&weighted_line(fit.chi2_per_dof));
     FitOutputs {
         curve,
         residuals,
@@ -290,6 +291,16 @@ fn quartic_outputs(
         #[cfg(feature = "plots")]
         figure,
     }
+}
+
+/// The summary's line on the weights of a weighted fit (nothing for an
+/// unweighted one).
+fn weighted_line(chi2_per_dof: Option<f64>) -> String {
+    chi2_per_dof.map_or_else(String::new, |c| {
+        format!(
+            "weighted by each point's uncertainty carried from its height's: chi2 / dof {c:.3} (about 1 when the law and the heights' standard deviations hold)\n"
+        )
+    })
 }
 
 fn hyper_outputs(
@@ -513,6 +524,7 @@ fn hyper_outputs(
         chosen.starts,
         chosen.iterations
     ));
+    s.push_str(&weighted_line(chosen.chi2_per_dof));
     FitOutputs {
         curve,
         residuals,

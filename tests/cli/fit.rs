@@ -548,3 +548,30 @@ fn to_heights_through_the_membrane_on_a_rectangular_window() {
         refined.method
     );
 }
+
+#[test]
+fn weighted_fit_uses_the_heights_uncertainty_or_says_it_could_not() {
+    let dir = tempdir();
+    let d = dir.path();
+    let exp = repo().join("data/demo/experiment.toml");
+    let exp = exp.to_str().unwrap();
+    bulge_in(d, &["track", exp, "-o", "h.csv"]).ok();
+    bulge_in(d, &["stress", "h.csv", "--experiment", exp, "-o", "ss.csv"]).ok();
+    let args = ["fit", "ss.csv", "--no-plot", "--weighted", "-o", "w.toml"];
+    let run = bulge_in(d, &args).ok();
+    assert!(!run.stderr.contains("fitted unweighted"), "{}", run.stderr);
+    let m = read_material(&d.join("w.toml"));
+    let fit = m.fit.as_ref().unwrap();
+    assert!(fit.weights.is_some(), "{fit:?}");
+    // The quartic follows the cap's points within the tracking's noise.
+    let chi2 = fit.chi2_per_dof.expect("chi2 per degree of freedom");
+    assert!(chi2 > 0.05 && chi2 < 20.0, "chi2 / dof = {chi2}");
+
+    // Raw data carry no uncertainty: fitted unweighted, and said so.
+    let t = treloar();
+    let args = ["fit", &t, "--no-plot", "--weighted", "-o", "t.toml"];
+    let run = bulge_in(d, &args).ok();
+    assert!(run.stderr.contains("fitted unweighted"), "{}", run.stderr);
+    let m = read_material(&d.join("t.toml"));
+    assert!(m.fit.as_ref().unwrap().weights.is_none());
+}

@@ -242,7 +242,8 @@ fn stress_every_option() {
     close(o.num(0, "true_stress_pa"), lambda * sigma, 1e-15);
 }
 
-/// At H = 2a: dR/dH = (1 - a^2/H^2)/2 = 3/8, so stress_std = p/(2t) 3/8 sd;
+/// At H = 2a: dR/dH = (1 - a^2/H^2)/2 = 3/8, so stress_std = p/(2t) 3/8 sd
+/// and the stress's error runs with the strain's;
 /// ds/dH = 2 g'(2) with g'(x) = (1 - 1/x^2) atan x + 1/x.
 #[test]
 fn stress_height_uncertainty_flag_and_column() {
@@ -267,9 +268,12 @@ fn stress_height_uncertainty_flag_and_column() {
     assert_eq!(
         o.header.join(","),
         format!(
-            "{COLUMNS},height_std_m,radius_std_m,arc_length_std_m,stretch_std,strain_std,stress_std_pa,true_stress_std_pa,secant_modulus_std_pa"
+            "{COLUMNS},height_std_m,radius_std_m,arc_length_std_m,stretch_std,strain_std,stress_std_pa,true_stress_std_pa,secant_modulus_std_pa,strain_stress_corr,strain_modulus_corr"
         )
     );
+    // Past the hemisphere the cap rounds as it rises: dR/dH = 3/8 > 0, the
+    // stress rises with the strain.
+    close(o.num(0, "strain_stress_corr"), 1.0, 0.0);
     let gp = 0.75 * 2.0_f64.atan() + 0.5;
     close(o.num(0, "height_std_m"), sd, 0.0);
     close(o.num(0, "radius_std_m"), 0.375 * sd, 1e-14);
