@@ -28,7 +28,7 @@ use crate::experiment::Experiment;
 use crate::experiment::Specimen;
 use crate::experiment::Window;
 use crate::fit::data::Loaded;
-use crate::fit::uncertainty::Sources;
+use crate::fit::uncertainty::{SourceKind, Sources};
 use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
 use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
 use crate::material::Material;
@@ -479,6 +479,76 @@ pub struct StressOut {
     pub points: Vec<Point>,
     /// Derived quantities per point.
     pub rows: Vec<Row>,
+    /// Per point, how its values move for each input's error
+    /// ([`crate::fit::uncertainty::point_shifts`]); empty without the
+    /// experiment's standard deviations besides the heights'.
+    pub shifts: Vec<PointShifts>,
+}
+
+/// How one point's derived values move for a one-standard-deviation error
+/// of each input (see [`crate::fit::uncertainty::point_shifts`]).
+pub type PointShifts = Vec<(SourceKind, mechanics::Derived)>;
+
+/// Every point's [`PointShifts`] when `sources` has a standard deviation
+/// (else none: the heights' own are in the `*_std` columns).
+pub fn point_shifts(
+    spec: &Specimen,
+    opts: &mechanics::Options,
+    points: &[Point],
+    sources: &Sources,
+) -> Result<Vec<PointShifts>, mechanics::StressError> {
+    if *sources == Sources::default() {
+        return Ok(Vec::new());
+    }
+    points
+        .iter()
+        .map(|p| crate::fit::uncertainty::point_shifts(spec, opts, p, sources))
+        .collect()
+}
+
+/// Output column names of a shift table ([`shifts_csv`]), in the order of
+/// [`DERIVED_COLUMNS`].
+pub const SHIFT_COLUMNS: [&str; 7] = [
+    "radius_shift_m",
+    "arc_length_shift_m",
+    "stretch_shift",
+    "strain_shift",
+    "stress_shift_pa",
+    "true_stress_shift_pa",
+    "secant_modulus_shift_pa",
+];
+
+/// The shift table of `bulge stress` and `bulge run`
+/// (`stress_strain_sources.csv`): one row per point and input error,
+/// `point` (1 for the first data row of `stress_strain.csv`),
+/// `pressure_pa`, `height_m`, `source` (`height`, `pressure_noise`,
+/// `pressure_gain`, `thickness`, `radius`, `scale`, `height_offset`) and
+/// the signed change of every derived value for a one-standard-deviation
+/// error of that source ([`SHIFT_COLUMNS`]). `None` when there are none.
+pub fn shifts_csv(points: &[Point], shifts: &[PointShifts]) -> Option<CsvOut> {
+    if shifts.is_empty() {
+        return None;
+    }
+    let mut header = vec!["point", "pressure_pa", "height_m", "source"];
+    header.extend(SHIFT_COLUMNS);
+    let mut out = CsvOut::new(&header);
+    for (i, (p, list)) in points.iter().zip(shifts).enumerate() {
+        for (kind, d) in list {
+            let name = match kind {
+                SourceKind::Points => "height",
+                k => k.name(),
+            };
+            let mut f = vec![
+                (i + 1).to_string(),
+                fmt_num(Some(p.pressure_pa)),
+                fmt_num(Some(p.height_m)),
+                name.to_string(),
+            ];
+            f.extend(d.to_array().into_iter().map(fmt_num));
+            out.row(&f);
+        }
+    }
+    Some(out)
 }
 
 /// The stress-free dome height of a slack membrane (`prebulge_height_m =
@@ -568,7 +638,12 @@ pub fn stress_stage(
     points: Vec<Point>,
 ) -> Result<StressOut, PipelineError> {
     let rows = mechanics::stress_strain(spec, &settings.stress, &points)?;
-    Ok(StressOut { points, rows })
+    let shifts = point_shifts(spec, &settings.stress, &points, &settings.uncertainty)?;
+    Ok(StressOut {
+        points,
+        rows,
+        shifts,
+    })
 }
 
 impl StressOut {
@@ -1584,9 +1659,14 @@ pub fn run_observed(
         Stage::Stress,
         t,
         format!(
-            "{} points, {}",
+            "{} points, {}{}",
             stress.rows.len(),
-            describe_stress(&settings.stress)
+            describe_stress(&settings.stress),
+            if stress.shifts.is_empty() {
+                ""
+            } else {
+                " (each input's error per point in stress_strain_sources.csv)"
+            }
         ),
     );
     partial.stress = Some(stress.clone());

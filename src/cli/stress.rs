@@ -4,8 +4,10 @@
 //! input order), takes the specimen from `--experiment FILE.toml` or from
 //! flags, and writes `pressure_pa,height_m,radius_m,arc_length_m,stretch,
 //! strain,stress_pa,true_stress_pa,secant_modulus_pa`, followed by `*_std`
-//! columns when a height uncertainty is given. The output is built in memory
-//! and written whole, or not at all when any input is refused.
+//! columns when a height uncertainty is given, and, when the experiment file
+//! gives the other inputs' standard deviations, `<stem>_sources.csv` beside
+//! it: how every point moves for each input's error. The outputs are built
+//! in memory and written whole, or not at all when any input is refused.
 
 use std::path::PathBuf;
 
@@ -13,6 +15,7 @@ use anyhow::{Context, anyhow};
 
 use super::{Classify, Failure};
 use bulge::experiment::{Experiment, Specimen};
+use bulge::fit::uncertainty::Sources;
 use bulge::io::OutputPlan;
 use bulge::io::{InputError, Table, read_toml};
 use bulge::mechanics::{
@@ -36,7 +39,12 @@ pub struct Args {
     pub heights: PathBuf,
 
     /// Output CSV (required, no default: bulge does not guess where to write;
-    /// parent folders are created; written whole or not at all).
+    /// parent folders are created; written whole or not at all). When the
+    /// experiment file gives standard deviations besides the heights'
+    /// ([pressure] std_pa, relative_std; [specimen] thickness_std_m,
+    /// radius_std_m; [calibration] metres_per_pixel_std, clamp_row_std_px),
+    /// `<stem>_sources.csv` beside it gives every point's change for each
+    /// input's error (the correlations those shared inputs make).
     #[arg(short = 'o', long = "output", value_name = "FILE.csv")]
     pub output: PathBuf,
 
@@ -128,7 +136,14 @@ pub struct Args {
 /// Runs `bulge stress`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_file(&args.output, "-o")?;
-    let spec = specimen(&args)?;
+    let (spec, sources) = specimen(&args)?;
+    let sources_path = args.output.with_file_name(format!(
+        "{}_sources.csv",
+        args.output
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    ));
     let opts = Options {
         strain: args.strain,
         true_stress: args.true_stress,
@@ -146,7 +161,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let plan = OutputPlan::new()
         .input(&args.heights)
         .inputs(&args.experiment);
-    super::guard(plan.output_as("-o", &args.output))?;
+    super::guard(
+        plan.output_as("-o", &args.output)
+            .outputs((sources != Sources::default()).then_some(&sources_path)),
+    )?;
 
     let table = Table::read(&args.heights)?;
     let both =
@@ -165,9 +183,22 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let warnings = pipeline::check_stress_rows(&spec, &points, &rows)
         .map_err(|(i, col, m)| table.error_at(i, col, m))?;
     let out = pipeline::stress_csv_of_table(&table, &points, &rows, args.height_std_m.is_some())?;
+    let shifts = pipeline::point_shifts(&spec, &opts, &points, &sources)
+        .map_err(|e| anyhow!("{e}"))
+        .failed()?;
+    let shift_table = pipeline::shifts_csv(&points, &shifts);
     out.write(&args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))
         .failed()?;
+    if let Some(t) = shift_table {
+        t.write(&sources_path)
+            .with_context(|| format!("cannot write {}", sources_path.display()))
+            .failed()?;
+        eprintln!(
+            "bulge stress: every point's change for each input's error -> {}",
+            sources_path.display()
+        );
+    }
     eprintln!(
         "bulge stress: {} rows -> {} (strain {}, true stress {}, modulus {} on {} stress{})",
         rows.len(),
@@ -184,9 +215,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The specimen from `--experiment` or from the flags, validated; errors name
-/// the file and the line of the offending field, or the flag.
-fn specimen(args: &Args) -> Result<Specimen, Failure> {
+/// The specimen from `--experiment` or from the flags, validated, and the
+/// experiment's standard deviations besides the heights' (none from flags);
+/// errors name the file and the line of the offending field, or the flag.
+fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
     if let Some(path) = &args.experiment {
         // Read without the lead's validation first, so that a bad field can
         // be located to its line in the file.
@@ -201,7 +233,9 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
             }
             .into());
         }
-        return Ok(exp.specimen);
+        // The standard deviations, checked, of the whole file.
+        let sources = Experiment::read(path)?.uncertainty();
+        return Ok((exp.specimen, sources));
     }
     let missing = |flag: &str| anyhow!("{flag} is required without --experiment");
     let spec = Specimen {
@@ -230,5 +264,5 @@ fn specimen(args: &Args) -> Result<Specimen, Failure> {
             anyhow!("flag {flag}: {m}")
         })
         .bad_input()?;
-    Ok(spec)
+    Ok((spec, Sources::default()))
 }

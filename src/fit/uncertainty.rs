@@ -48,6 +48,7 @@
 //! quantile (W. S. Gosset, "The probable error of a mean", Biometrika 6(1),
 //! 1908, doi:10.1093/biomet/6.1.1).
 
+use crate::mechanics::{self, Derived};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
@@ -362,6 +363,110 @@ impl ParamUncertainty {
     }
 }
 
+/// How one point of the stress stage moves for a one-standard-deviation
+/// error of each input that is not known exactly: its height
+/// ([`SourceKind::Points`], from `height_std_m`), its pressure reading's
+/// noise, and the shared sources of `sources` (the gauge's gain, the
+/// thickness, the radius, the scale, the clamp row), each a signed change
+/// of every derived value ([`mechanics::Derived`]; a value the point does
+/// not have stays `None`). Only the sources with a standard deviation are
+/// listed. To first order the covariance of two values `q` and `r` of
+/// points `i` and `j` is the sum over the sources `k` that both move of
+/// `dq_ik dr_jk`: a point's own sources (height, pressure noise) belong to
+/// it alone, the shared ones to every point.
+///
+/// The changes are first-order: the height's by the exact derivatives of
+/// the cap formulas, the pressure's exactly (every stress is proportional to
+/// the pressure, no strain depends on it), the thickness's and radius's by
+/// central differences of step `1e-6` of the value.
+pub fn point_shifts(
+    spec: &crate::experiment::Specimen,
+    opts: &mechanics::Options,
+    pt: &mechanics::Point,
+    sources: &Sources,
+) -> Result<Vec<(SourceKind, mechanics::Derived)>, mechanics::StressError> {
+    let at =
+        |spec: &crate::experiment::Specimen, p: f64| -> Result<Derived, mechanics::StressError> {
+            let pt = mechanics::Point {
+                pressure_pa: p,
+                height_std_m: None,
+                ..*pt
+            };
+            Ok(mechanics::stress_strain(spec, opts, &[pt])?[0].value)
+        };
+    let base = at(spec, pt.pressure_pa)?;
+    let slope = mechanics::height_derivatives(spec, opts, pt.pressure_pa, pt.height_m);
+    // `(a - b) f` value by value, where both are present.
+    let diff = |a: &Derived, b: &Derived, f: f64| -> Derived {
+        let d = |x: Option<f64>, y: Option<f64>| Some((x? - y?) * f).filter(|v| v.is_finite());
+        Derived {
+            radius_m: d(a.radius_m, b.radius_m),
+            arc_length_m: d(a.arc_length_m, b.arc_length_m),
+            stretch: d(a.stretch, b.stretch),
+            strain: d(a.strain, b.strain),
+            stress_pa: d(a.stress_pa, b.stress_pa),
+            true_stress_pa: d(a.true_stress_pa, b.true_stress_pa),
+            secant_modulus_pa: d(a.secant_modulus_pa, b.secant_modulus_pa),
+        }
+    };
+    // The height's slope times `dh`, where the point has the value.
+    let along_height = |dh: f64| -> Derived {
+        let zero = base.map(|_| 0.0);
+        diff(&slope.map(|v| v * dh), &zero, 1.0)
+    };
+    let mut out = Vec::new();
+    if let Some(sd) = pt.height_std_m.filter(|&v| v > 0.0) {
+        out.push((SourceKind::Points, along_height(sd)));
+    }
+    // Linear in the pressure: a change of dp moves every stress by exactly
+    // the values at p + dp minus those at p.
+    let gain_dp = pt.pressure_pa * sources.pressure_relative_std;
+    for (kind, dp) in [
+        (SourceKind::PressureNoise, sources.pressure_std_pa),
+        (SourceKind::PressureGain, gain_dp),
+    ] {
+        if dp > 0.0 {
+            out.push((kind, diff(&at(spec, pt.pressure_pa + dp)?, &base, 1.0)));
+        }
+    }
+    let central =
+        |kind: SourceKind, sd: f64, of: fn(&mut crate::experiment::Specimen) -> &mut f64| {
+            let x = *of(&mut spec.clone());
+            let h = 1e-6 * x;
+            let moved = |d: f64| {
+                let mut s = *spec;
+                *of(&mut s) = x + d;
+                at(&s, pt.pressure_pa)
+            };
+            Ok::<_, mechanics::StressError>((kind, diff(&moved(h)?, &moved(-h)?, sd / (2.0 * h))))
+        };
+    if sources.thickness_std_m > 0.0 {
+        out.push(central(
+            SourceKind::Thickness,
+            sources.thickness_std_m,
+            |s| &mut s.thickness_m,
+        )?);
+    }
+    if sources.radius_std_m > 0.0 {
+        out.push(central(SourceKind::Radius, sources.radius_std_m, |s| {
+            &mut s.radius_m
+        })?);
+    }
+    if sources.scale_relative_std > 0.0 {
+        out.push((
+            SourceKind::Scale,
+            along_height(pt.height_m * sources.scale_relative_std),
+        ));
+    }
+    if sources.height_offset_std_m > 0.0 {
+        out.push((
+            SourceKind::HeightOffset,
+            along_height(sources.height_offset_std_m),
+        ));
+    }
+    Ok(out)
+}
+
 /// `A S` for the whitened Jacobian `j` (n x p) and the residuals' response
 /// `s` (n x m) to the elementary sources: `(J^T J)^-1 J^T S` through the
 /// SVD of `J` (never the normal equations). `None` when `J` is rank
@@ -604,6 +709,131 @@ pub fn student_t_quantile(p: f64, dof: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every point's change for each input's error against what the cap
+    /// formulas say without derivatives: every stress is `p` times a
+    /// function of the geometry over `t` (so the thickness and the gauge
+    /// move it in proportion and leave the strains), and the formulas are
+    /// homogeneous in lengths (a radius and height scaled together leave
+    /// the strains and scale the radius of curvature, the stresses and the
+    /// modulus in proportion).
+    #[test]
+    fn point_shifts_follow_the_scaling_of_the_cap_formulas() {
+        let spec = crate::experiment::Specimen {
+            radius_m: 0.0375,
+            thickness_m: 0.0005,
+            poisson: 0.45,
+            prebulge_height_m: 0.002,
+        };
+        let sources = Sources {
+            pressure_std_pa: 3.0,
+            pressure_relative_std: 0.004,
+            thickness_std_m: 1.5e-5,
+            radius_std_m: 2e-4,
+            scale_relative_std: 2e-4 / 0.0375,
+            height_offset_std_m: 3e-5,
+        };
+        for opts in [
+            mechanics::Options::default(),
+            mechanics::Options {
+                strain: mechanics::StrainMeasure::Log,
+                true_stress: mechanics::TrueStress::Incompressible,
+                modulus: mechanics::Modulus::Uniaxial,
+                modulus_stress: mechanics::ModulusStress::True,
+            },
+        ] {
+            for (p, h) in [(800.0, 0.009), (3000.0, 0.021), (6000.0, 0.05)] {
+                let pt = mechanics::Point {
+                    pressure_pa: p,
+                    height_m: h,
+                    height_std_m: Some(1e-5),
+                };
+                let v = mechanics::stress_strain(&spec, &opts, &[pt]).unwrap()[0].value;
+                let got = point_shifts(&spec, &opts, &pt, &sources).unwrap();
+                let of = |k: SourceKind| got.iter().find(|(g, _)| *g == k).unwrap().1;
+                let close = |a: Option<f64>, b: Option<f64>, tol: f64| {
+                    let (a, b) = (a.unwrap(), b.unwrap());
+                    assert!(
+                        (a - b).abs() <= tol * b.abs().max(1e-300),
+                        "{a} against {b}"
+                    );
+                };
+                let stresses = |d: Derived| [d.stress_pa, d.true_stress_pa, d.secant_modulus_pa];
+                // The gauge and the thickness: the stresses in proportion,
+                // exactly (the gauge) or to first order (the thickness).
+                let (noise, gain, thick) = (
+                    of(SourceKind::PressureNoise),
+                    of(SourceKind::PressureGain),
+                    of(SourceKind::Thickness),
+                );
+                for (k, q) in stresses(v).into_iter().enumerate() {
+                    close(stresses(noise)[k], q.map(|q| q * 3.0 / p), 1e-12);
+                    close(stresses(gain)[k], q.map(|q| q * 0.004), 1e-12);
+                    close(stresses(thick)[k], q.map(|q| -q * 1.5e-5 / 0.0005), 1e-8);
+                }
+                for d in [noise, gain, thick] {
+                    assert_eq!((d.stretch, d.strain), (Some(0.0), Some(0.0)));
+                }
+                // Lengths: the radius's change plus the heights' (prebulge
+                // included) in the same proportion is the value times its
+                // degree in length (0 for strains, 1 for the radius of
+                // curvature and the stresses, which are p R / t).
+                let r = of(SourceKind::Radius);
+                let f = 2e-4 / 0.0375;
+                let with_heights = |h: f64, h0: f64| {
+                    let s = crate::experiment::Specimen {
+                        prebulge_height_m: h0,
+                        ..spec
+                    };
+                    let d = mechanics::height_derivatives(&s, &opts, p, h);
+                    // the derivative in h0 at fixed h by a central difference
+                    let e = 1e-7 * h0;
+                    let at = |h0: f64| {
+                        let s = crate::experiment::Specimen {
+                            prebulge_height_m: h0,
+                            ..spec
+                        };
+                        mechanics::stress_strain(
+                            &s,
+                            &opts,
+                            &[mechanics::Point {
+                                height_std_m: None,
+                                ..pt
+                            }],
+                        )
+                        .unwrap()[0]
+                            .value
+                    };
+                    (d, at(h0 + e), at(h0 - e), e)
+                };
+                let (dh, up, down, e) = with_heights(h, spec.prebulge_height_m);
+                let total = |x: Option<f64>, dx: Option<f64>, u: Option<f64>, w: Option<f64>| {
+                    Some(x? + dx? * h * f + (u? - w?) / (2.0 * e) * spec.prebulge_height_m * f)
+                };
+                let tol = 1e-6;
+                let strain = total(r.strain, dh.strain, up.strain, down.strain).unwrap();
+                assert!(
+                    strain.abs() < tol * v.strain.unwrap() * f,
+                    "strain moved {strain}"
+                );
+                close(
+                    total(r.radius_m, dh.radius_m, up.radius_m, down.radius_m),
+                    v.radius_m.map(|q| q * f),
+                    tol,
+                );
+                close(
+                    total(r.stress_pa, dh.stress_pa, up.stress_pa, down.stress_pa),
+                    v.stress_pa.map(|q| q * f),
+                    tol,
+                );
+                // The scale and the clamp row move the height alone.
+                let sd = |k: SourceKind| of(k).strain.unwrap() / dh.strain.unwrap();
+                assert!((sd(SourceKind::Scale) / (h * f) - 1.0).abs() < 1e-12);
+                assert!((sd(SourceKind::HeightOffset) / 3e-5 - 1.0).abs() < 1e-12);
+                assert!((sd(SourceKind::Points) / 1e-5 - 1.0).abs() < 1e-12);
+            }
+        }
+    }
 
     /// Quantiles against printed tables: the normal (Abramowitz & Stegun
     /// 1964, table 26.5) and Student's t (table 26.10; Fisher & Yates).

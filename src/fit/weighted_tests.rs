@@ -239,7 +239,11 @@ fn stress_strain_csv_carries_the_shifts_that_weigh_the_fits() {
         .collect();
     let rows = mechanics::stress_strain(&s, &options(), &points).unwrap();
     let direct = Loaded::from_stress_rows(&rows, StrainMeasure::Engineering);
-    let out = crate::pipeline::StressOut { points, rows };
+    let out = crate::pipeline::StressOut {
+        points,
+        rows,
+        shifts: Vec::new(),
+    };
     let bytes = out.csv(None).into_bytes();
     let table = crate::io::Table::parse(std::path::Path::new("ss.csv"), &bytes).unwrap();
     let opts = super::data::LoadOptions {

@@ -1,5 +1,6 @@
 //! Every file of a run, built in memory from the stages' outputs:
-//! `heights.csv`, `stress_strain.csv`, `material.toml`, `fit.svg`/`.png`,
+//! `heights.csv`, `stress_strain.csv` (and `stress_strain_sources.csv` when
+//! the experiment gives standard deviations), `material.toml`, `fit.svg`/`.png`,
 //! `simulated.csv`, `heights.svg`/`.png`, `report.html` (self-contained) and
 //! `summary.md`, and the table printed on the terminal. `bulge run` writes
 //! them; a failed run still gives the files of the stages that finished
@@ -74,6 +75,13 @@ pub fn stage_files(
             stage: Stage::Stress,
             bytes: s.csv(labels.as_deref()).into_bytes(),
         });
+        if let Some(t) = pipeline::shifts_csv(&s.points, &s.shifts) {
+            files.push(OutFile {
+                name: "stress_strain_sources.csv",
+                stage: Stage::Stress,
+                bytes: t.into_bytes(),
+            });
+        }
     }
     if let Some(f) = fit {
         let toml_text =

@@ -628,3 +628,37 @@ fn stress_prebulged_past_hemisphere_via_flags() {
         1e-15,
     );
 }
+
+/// With the experiment's other standard deviations, `<stem>_sources.csv`
+/// gives every point's change for each input's error; at H = a the cap is a
+/// hemisphere (R = a, dR/dH = 0), so a thinner or thicker sheet moves the
+/// stress by -sigma t_std / t and a gauge gain by sigma g, with
+/// sigma = p a / 2t.
+#[test]
+fn stress_writes_each_input_errors_change_of_every_point() {
+    let dir = tempdir();
+    let d = dir.path();
+    write_inputs(d, "pressure_pa,height_m\n4000,0.0375\n");
+    let with_std = format!(
+        "{SPECIMEN}thickness_std_m = 1e-5\n[pressure]\ncsv = \"pressure.csv\"\nstd_pa = 5.0\nrelative_std = 0.01\n"
+    );
+    fs::write(d.join("experiment.toml"), with_std).unwrap();
+    let run = stress_in(d, "o.csv").ok();
+    assert!(run.stderr.contains("o_sources.csv"), "{}", run.stderr);
+    let s = Csv::read(&d.join("o_sources.csv"));
+    let sources: Vec<&str> = (0..3).map(|r| s.cell(r, "source")).collect();
+    assert_eq!(sources, ["pressure_noise", "pressure_gain", "thickness"]);
+    let sigma = 4000.0 * A / (2.0 * T);
+    close(s.num(0, "stress_shift_pa"), sigma * 5.0 / 4000.0, 1e-12);
+    close(s.num(1, "stress_shift_pa"), sigma * 0.01, 1e-12);
+    close(s.num(2, "stress_shift_pa"), -sigma * 1e-5 / T, 1e-8);
+    for r in 0..3 {
+        assert_eq!(s.num(r, "strain_shift"), 0.0);
+        assert_eq!(s.cell(r, "point"), "1");
+    }
+
+    // Without them, nothing beside the output.
+    write_inputs(d, "pressure_pa,height_m\n4000,0.0375\n");
+    stress_in(d, "p.csv").ok();
+    assert!(!d.join("p_sources.csv").exists());
+}
