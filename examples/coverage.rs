@@ -57,6 +57,7 @@ fn main() {
         radius_std_m: 0.003 * 0.0375,
         scale_relative_std: 0.003,
         height_offset_std_m: 2e-5,
+        ..Sources::default()
     };
     let mr = material(Model::MooneyRivlin {
         c1_pa: 0.12e6,

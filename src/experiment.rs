@@ -545,6 +545,9 @@ impl Experiment {
             radius_std_m: self.specimen_std.radius_std_m,
             scale_relative_std,
             height_offset_std_m,
+            // found with the dome height, when it is (`bulge run`)
+            prebulge_std_m: 0.0,
+            prebulge_in_heights: false,
         }
     }
 

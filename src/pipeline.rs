@@ -564,7 +564,7 @@ pub fn prebulge_stage(
     settings: &Settings,
     points: Vec<Point>,
     relative: bool,
-) -> Result<(f64, String), PipelineError> {
+) -> Result<(f64, Option<f64>, String), PipelineError> {
     let est = crate::mechanics::prebulge::estimate(spec, &points, relative)
         .map_err(|e| PipelineError::Input(e.to_string()))?;
     let cap = format!(
@@ -574,6 +574,7 @@ pub fn prebulge_stage(
     if !settings.refine {
         return Ok((
             est.height_m,
+            Some(est.std_m).filter(|s| s.is_finite() && *s > 0.0),
             format!("{cap}; used as it is (no correction to the heights)"),
         ));
     }
@@ -601,16 +602,25 @@ pub fn prebulge_stage(
     match beside() {
         Ok((r, h0)) => {
             let rms = inverse::Refined::rms(&r.after).map_or(f64::NAN, |v| 100.0 * v);
+            let std = r.prebulge_std_m;
+            let pm = std.map_or_else(String::new, |s| format!(" +- {s:.1e}"));
             Ok((
                 h0,
+                std,
                 format!(
-                    "{cap}; beside a Mooney-Rivlin law corrected to the heights (rms {rms:.2} %): prebulge_height_m = {h0:.4e} m, used by stress, fit and simulate"
+                    "{cap}; beside a Mooney-Rivlin law corrected to the heights (rms {rms:.2} %): prebulge_height_m = {h0:.4e}{pm} m, used by stress, fit and simulate{}",
+                    if std.is_some() {
+                        " (its error carried to the law's intervals)"
+                    } else {
+                        ""
+                    }
                 ),
             ))
         }
         // The cap estimate stands, said with the reason.
         Err(e) => Ok((
             est.height_m,
+            Some(est.std_m).filter(|s| s.is_finite() && *s > 0.0),
             format!("{cap}, used as it is: the search beside a Mooney-Rivlin law failed ({e})"),
         )),
     }
@@ -1578,7 +1588,7 @@ pub fn run_observed(
     settings: &Settings,
     obs: &dyn Observer,
 ) -> Result<RunOutput, RunError> {
-    let settings = &Settings {
+    let mut with_exp = Settings {
         window: exp.window,
         uncertainty: exp.uncertainty(),
         ..settings.clone()
@@ -1609,7 +1619,7 @@ pub fn run_observed(
     // 1. track
     let t = Instant::now();
     let tracking =
-        track_stage_observed(exp, settings, obs).map_err(|e| fail(Stage::Track, e, &partial))?;
+        track_stage_observed(exp, &with_exp, obs).map_err(|e| fail(Stage::Track, e, &partial))?;
     let secs = t.elapsed().as_secs_f64();
     let n = tracking.tracked.rows.len();
     for sk in &tracking.tracked.skipped {
@@ -1641,9 +1651,14 @@ pub fn run_observed(
             tracking.setup.calibration.origin,
             crate::track::HeightOrigin::Reference { .. }
         );
-        let (h0, what) = prebulge_stage(&specimen, settings, points.clone(), relative)
+        let (h0, std, what) = prebulge_stage(&specimen, &with_exp, points.clone(), relative)
             .map_err(|e| fail(Stage::Stress, e, &partial))?;
         specimen.prebulge_height_m = h0;
+        // The law is fitted on a dome that may be off by its error.
+        if let Some(sd) = std {
+            with_exp.uncertainty.prebulge_std_m = sd;
+            with_exp.uncertainty.prebulge_in_heights = relative;
+        }
         // Relative heights: the reference photo itself (height 0) is the
         // stress-free state, not a measurement.
         if relative {
@@ -1653,6 +1668,7 @@ pub fn run_observed(
         note(Stage::Stress, what);
     }
     let spec = &specimen;
+    let settings = &with_exp;
     let stress =
         stress_stage(spec, settings, points).map_err(|e| fail(Stage::Stress, e, &partial))?;
     finish(

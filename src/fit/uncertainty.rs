@@ -71,6 +71,16 @@ pub struct Sources {
     /// Height of the clamp plane in the photos, m: every height by the same
     /// offset.
     pub height_offset_std_m: f64,
+    /// The stress-free dome height of a slack membrane, m, when it was
+    /// found from the heights (`prebulge_height_m = "fit"`): the law is
+    /// then fitted on a specimen whose dome may be off by that much.
+    #[serde(default)]
+    pub prebulge_std_m: f64,
+    /// Whether the heights are measured from the dome's apex (a reference
+    /// photo of the stress-free dome) and shifted by the found dome height,
+    /// so that they move with it too.
+    #[serde(default)]
+    pub prebulge_in_heights: bool,
 }
 
 impl Sources {
@@ -84,6 +94,7 @@ impl Sources {
             ("radius_std_m", self.radius_std_m),
             ("scale_relative_std", self.scale_relative_std),
             ("height_offset_std_m", self.height_offset_std_m),
+            ("prebulge_std_m", self.prebulge_std_m),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(format!(
@@ -114,6 +125,8 @@ pub enum SourceKind {
     Scale,
     /// The clamp row (a common height offset).
     HeightOffset,
+    /// The stress-free dome height found from the heights.
+    Prebulge,
 }
 
 impl SourceKind {
@@ -127,11 +140,12 @@ impl SourceKind {
             SourceKind::Radius => "radius",
             SourceKind::Scale => "scale",
             SourceKind::HeightOffset => "height_offset",
+            SourceKind::Prebulge => "prebulge_height",
         }
     }
 
     /// All kinds, in output order.
-    pub const ALL: [SourceKind; 7] = [
+    pub const ALL: [SourceKind; 8] = [
         SourceKind::Points,
         SourceKind::PressureNoise,
         SourceKind::PressureGain,
@@ -139,6 +153,7 @@ impl SourceKind {
         SourceKind::Radius,
         SourceKind::Scale,
         SourceKind::HeightOffset,
+        SourceKind::Prebulge,
     ];
 }
 
@@ -152,6 +167,10 @@ pub struct ParamUncertainty {
     /// `theta_hat - theta` per unit of each elementary source, `-A S` (p
     /// rows, one column per source), so that the covariance is `R R^T`.
     pub response: DMatrix<f64>,
+    /// The response of a stress-free dome height fitted beside the law
+    /// (its row of `-A S`, a column per source), when it was: the law's
+    /// predictions on the found dome share its error.
+    pub dome_response: Option<DVector<f64>>,
     /// What each column of `response` is.
     pub sources: Vec<SourceKind>,
     /// Residual degrees of freedom `n - p`.
@@ -272,8 +291,24 @@ impl ParamUncertainty {
         m: &[(SourceKind, f64)],
         columns: &[(usize, f64)],
     ) -> f64 {
+        self.prediction_std_full(g, 0.0, m, columns)
+    }
+
+    /// [`Self::prediction_std_with`] for a prediction that also moves by
+    /// `dome` per metre of the error of a dome height fitted beside the law
+    /// ([`Self::dome_response`]; nothing without one).
+    pub fn prediction_std_full(
+        &self,
+        g: &[f64],
+        dome: f64,
+        m: &[(SourceKind, f64)],
+        columns: &[(usize, f64)],
+    ) -> f64 {
         let gv = DVector::from_column_slice(g);
         let mut row = gv.transpose() * &self.response;
+        if let Some(d) = &self.dome_response {
+            row += d.transpose() * dome;
+        }
         for &(kind, v) in m {
             if let Some(j) = self.sources.iter().position(|s| *s == kind) {
                 row[j] += v;
@@ -367,7 +402,8 @@ impl ParamUncertainty {
 /// error of each input that is not known exactly: its height
 /// ([`SourceKind::Points`], from `height_std_m`), its pressure reading's
 /// noise, and the shared sources of `sources` (the gauge's gain, the
-/// thickness, the radius, the scale, the clamp row), each a signed change
+/// thickness, the radius, the scale, the clamp row, a dome height found
+/// from the heights), each a signed change
 /// of every derived value ([`mechanics::Derived`]; a value the point does
 /// not have stays `None`). Only the sources with a standard deviation are
 /// listed. To first order the covariance of two values `q` and `r` of
@@ -462,6 +498,34 @@ pub fn point_shifts(
         out.push((
             SourceKind::HeightOffset,
             along_height(sources.height_offset_std_m),
+        ));
+    }
+    if sources.prebulge_std_m > 0.0 {
+        // The dome height, and with it the height when it is measured from
+        // the dome's apex; forward from a flat disc.
+        let h0 = spec.prebulge_height_m;
+        let e = 1e-6 * spec.radius_m;
+        let rel = f64::from(u8::from(sources.prebulge_in_heights));
+        let moved = |d: f64| {
+            let s = crate::experiment::Specimen {
+                prebulge_height_m: h0 + d,
+                ..*spec
+            };
+            let pt = mechanics::Point {
+                height_m: pt.height_m + rel * d,
+                height_std_m: None,
+                ..*pt
+            };
+            Ok::<_, mechanics::StressError>(mechanics::stress_strain(&s, opts, &[pt])?[0].value)
+        };
+        let (lo, width) = if h0 >= e { (-e, 2.0 * e) } else { (0.0, e) };
+        out.push((
+            SourceKind::Prebulge,
+            diff(
+                &moved(lo + width)?,
+                &moved(lo)?,
+                sources.prebulge_std_m / width,
+            ),
         ));
     }
     Ok(out)
@@ -732,6 +796,7 @@ mod tests {
             radius_std_m: 2e-4,
             scale_relative_std: 2e-4 / 0.0375,
             height_offset_std_m: 3e-5,
+            ..Sources::default()
         };
         for opts in [
             mechanics::Options::default(),
@@ -872,6 +937,7 @@ mod tests {
             names: vec!["b".into(), "m".into()],
             values: vec![1.0, 2.0],
             response: a,
+            dome_response: None,
             sources: vec![
                 SourceKind::Points,
                 SourceKind::Points,
