@@ -1926,6 +1926,30 @@ mod tests {
         eprintln!("MC {:?} linear {lin}", mc.std_errors);
     }
 
+    /// A slack membrane: the latex disc on a stress-free dome of height
+    /// 0.1 a, neo-Hookean C1 = 0.2 MPa, and its exact apex heights at 12
+    /// pressures from 417 Pa to 5 kPa.
+    fn slack() -> (Specimen, Material, Vec<(f64, f64)>) {
+        let spec = Specimen {
+            prebulge_height_m: 0.1 * 0.0375,
+            ..specimen()
+        };
+        let truth = material(Model::NeoHookean { c1_pa: 0.2e6 });
+        let opts = Options::default().axisym;
+        let exact = (0..12)
+            .map(|i| {
+                let p = 417.0 + (5000.0 - 417.0) * i as f64 / 11.0;
+                (
+                    p,
+                    axisym::solve_pressure(&truth, &spec, p, &opts)
+                        .unwrap()
+                        .height_m,
+                )
+            })
+            .collect();
+        (spec, truth, exact)
+    }
+
     /// The dome height's standard error against the scatter of the
     /// estimates: slack membranes (dome 0.1 a) measured with 0.3 % noise
     /// on every height, the dome height found beside the law each time;
@@ -1934,21 +1958,9 @@ mod tests {
     /// the one that takes the dome as exact.
     #[test]
     fn the_dome_heights_error_is_found_and_carried_to_the_law() {
-        let h0 = 0.1 * 0.0375;
-        let spec = Specimen {
-            prebulge_height_m: h0,
-            ..specimen()
-        };
-        let c1 = 0.2e6;
-        let truth = material(Model::NeoHookean { c1_pa: c1 });
+        let (spec, truth, exact) = slack();
+        let (h0, c1) = (spec.prebulge_height_m, 0.2e6);
         let opts = Options::default();
-        let exact: Vec<(f64, f64)> = (0..12)
-            .map(|i| {
-                let p = 417.0 + (5000.0 - 417.0) * i as f64 / 11.0;
-                let h = axisym::solve_pressure(&truth, &spec, p, &opts.axisym).unwrap();
-                (p, h.height_m)
-            })
-            .collect();
         let runs: usize = std::env::var("BULGE_DOME_RUNS")
             .ok()
             .and_then(|v| v.parse().ok())
@@ -2050,23 +2062,15 @@ mod tests {
     /// 1 % beside the law, and the heights within 1e-4.
     #[test]
     fn finds_the_dome_height_of_a_slack_membrane_beside_the_law() {
-        let h0 = 0.1 * 0.0375;
-        let spec = Specimen {
-            prebulge_height_m: h0,
-            ..specimen()
-        };
-        let truth = material(Model::NeoHookean { c1_pa: 0.2e6 });
+        let (spec, _, exact) = slack();
+        let h0 = spec.prebulge_height_m;
         let opts = Options::default();
-        let data: Vec<Measured> = (0..12)
-            .map(|i| {
-                let p = 417.0 + (5000.0 - 417.0) * i as f64 / 11.0;
-                Measured {
-                    pressure_pa: p,
-                    height_m: axisym::solve_pressure(&truth, &spec, p, &opts.axisym)
-                        .unwrap()
-                        .height_m,
-                    height_std_m: None,
-                }
+        let data: Vec<Measured> = exact
+            .iter()
+            .map(|&(p, h)| Measured {
+                pressure_pa: p,
+                height_m: h,
+                height_std_m: None,
             })
             .collect();
         let start = material(Model::MooneyRivlin {

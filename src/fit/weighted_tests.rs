@@ -6,7 +6,7 @@
 use super::coverage::Rng;
 use super::data::Loaded;
 use super::hyperelastic::Kind;
-use super::material_fit::{FitDetail, FitModel, FitSettings, fit_material};
+use super::material_fit::{FitDetail, FitModel, FitSettings, FittedMaterial, fit_material};
 use super::quartic;
 use super::uncertainty::student_t_quantile;
 use crate::experiment::Specimen;
@@ -94,6 +94,46 @@ impl Tally {
     }
 }
 
+/// 400 synthetic tests (heights `hs` at pressures `ps`, 40 um of noise,
+/// seeds from `seed`), each fitted with `model` unweighted and weighted;
+/// `judged` reads the parameter judged, its standard error and
+/// `chi2_per_dof` from a fit; its truth `truth`, `dof` the residual degrees
+/// of freedom. Prints the tallies and returns them, unweighted first.
+fn unweighted_and_weighted(
+    (model, name): (FitModel, &str),
+    (ps, hs): (&[f64], &[f64]),
+    seed: u64,
+    (truth, dof): (f64, usize),
+    judged: impl Fn(&FittedMaterial) -> (f64, f64, Option<f64>),
+) -> [Tally; 2] {
+    let s = disc();
+    let t95 = student_t_quantile(0.975, dof as f64);
+    let mut out = [Tally::default(), Tally::default()];
+    for i in 0..400 {
+        let data = rows(&s, ps, hs, 40e-6, &mut Rng::new(seed + i));
+        for (tally, weighted) in out.iter_mut().zip([false, true]) {
+            let settings = FitSettings {
+                model,
+                weighted,
+                ..FitSettings::default()
+            };
+            let f = fit_material(&data, &settings, "synthetic").expect("fits");
+            assert_eq!(f.material.fit.as_ref().unwrap().weights.is_some(), weighted);
+            let (value, se, chi2) = judged(&f);
+            tally.add(value, se, truth, t95, chi2);
+        }
+    }
+    for (how, t) in ["unweighted", "weighted"].iter().zip(&out) {
+        println!(
+            "{name} {how}: rms error {:.1} Pa, 95 % intervals cover {:.1} %, chi2/dof {:.3}",
+            t.rms(),
+            100.0 * t.coverage(),
+            t.chi2()
+        );
+    }
+    out
+}
+
 #[test]
 fn the_weighted_modulus_law_is_closer_to_the_truth_and_its_intervals_cover_it() {
     let s = disc();
@@ -105,33 +145,19 @@ fn the_weighted_modulus_law_is_closer_to_the_truth_and_its_intervals_cover_it() 
         .iter()
         .map(|&h| pressure(&s, h, |e, _| quartic::eval(&truth, e) * e / k))
         .collect();
-    let sd = 40e-6;
-    let settings = |weighted| FitSettings {
-        model: FitModel::Quartic { degree: 2 },
-        weighted,
-        ..FitSettings::default()
-    };
-    let t95 = student_t_quantile(0.975, (hs.len() - 3) as f64);
-    let (mut plain, mut weighted) = (Tally::default(), Tally::default());
-    for i in 0..400 {
-        let data = rows(&s, &ps, &hs, sd, &mut Rng::new(7000 + i));
-        for (tally, w) in [(&mut plain, false), (&mut weighted, true)] {
-            let f = fit_material(&data, &settings(w), "synthetic").expect("fits");
+    let [plain, weighted] = unweighted_and_weighted(
+        (FitModel::Quartic { degree: 2 }, "quartic c0"),
+        (&ps, &hs),
+        7000,
+        (truth[0], hs.len() - 3),
+        |f| {
             let FitDetail::Quartic(q) = &f.detail else {
                 panic!("a quartic")
             };
             let se = q.std_errors_pa.as_ref().expect("standard errors")[0];
-            tally.add(q.coefficients_pa[0], se, truth[0], t95, q.chi2_per_dof);
-        }
-    }
-    for (name, t) in [("unweighted", &plain), ("weighted", &weighted)] {
-        println!(
-            "quartic {name}: c0 rms error {:.0} Pa, 95 % intervals cover {:.1} %, chi2/dof {:.3}",
-            t.rms(),
-            100.0 * t.coverage(),
-            t.chi2()
-        );
-    }
+            (q.coefficients_pa[0], se, q.chi2_per_dof)
+        },
+    );
     // The weighted estimate is the better one by far: the small-strain
     // points, whose modulus divides by a small strain, no longer steer the
     // law; and the unweighted intervals, which take every point as sure as
@@ -158,35 +184,20 @@ fn the_weighted_neo_hookean_fit_covers_its_truth() {
         .iter()
         .map(|&h| pressure(&s, h, |_, l| 2.0 * c1 * (l * l - l.powi(-4)) / (l * l)))
         .collect();
-    let sd = 40e-6;
-    let settings = |weighted| FitSettings {
-        model: FitModel::Hyperelastic(Kind::NeoHookean),
-        weighted,
-        ..FitSettings::default()
-    };
-    let t95 = student_t_quantile(0.975, (hs.len() - 1) as f64);
-    let (mut plain, mut weighted) = (Tally::default(), Tally::default());
-    for i in 0..400 {
-        let data = rows(&s, &ps, &hs, sd, &mut Rng::new(9000 + i));
-        for (tally, w) in [(&mut plain, false), (&mut weighted, true)] {
-            let f = fit_material(&data, &settings(w), "synthetic").expect("fits");
+    let [plain, weighted] = unweighted_and_weighted(
+        (FitModel::Hyperelastic(Kind::NeoHookean), "neo-Hookean C1"),
+        (&ps, &hs),
+        9000,
+        (c1, hs.len() - 1),
+        |f| {
             let FitDetail::Hyper { fits, best } = &f.detail else {
                 panic!("a hyperelastic fit")
             };
             let p = &fits[*best].params[0];
             let se = p.std_error.expect("a standard error");
-            tally.add(p.value, se, c1, t95, fits[*best].chi2_per_dof);
-            assert_eq!(f.material.fit.as_ref().unwrap().weights.is_some(), w);
-        }
-    }
-    for (name, t) in [("unweighted", &plain), ("weighted", &weighted)] {
-        println!(
-            "neo-Hookean {name}: C1 rms error {:.1} Pa, 95 % intervals cover {:.1} %, chi2/dof {:.3}",
-            t.rms(),
-            100.0 * t.coverage(),
-            t.chi2()
-        );
-    }
+            (p.value, se, fits[*best].chi2_per_dof)
+        },
+    );
     assert!(weighted.rms() < plain.rms());
     assert!((0.92..=0.98).contains(&weighted.coverage()));
     assert!((0.85..=1.15).contains(&weighted.chi2()));

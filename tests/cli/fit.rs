@@ -380,6 +380,17 @@ fn columns(p: &Path, a: &str, b: &str) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The demo's photos tracked (`h.csv`, with each height's standard
+/// deviation) and their stress and strain (`ss.csv`) in `d`; the demo's
+/// experiment file.
+fn demo_stress_strain(d: &Path) -> String {
+    let exp = repo().join("data/demo/experiment.toml");
+    let exp = exp.to_str().unwrap();
+    bulge_in(d, &["track", exp, "-o", "h.csv"]).ok();
+    bulge_in(d, &["stress", "h.csv", "--experiment", exp, "-o", "ss.csv"]).ok();
+    exp.to_string()
+}
+
 /// `bulge fit --to-heights` on the demo's stress_strain.csv: the exact
 /// axisymmetric inflation with the corrected law (solved by `bulge simulate
 /// --model axisym`, checked against closed forms in its own tests)
@@ -389,10 +400,8 @@ fn columns(p: &Path, a: &str, b: &str) -> Vec<(f64, f64)> {
 fn to_heights_corrects_the_law_to_the_measured_heights() {
     let dir = tempdir();
     let d = dir.path();
-    let exp = repo().join("data/demo/experiment.toml");
-    let exp = exp.to_str().unwrap();
-    bulge_in(d, &["track", exp, "-o", "h.csv"]).ok();
-    bulge_in(d, &["stress", "h.csv", "--experiment", exp, "-o", "ss.csv"]).ok();
+    let exp = demo_stress_strain(d);
+    let exp = exp.as_str();
     bulge_in(d, &["fit", "ss.csv", "--no-plot", "-o", "cap.toml"]).ok();
     bulge_in(
         d,
@@ -553,10 +562,7 @@ fn to_heights_through_the_membrane_on_a_rectangular_window() {
 fn weighted_fit_uses_the_heights_uncertainty_or_says_it_could_not() {
     let dir = tempdir();
     let d = dir.path();
-    let exp = repo().join("data/demo/experiment.toml");
-    let exp = exp.to_str().unwrap();
-    bulge_in(d, &["track", exp, "-o", "h.csv"]).ok();
-    bulge_in(d, &["stress", "h.csv", "--experiment", exp, "-o", "ss.csv"]).ok();
+    demo_stress_strain(d);
     let args = ["fit", "ss.csv", "--no-plot", "--weighted", "-o", "w.toml"];
     let run = bulge_in(d, &args).ok();
     assert!(!run.stderr.contains("fitted unweighted"), "{}", run.stderr);
