@@ -522,7 +522,8 @@ pub const SHIFT_COLUMNS: [&str; 7] = [
 /// (`stress_strain_sources.csv`): one row per point and input error,
 /// `point` (1 for the first data row of `stress_strain.csv`),
 /// `pressure_pa`, `height_m`, `source` (`height`, `pressure_noise`,
-/// `pressure_gain`, `thickness`, `radius`, `scale`, `height_offset`) and
+/// `pressure_gain`, `thickness`, `radius`, `scale`, `height_offset`,
+/// `prebulge_height`) and
 /// the signed change of every derived value for a one-standard-deviation
 /// error of that source ([`SHIFT_COLUMNS`]). `None` when there are none.
 pub fn shifts_csv(points: &[Point], shifts: &[PointShifts]) -> Option<CsvOut> {
