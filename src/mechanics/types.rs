@@ -207,9 +207,11 @@ impl Row {
         let Some(s) = &self.shift else {
             return [None, None];
         };
+        // A zero shift (the flat start's strain, a stress at no
+        // pressure) takes either sign: +1.
         let corr = |other: Option<f64>| match (s.strain, other) {
-            // A zero shift (no pressure, no stress) takes either sign: +1.
-            (Some(e), Some(o)) if e != 0.0 => Some(if o == 0.0 { 1.0 } else { (e * o).signum() }),
+            (Some(e), Some(o)) if e != 0.0 && o != 0.0 => Some((e * o).signum()),
+            (Some(_), Some(_)) => Some(1.0),
             _ => None,
         };
         [corr(s.stress_pa), corr(s.secant_modulus_pa)]

@@ -573,6 +573,42 @@ fn weighted_fit_uses_the_heights_uncertainty_or_says_it_could_not() {
     let chi2 = fit.chi2_per_dof.expect("chi2 per degree of freedom");
     assert!(chi2 > 0.05 && chi2 < 20.0, "chi2 / dof = {chi2}");
 
+    // A flat first row (no pressure, no strain) moves with nothing: its
+    // zero shifts take either sign, and the fit is weighted still.
+    let heights = repo().join("data/demo/heights.csv");
+    let exp = repo().join("data/demo/experiment.toml");
+    let (heights, exp) = (heights.to_str().unwrap(), exp.to_str().unwrap());
+    let args = [
+        "stress",
+        heights,
+        "--experiment",
+        exp,
+        "--height-std-m",
+        "5e-5",
+        "-o",
+        "f.csv",
+    ];
+    bulge_in(d, &args).ok();
+    let args = [
+        "fit",
+        "f.csv",
+        "--model",
+        "neo-hookean",
+        "--no-plot",
+        "--weighted",
+        "-o",
+        "f.toml",
+    ];
+    let run = bulge_in(d, &args).ok();
+    assert!(!run.stderr.contains("fitted unweighted"), "{}", run.stderr);
+    assert!(
+        read_material(&d.join("f.toml"))
+            .fit
+            .unwrap()
+            .weights
+            .is_some()
+    );
+
     // Raw data carry no uncertainty: fitted unweighted, and said so.
     let t = treloar();
     let args = ["fit", &t, "--no-plot", "--weighted", "-o", "t.toml"];
