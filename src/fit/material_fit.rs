@@ -652,8 +652,9 @@ const REWEIGHTS: usize = 2;
 const WEIGHTS: &str = "inverse variance of each point, carried from its height's standard deviation along the law (effective variance)";
 
 /// The warning when a weighted fit was asked of data without shifts.
-const UNWEIGHTED: &str = "a weighted fit was asked but the rows carry no height uncertainty \
-     (give `bulge stress --height-std-m`, or heights with a height_std_m column): fitted unweighted";
+const UNWEIGHTED: &str = "a weighted fit was asked but not every row carries its height's uncertainty \
+     with the signs of its errors (give `bulge stress --height-std-m`, or heights with a height_std_m \
+     value on every row; a stress_strain.csv needs its *_std and *_corr columns): fitted unweighted";
 
 /// `kind` fitted to the equibiaxial data, weighted (see [`REWEIGHTS`]) when
 /// the rows' `(stretch, stress)` shifts are given.
