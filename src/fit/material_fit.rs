@@ -468,19 +468,20 @@ pub fn fit_material(
     let mut warnings = Vec::new();
     let mut model_used = settings.model;
     let mut skipped = Vec::new();
-    // The hyperelastic fits' shifts, when weighted.
-    let weights = match settings.model {
-        FitModel::Quartic { .. } => None,
-        _ if !settings.weighted => None,
-        _ => {
-            let shifts = data.stress_shifts();
-            if shifts.is_some() {
-                prov.weights = Some(WEIGHTS.into());
-            } else {
-                warnings.push(UNWEIGHTED.into());
-            }
-            shifts
+    // How the fitted points move with their heights, when weighted: the
+    // modulus law's `(strain, modulus)`, the hyperelastic `(stretch, stress)`.
+    let shifts = if settings.weighted {
+        let shifts = match settings.model {
+            FitModel::Quartic { .. } => data.modulus_shifts(),
+            _ => data.stress_shifts(),
+        };
+        match shifts {
+            Some(_) => prov.weights = Some(WEIGHTS.into()),
+            None => warnings.push(UNWEIGHTED.into()),
         }
+        shifts
+    } else {
+        None
     };
     let (model, detail) = match settings.model {
         FitModel::Quartic { degree } => {
@@ -496,21 +497,15 @@ pub fn fit_material(
                 model_used = FitModel::Quartic { degree };
             }
             let mut f = quartic::fit(&strain, &modulus, degree)?;
-            if settings.weighted {
-                match data.modulus_shifts() {
-                    Some(shifts) => {
-                        for _ in 0..REWEIGHTS {
-                            let sd = effective_std(&shifts, &strain, |e| {
-                                quartic::eval_derivative(&f.coefficients_pa, e)
-                            });
-                            f = quartic::fit_weighted(&strain, &modulus, degree, Some(&sd))?;
-                        }
-                        prov.weights = Some(WEIGHTS.into());
-                        prov.chi2_per_dof = f.chi2_per_dof;
-                    }
-                    None => warnings.push(UNWEIGHTED.into()),
-                }
+            if let Some(shifts) = &shifts {
+                f = reweighted(
+                    f,
+                    (shifts, &strain),
+                    |f, e| quartic::eval_derivative(&f.coefficients_pa, e),
+                    |sd| quartic::fit_weighted(&strain, &modulus, degree, Some(sd)),
+                )?;
             }
+            prov.chi2_per_dof = f.chi2_per_dof;
             warnings.extend(f.warnings.iter().map(|w| w.to_string()));
             if f.condition_scaled > 1e8 {
                 warnings.push(format!(
@@ -539,7 +534,7 @@ pub fn fit_material(
             (model, FitDetail::Quartic(f))
         }
         FitModel::Hyperelastic(kind) => {
-            let f = fit_hyper(kind, data, weights.as_deref())?;
+            let f = fit_hyper(kind, data, shifts.as_deref())?;
             (
                 f.model.clone(),
                 FitDetail::Hyper {
@@ -551,7 +546,7 @@ pub fn fit_material(
         FitModel::AllHyperelastic => {
             let mut fits = Vec::new();
             for kind in Kind::all() {
-                match fit_hyper(kind, data, weights.as_deref()) {
+                match fit_hyper(kind, data, shifts.as_deref()) {
                     Ok(f) => fits.push(f),
                     Err(e @ FitError::TooFewPoints { .. }) => {
                         skipped.push(format!("{}: {e}", kind.label()))
@@ -656,26 +651,45 @@ const UNWEIGHTED: &str = "a weighted fit was asked but not every row carries its
      with the signs of its errors (give `bulge stress --height-std-m`, or heights with a height_std_m \
      value on every row; a stress_strain.csv needs its *_std and *_corr columns): fitted unweighted";
 
-/// `kind` fitted to the equibiaxial data, weighted (see [`REWEIGHTS`]) when
-/// the rows' `(stretch, stress)` shifts are given.
+/// The weighted fit from the unweighted `first`: [`REWEIGHTS`] times, the
+/// points' effective standard deviations from the last fit's slope
+/// (`slope(fit, x)`) at the points `x` moving by `shifts`, and `refit` with
+/// them.
+fn reweighted<F>(
+    first: F,
+    (shifts, x): (&[(f64, f64)], &[f64]),
+    slope: impl Fn(&F, f64) -> f64,
+    refit: impl Fn(&[f64]) -> Result<F, FitError>,
+) -> Result<F, FitError> {
+    let mut f = first;
+    for _ in 0..REWEIGHTS {
+        let sd = effective_std(shifts, x, |v| slope(&f, v));
+        f = refit(&sd)?;
+    }
+    Ok(f)
+}
+
+/// `kind` fitted to the equibiaxial data, weighted (see [`reweighted`])
+/// when the rows' `(stretch, stress)` shifts are given.
 fn fit_hyper(
     kind: Kind,
     data: &Loaded,
     shifts: Option<&[(f64, f64)]>,
 ) -> Result<HyperFit, FitError> {
     let eq = &data.equibiaxial;
-    let mut f = hyperelastic::fit(kind, eq)?;
-    if let Some(shifts) = shifts {
-        for _ in 0..REWEIGHTS {
-            let slope = |l: f64| {
-                let d = 1e-6 * l;
-                (eq.predict(&f.model, l + d) - eq.predict(&f.model, l - d)) / (2.0 * d)
-            };
-            let sd = effective_std(shifts, &eq.stretch, slope);
-            f = hyperelastic::fit_weighted(kind, eq, Some(&sd))?;
-        }
-    }
-    Ok(f)
+    let f = hyperelastic::fit(kind, eq)?;
+    let Some(shifts) = shifts else {
+        return Ok(f);
+    };
+    reweighted(
+        f,
+        (shifts, &eq.stretch),
+        |f, l| {
+            let d = 1e-6 * l;
+            (eq.predict(&f.model, l + d) - eq.predict(&f.model, l - d)) / (2.0 * d)
+        },
+        |sd| hyperelastic::fit_weighted(kind, eq, Some(sd)),
+    )
 }
 
 /// Lowest AICc among the Drucker-stable fits, else among all. A model with
