@@ -499,20 +499,7 @@ pub fn fit_weighted(
         )));
     }
     data.validate(kind)?;
-    if let Some(s) = std_pa {
-        if s.len() != data.stretch.len() {
-            return Err(FitError::LengthMismatch {
-                x: data.stretch.len(),
-                y: s.len(),
-            });
-        }
-        super::check_finite(s)?;
-        if let Some(&v) = s.iter().find(|&&v| v <= 0.0) {
-            return Err(FitError::Unsupported(format!(
-                "a point's standard deviation is {v} Pa: a weighted fit needs positive ones"
-            )));
-        }
-    }
+    super::check_std(data.stretch.len(), std_pa)?;
     // Inverse standard deviations over their mean: the scaled problem keeps
     // residuals of order one.
     let weight: Option<Vec<f64>> = std_pa.map(|s| {

@@ -146,6 +146,24 @@ pub(crate) fn check_finite(v: &[f64]) -> Result<(), FitError> {
     }
 }
 
+/// Refuses the standard deviations of a weighted fit of `n` points that
+/// are not `n` finite positive numbers (none: an unweighted fit).
+pub(crate) fn check_std(n: usize, std_pa: Option<&[f64]>) -> Result<(), FitError> {
+    let Some(s) = std_pa else {
+        return Ok(());
+    };
+    if s.len() != n {
+        return Err(FitError::LengthMismatch { x: n, y: s.len() });
+    }
+    check_finite(s)?;
+    match s.iter().find(|&&v| v <= 0.0) {
+        Some(v) => Err(FitError::Unsupported(format!(
+            "a point's standard deviation is {v} Pa: a weighted fit needs positive ones"
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Refuses abscissae that are not strictly increasing.
 pub(crate) fn check_increasing(v: &[f64]) -> Result<(), FitError> {
     for i in 1..v.len() {

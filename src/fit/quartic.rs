@@ -111,17 +111,7 @@ pub fn fit_weighted(
     super::check_finite(strain)?;
     super::check_finite(modulus_pa)?;
     super::check_increasing(strain)?;
-    if let Some(s) = std_pa {
-        if s.len() != n {
-            return Err(FitError::LengthMismatch { x: n, y: s.len() });
-        }
-        super::check_finite(s)?;
-        if let Some(&v) = s.iter().find(|&&v| v <= 0.0) {
-            return Err(FitError::Unsupported(format!(
-                "a point's standard deviation is {v} Pa: a weighted fit needs positive ones"
-            )));
-        }
-    }
+    super::check_std(n, std_pa)?;
     let w = |i: usize| std_pa.map_or(1.0, |s| 1.0 / s[i]);
     let a = DMatrix::from_fn(n, p, |i, j| strain[i].powi(j as i32) * w(i));
     let y = DVector::from_fn(n, |i, _| modulus_pa[i] * w(i));
