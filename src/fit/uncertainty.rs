@@ -48,6 +48,7 @@
 //! quantile (W. S. Gosset, "The probable error of a mean", Biometrika 6(1),
 //! 1908, doi:10.1093/biomet/6.1.1).
 
+use crate::experiment::Specimen;
 use crate::mechanics::{self, Derived};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -416,22 +417,20 @@ impl ParamUncertainty {
 /// the pressure, no strain depends on it), the thickness's and radius's by
 /// central differences of step `1e-6` of the value.
 pub fn point_shifts(
-    spec: &crate::experiment::Specimen,
+    spec: &Specimen,
     opts: &mechanics::Options,
     pt: &mechanics::Point,
     sources: &Sources,
-) -> Result<Vec<(SourceKind, mechanics::Derived)>, mechanics::StressError> {
-    let at =
-        |spec: &crate::experiment::Specimen, p: f64| -> Result<Derived, mechanics::StressError> {
-            let pt = mechanics::Point {
-                pressure_pa: p,
-                height_std_m: None,
-                ..*pt
-            };
-            Ok(mechanics::stress_strain(spec, opts, &[pt])?[0].value)
+) -> Result<Vec<(SourceKind, Derived)>, mechanics::StressError> {
+    type Values = Result<Derived, mechanics::StressError>;
+    let at = |spec: &Specimen, pt: mechanics::Point| -> Values {
+        let pt = mechanics::Point {
+            height_std_m: None,
+            ..pt
         };
-    let base = at(spec, pt.pressure_pa)?;
-    let slope = mechanics::height_derivatives(spec, opts, pt.pressure_pa, pt.height_m);
+        Ok(mechanics::stress_strain(spec, opts, &[pt])?[0].value)
+    };
+    let base = at(spec, *pt)?;
     // `(a - b) f` value by value, where both are present.
     let diff = |a: &Derived, b: &Derived, f: f64| -> Derived {
         let d = |x: Option<f64>, y: Option<f64>| Some((x? - y?) * f).filter(|v| v.is_finite());
@@ -445,10 +444,15 @@ pub fn point_shifts(
             secant_modulus_pa: d(a.secant_modulus_pa, b.secant_modulus_pa),
         }
     };
-    // The height's slope times `dh`, where the point has the value.
-    let along_height = |dh: f64| -> Derived {
-        let zero = base.map(|_| 0.0);
-        diff(&slope.map(|v| v * dh), &zero, 1.0)
+    // The height's exact slope times `dh`, where the point has the value.
+    let slope = mechanics::height_derivatives(spec, opts, pt.pressure_pa, pt.height_m);
+    let along_height = |dh: f64| diff(&slope.map(|v| v * dh), &base.map(|_| 0.0), 1.0);
+    // `sd` times the slope in a quantity that `moved(d)` moves by `d`:
+    // central differences of step `h`, forward when `-h` would leave its
+    // range.
+    let numeric = |sd: f64, h: f64, forward: bool, moved: &dyn Fn(f64) -> Values| {
+        let (lo, width) = if forward { (0.0, h) } else { (-h, 2.0 * h) };
+        Ok::<_, mechanics::StressError>(diff(&moved(lo + width)?, &moved(lo)?, sd / width))
     };
     let mut out = Vec::new();
     if let Some(sd) = pt.height_std_m.filter(|&v| v > 0.0) {
@@ -456,43 +460,48 @@ pub fn point_shifts(
     }
     // Linear in the pressure: a change of dp moves every stress by exactly
     // the values at p + dp minus those at p.
-    let gain_dp = pt.pressure_pa * sources.pressure_relative_std;
     for (kind, dp) in [
         (SourceKind::PressureNoise, sources.pressure_std_pa),
-        (SourceKind::PressureGain, gain_dp),
+        (
+            SourceKind::PressureGain,
+            pt.pressure_pa * sources.pressure_relative_std,
+        ),
     ] {
         if dp > 0.0 {
-            out.push((kind, diff(&at(spec, pt.pressure_pa + dp)?, &base, 1.0)));
+            let p = mechanics::Point {
+                pressure_pa: pt.pressure_pa + dp,
+                ..*pt
+            };
+            out.push((kind, diff(&at(spec, p)?, &base, 1.0)));
         }
     }
-    let central =
-        |kind: SourceKind, sd: f64, of: fn(&mut crate::experiment::Specimen) -> &mut f64| {
-            let x = *of(&mut spec.clone());
-            let h = 1e-6 * x;
-            let moved = |d: f64| {
-                let mut s = *spec;
-                *of(&mut s) = x + d;
-                at(&s, pt.pressure_pa)
-            };
-            Ok::<_, mechanics::StressError>((kind, diff(&moved(h)?, &moved(-h)?, sd / (2.0 * h))))
-        };
     if sources.thickness_std_m > 0.0 {
-        out.push(central(
-            SourceKind::Thickness,
-            sources.thickness_std_m,
-            |s| &mut s.thickness_m,
-        )?);
+        let t = spec.thickness_m;
+        let moved = |d: f64| {
+            let s = Specimen {
+                thickness_m: t + d,
+                ..*spec
+            };
+            at(&s, *pt)
+        };
+        let d = numeric(sources.thickness_std_m, 1e-6 * t, false, &moved)?;
+        out.push((SourceKind::Thickness, d));
     }
     if sources.radius_std_m > 0.0 {
-        out.push(central(SourceKind::Radius, sources.radius_std_m, |s| {
-            &mut s.radius_m
-        })?);
+        let a = spec.radius_m;
+        let moved = |d: f64| {
+            let s = Specimen {
+                radius_m: a + d,
+                ..*spec
+            };
+            at(&s, *pt)
+        };
+        let d = numeric(sources.radius_std_m, 1e-6 * a, false, &moved)?;
+        out.push((SourceKind::Radius, d));
     }
     if sources.scale_relative_std > 0.0 {
-        out.push((
-            SourceKind::Scale,
-            along_height(pt.height_m * sources.scale_relative_std),
-        ));
+        let d = along_height(pt.height_m * sources.scale_relative_std);
+        out.push((SourceKind::Scale, d));
     }
     if sources.height_offset_std_m > 0.0 {
         out.push((
@@ -503,30 +512,21 @@ pub fn point_shifts(
     if sources.prebulge_std_m > 0.0 {
         // The dome height, and with it the height when it is measured from
         // the dome's apex; forward from a flat disc.
-        let h0 = spec.prebulge_height_m;
-        let e = 1e-6 * spec.radius_m;
+        let (h0, h) = (spec.prebulge_height_m, 1e-6 * spec.radius_m);
         let rel = f64::from(u8::from(sources.prebulge_in_heights));
         let moved = |d: f64| {
-            let s = crate::experiment::Specimen {
+            let s = Specimen {
                 prebulge_height_m: h0 + d,
                 ..*spec
             };
-            let pt = mechanics::Point {
+            let p = mechanics::Point {
                 height_m: pt.height_m + rel * d,
-                height_std_m: None,
                 ..*pt
             };
-            Ok::<_, mechanics::StressError>(mechanics::stress_strain(&s, opts, &[pt])?[0].value)
+            at(&s, p)
         };
-        let (lo, width) = if h0 >= e { (-e, 2.0 * e) } else { (0.0, e) };
-        out.push((
-            SourceKind::Prebulge,
-            diff(
-                &moved(lo + width)?,
-                &moved(lo)?,
-                sources.prebulge_std_m / width,
-            ),
-        ));
+        let d = numeric(sources.prebulge_std_m, h, h0 < h, &moved)?;
+        out.push((SourceKind::Prebulge, d));
     }
     Ok(out)
 }
