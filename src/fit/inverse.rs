@@ -1283,13 +1283,13 @@ pub fn band(
             let shifted = f64::from(u8::from(sources.prebulge_in_heights));
             let (std_m, diff_std_m) = match own {
                 Some(j) => (
-                    unc.prediction_std_full(&g.gradient, slope, &m, &[(j, reading)]),
-                    unc.prediction_std_full(&g.gradient, slope - shifted, &all, &[(j, reading)]),
+                    unc.prediction_std_with(&g.gradient, slope, &m, &[(j, reading)]),
+                    unc.prediction_std_with(&g.gradient, slope - shifted, &all, &[(j, reading)]),
                 ),
                 None => (
-                    unc.prediction_std_full(&g.gradient, slope, &m, &[])
+                    unc.prediction_std_with(&g.gradient, slope, &m, &[])
                         .hypot(reading),
-                    unc.prediction_std_full(&g.gradient, slope - shifted, &all, &[])
+                    unc.prediction_std_with(&g.gradient, slope - shifted, &all, &[])
                         .hypot(reading),
                 ),
             };

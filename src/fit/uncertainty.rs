@@ -74,7 +74,11 @@ pub struct Sources {
     pub height_offset_std_m: f64,
     /// The stress-free dome height of a slack membrane, m, when it was
     /// found from the heights (`prebulge_height_m = "fit"`): the law is
-    /// then fitted on a specimen whose dome may be off by that much.
+    /// then fitted on a specimen whose dome may be off by that much. The
+    /// stress stage's changes use this value; the correction to the heights
+    /// takes the dome height, when it is not 0, as a parameter of its
+    /// covariance beside the law's, so that the fit itself gives its error
+    /// and its correlation with the heights' own.
     #[serde(default)]
     pub prebulge_std_m: f64,
     /// Whether the heights are measured from the dome's apex (a reference
@@ -280,25 +284,15 @@ impl ParamUncertainty {
     /// in the parameters whose own dependence on the sources is `m`
     /// (`(kind, value per unit source)`, shared sources only).
     pub fn prediction_std(&self, g: &[f64], m: &[(SourceKind, f64)]) -> f64 {
-        self.prediction_std_with(g, m, &[])
+        self.prediction_std_with(g, 0.0, m, &[])
     }
 
-    /// [`Self::prediction_std`] with the prediction's own dependence on
-    /// single columns of the response too: `(column, value per unit
-    /// source)` (see [`Self::column`]).
+    /// [`Self::prediction_std`] for a prediction that also moves by `dome`
+    /// per metre of the error of a dome height fitted beside the law
+    /// ([`Self::dome_response`]; nothing without one), and with its own
+    /// dependence on single columns of the response: `(column, value per
+    /// unit source)` (see [`Self::column`]).
     pub fn prediction_std_with(
-        &self,
-        g: &[f64],
-        m: &[(SourceKind, f64)],
-        columns: &[(usize, f64)],
-    ) -> f64 {
-        self.prediction_std_full(g, 0.0, m, columns)
-    }
-
-    /// [`Self::prediction_std_with`] for a prediction that also moves by
-    /// `dome` per metre of the error of a dome height fitted beside the law
-    /// ([`Self::dome_response`]; nothing without one).
-    pub fn prediction_std_full(
         &self,
         g: &[f64],
         dome: f64,
