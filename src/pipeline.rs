@@ -568,6 +568,8 @@ pub fn prebulge_stage(
 ) -> Result<(f64, Option<f64>, String), PipelineError> {
     let est = crate::mechanics::prebulge::estimate(spec, &points, relative)
         .map_err(|e| PipelineError::Input(e.to_string()))?;
+    // The cap estimate's own standard deviation, where it is determined.
+    let cap_std = Some(est.std_m).filter(|s| s.is_finite() && *s > 0.0);
     let cap = format!(
         "prebulge_height_m from the cap formulas {:.4e} m (std {:.1e} m, {} points)",
         est.height_m, est.std_m, est.points
@@ -575,7 +577,7 @@ pub fn prebulge_stage(
     if !settings.refine {
         return Ok((
             est.height_m,
-            Some(est.std_m).filter(|s| s.is_finite() && *s > 0.0),
+            cap_std,
             format!("{cap}; used as it is (no correction to the heights)"),
         ));
     }
@@ -621,7 +623,7 @@ pub fn prebulge_stage(
         // The cap estimate stands, said with the reason.
         Err(e) => Ok((
             est.height_m,
-            Some(est.std_m).filter(|s| s.is_finite() && *s > 0.0),
+            cap_std,
             format!("{cap}, used as it is: the search beside a Mooney-Rivlin law failed ({e})"),
         )),
     }
