@@ -51,6 +51,24 @@ fn pressure(s: &Specimen, h: f64, sigma: impl Fn(f64, f64) -> f64) -> f64 {
     2.0 * s.thickness_m * sigma(eps, 1.0 + eps) / cap_radius(s.radius_m, h)
 }
 
+/// The exact points of the pole stress `sigma(eps)` at the heights `hs`,
+/// the `j`-th with the standard deviation `sd(j)`.
+fn exact_points(
+    s: &Specimen,
+    hs: &[f64],
+    sigma: impl Fn(f64) -> f64,
+    sd: impl Fn(usize) -> Option<f64>,
+) -> Vec<Point> {
+    hs.iter()
+        .enumerate()
+        .map(|(j, &h)| Point {
+            pressure_pa: pressure(s, h, |e, _| sigma(e)),
+            height_m: h,
+            height_std_m: sd(j),
+        })
+        .collect()
+}
+
 /// The stress stage's rows of one synthetic test: the exact heights of the
 /// law at `pressures`, each moved by a normal draw of `sd`.
 fn rows(s: &Specimen, pressures: &[f64], exact: &[f64], sd: f64, rng: &mut Rng) -> Loaded {
@@ -207,14 +225,7 @@ fn the_weighted_neo_hookean_fit_covers_its_truth() {
 fn a_weighted_fit_of_rows_without_uncertainty_says_it_was_not_weighted() {
     let s = disc();
     let hs = heights(&s);
-    let points: Vec<Point> = hs
-        .iter()
-        .map(|&h| Point {
-            pressure_pa: pressure(&s, h, |e, _| 1e6 * e),
-            height_m: h,
-            height_std_m: None,
-        })
-        .collect();
+    let points = exact_points(&s, &hs, |e| 1e6 * e, |_| None);
     let rows = mechanics::stress_strain(&s, &options(), &points).unwrap();
     let data = Loaded::from_stress_rows(&rows, StrainMeasure::Engineering);
     let f = fit_material(
@@ -239,15 +250,12 @@ fn a_weighted_fit_of_rows_without_uncertainty_says_it_was_not_weighted() {
 fn stress_strain_csv_carries_the_shifts_that_weigh_the_fits() {
     let s = disc();
     let hs = heights(&s);
-    let points: Vec<Point> = hs
-        .iter()
-        .enumerate()
-        .map(|(j, &h)| Point {
-            pressure_pa: pressure(&s, h, |e, _| 1e6 * e * (1.0 + e)),
-            height_m: h,
-            height_std_m: Some(10e-6 * (1.0 + j as f64)),
-        })
-        .collect();
+    let points = exact_points(
+        &s,
+        &hs,
+        |e| 1e6 * e * (1.0 + e),
+        |j| Some(10e-6 * (1.0 + j as f64)),
+    );
     let rows = mechanics::stress_strain(&s, &options(), &points).unwrap();
     let direct = Loaded::from_stress_rows(&rows, StrainMeasure::Engineering);
     let out = crate::pipeline::StressOut {
