@@ -469,29 +469,26 @@ pub fn point_shifts(
             out.push((kind, diff(&at(spec, p)?, &base, 1.0)));
         }
     }
-    if sources.thickness_std_m > 0.0 {
-        let t = spec.thickness_m;
-        let moved = |d: f64| {
-            let s = Specimen {
-                thickness_m: t + d,
-                ..*spec
+    // The specimen's dimensions, one field at a time.
+    type Field = fn(&mut Specimen) -> &mut f64;
+    let dimensions: [(SourceKind, f64, Field); 2] = [
+        (SourceKind::Thickness, sources.thickness_std_m, |s| {
+            &mut s.thickness_m
+        }),
+        (SourceKind::Radius, sources.radius_std_m, |s| {
+            &mut s.radius_m
+        }),
+    ];
+    for (kind, sd, field) in dimensions {
+        if sd > 0.0 {
+            let x = *field(&mut spec.to_owned());
+            let moved = |d: f64| {
+                let mut s = *spec;
+                *field(&mut s) = x + d;
+                at(&s, *pt)
             };
-            at(&s, *pt)
-        };
-        let d = numeric(sources.thickness_std_m, 1e-6 * t, false, &moved)?;
-        out.push((SourceKind::Thickness, d));
-    }
-    if sources.radius_std_m > 0.0 {
-        let a = spec.radius_m;
-        let moved = |d: f64| {
-            let s = Specimen {
-                radius_m: a + d,
-                ..*spec
-            };
-            at(&s, *pt)
-        };
-        let d = numeric(sources.radius_std_m, 1e-6 * a, false, &moved)?;
-        out.push((SourceKind::Radius, d));
+            out.push((kind, numeric(sd, 1e-6 * x, false, &moved)?));
+        }
     }
     if sources.scale_relative_std > 0.0 {
         let d = along_height(pt.height_m * sources.scale_relative_std);
