@@ -492,10 +492,14 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
 /// The elevation correction against closed forms: the outline of a sphere
 /// of radius `R` whose pole is `h` above the clamp ring's centre tops out
 /// `(h - R) cos e + R` above it (the latitude at polar angle `e` seen edge
-/// on); from that top and `1 / R` (or the spherical cap's rim radius `a`)
-/// the height is recovered.
+/// on); from that top and a well measured `1 / R` the height is recovered,
+/// and without a measured curvature from the membrane's pole radius,
+/// `POLE_FLATTENING` times the spherical cap's through the rim `a`. A
+/// measured curvature as uncertain as the membrane's pulls the radius
+/// half way.
 #[test]
 fn the_elevation_correction_inverts_the_outline_of_a_cap() {
+    use super::types::{POLE_FLATTENING, POLE_FLATTENING_REL_STD};
     let a = 224.0;
     for e_deg in [0.5f64, 3.0, 5.0, 20.0] {
         let el = Elevation {
@@ -504,18 +508,32 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
         };
         let e = el.radians;
         for h in [20.0f64, 60.0, 134.0] {
-            let r = (a * a + h * h) / (2.0 * h);
+            let r_cap = (a * a + h * h) / (2.0 * h);
             if 2.0 * (h / a).atan() < e {
                 continue; // the top is then the ring's back, not a latitude of the cap
             }
-            let t = (h - r) * e.cos() + r;
-            let (by_curvature, _) = el.height_px(t, Some((1.0 / r, 1e-3 / r)), a);
-            let (by_rim, _) = el.height_px(t, None, a);
+            let top = |r: f64| (h - r) * e.cos() + r;
+            let (by_curvature, _) = el.height_px(top(r_cap), Some((1.0 / r_cap, 1e-7 / r_cap)), a);
             assert!(
-                (by_curvature - h).abs() < 1e-9,
+                (by_curvature - h).abs() < 1e-6,
                 "{e_deg} deg, h {h}: {by_curvature}"
             );
+            let r_pole = POLE_FLATTENING * r_cap;
+            let (by_rim, std) = el.height_px(top(r_pole), None, a);
             assert!((by_rim - h).abs() < 1e-6, "{e_deg} deg, h {h}: {by_rim}");
+            // d h / d R = -(1 - cos e) / cos e
+            let want = (1.0 - e.cos()) / e.cos() * POLE_FLATTENING_REL_STD * r_pole;
+            assert!((std / want - 1.0).abs() < 1e-6, "{std} against {want}");
+            // The pole's curvature measured with the membrane's relative
+            // error: their mean, by the curvatures.
+            let k_m = 1.0 / (1.2 * r_cap);
+            let k = 0.5 * (k_m + 1.0 / r_pole);
+            let (both, _) = el.height_px(
+                top(1.0 / k),
+                Some((k_m, POLE_FLATTENING_REL_STD / r_pole)),
+                a,
+            );
+            assert!((both - h).abs() < 1e-6, "{e_deg} deg, h {h}: {both}");
         }
     }
 }

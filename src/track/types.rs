@@ -58,6 +58,18 @@ pub struct Elevation {
     pub radius_m: f64,
 }
 
+/// The pole's radius of curvature of an inflated membrane over that of the
+/// spherical cap through its rim with the same height. A flat clamped
+/// membrane's top is flatter than the cap: exact axisymmetric solutions
+/// (neo-Hookean, Mooney-Rivlin, Yeoh and linear elastic, apex heights
+/// 0.19-0.55 a) give 1.09-1.12. A slack membrane near its stress-free shape
+/// (a cap) gives about 1. The middle of 1.00-1.12.
+pub const POLE_FLATTENING: f64 = 1.06;
+
+/// The relative standard deviation taken for [`POLE_FLATTENING`]: that of a
+/// uniform spread over 1.00-1.12.
+pub const POLE_FLATTENING_REL_STD: f64 = 0.035;
+
 impl Elevation {
     /// The apex height `h`, px, from the height `t` (px) of the
     /// silhouette's top above the clamp ring's centre. An orthographic
@@ -65,31 +77,42 @@ impl Elevation {
     /// the camera) at image height `y sin e + z cos e`; near its pole the
     /// dome is a sphere of radius `R` (by symmetry the pole is an umbilic
     /// point), whose outline tops out at the latitude of polar angle `e`:
-    /// `t = (h - R) cos e + R`, so `h = (t - R (1 - cos e)) / cos e`. `R`
-    /// is `1 / curvature` of the edge fit at the top (the outline of a
-    /// sphere is a circle of its radius from any direction) when that is
-    /// measured to 3 % (`curvature` = value and standard error, 1/px), else
-    /// the spherical cap's `(a^2 + h^2) / (2 h)` through the rim (`a_px`
-    /// the free radius in px; flat domes, whose curvature the edge fit
-    /// measures poorly, are close to caps), solved for `h` by fixed-point
-    /// iteration. Returns `h` and its standard deviation from the
-    /// curvature's, px.
+    /// `t = (h - R) cos e + R`, so `h = (t - R (1 - cos e)) / cos e`.
+    ///
+    /// `1 / R` is the inverse-variance mean of two estimates: the edge
+    /// fit's curvature at the top (`curvature` = value and standard error,
+    /// 1/px; the outline of a sphere is a circle of its radius from any
+    /// direction), and the membrane's, [`POLE_FLATTENING`] times the
+    /// spherical cap's `(a^2 + h^2) / (2 h)` through the rim (`a_px` the
+    /// free radius in px), with [`POLE_FLATTENING_REL_STD`]; solved for `h`
+    /// by fixed-point iteration. Returns `h` and its standard deviation
+    /// from the curvature's, px.
     pub fn height_px(&self, t: f64, curvature: Option<(f64, f64)>, a_px: f64) -> (f64, f64) {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
-        if let Some((k, k_std)) = curvature.filter(|(k, ks)| *k > 0.0 && *ks < 0.03 * k) {
-            return ((t - s / k) / c, s / c * k_std / (k * k));
-        }
+        let measured = curvature
+            .filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0)
+            .map(|(k, ks)| (k, 1.0 / (ks * ks)));
+        let pole = |h: f64| {
+            let k_p = 2.0 * h / (POLE_FLATTENING * (a_px * a_px + h * h));
+            let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
+            let (k_m, w_m) = measured.unwrap_or((0.0, 0.0));
+            (
+                (k_p * w_p + k_m * w_m) / (w_p + w_m),
+                (w_p + w_m).sqrt().recip(),
+            )
+        };
         let mut h = t;
-        for _ in 0..100 {
-            let r = (a_px * a_px + h * h) / (2.0 * h.max(1e-9));
-            let next = ((t - r * s) / c).max(1e-6 * a_px);
+        for _ in 0..200 {
+            let (k, _) = pole(h.max(1e-9));
+            let next = ((t - s / k) / c).max(1e-6 * a_px);
             if (next - h).abs() < 1e-10 * a_px {
                 h = next;
                 break;
             }
             h = next;
         }
-        (h, 0.0)
+        let (k, k_std) = pole(h);
+        (h, s / c * k_std / (k * k))
     }
 }
 
