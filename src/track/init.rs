@@ -826,41 +826,52 @@ fn find_radius(
             keys: "metres_per_pixel (or points_px with distance_m), or give --metres-per-pixel",
         });
     }
-    // The half-width near the plane, w = w0 + b u + q u^2 (the meridian's
-    // own shape: an inflated membrane is not a sphere near its rim).
+    // The squared half-width, W^2 = A + B u + C u^2. Near its rim the
+    // meridian is close to a conic about the axis, rho^2 = alpha + beta z +
+    // gamma z^2 (exact for a sphere, gamma = -1; an inflated membrane is
+    // flatter near its rim), and the outline of such a surface seen from the
+    // elevation `e` (the envelope of its latitude ellipses) is again
+    // quadratic in `u`, with a^2 = alpha = A - B^2 s^2 / (4 (1 + s^2 C)),
+    // s = sin e. (A quadratic in the half-width itself, extrapolated to the
+    // plane, came out 0.3-1 % small on the exact neo-Hookean bubble.)
     let x: Vec<Vec<f64>> = pts.iter().map(|(u, _)| vec![1.0, *u, u * u]).collect();
-    let y: Vec<f64> = pts.iter().map(|(_, hw)| *hw).collect();
-    let ((coef, cov, res), _) = robust_lstsq(&x, &y, 0.05).ok_or(TrackError::NotFound {
+    let y: Vec<f64> = pts.iter().map(|(_, hw)| hw * hw).collect();
+    let ((coef, cov, res), _) = robust_lstsq(&x, &y, 0.1 * a0).ok_or(TrackError::NotFound {
         what: "the scale".into(),
         detail: "the bubble's sides near the clamp do not fit a smooth curve".into(),
         keys: "metres_per_pixel",
     })?;
-    let (w0, b) = (coef[0], coef[1]);
-    // From a raised camera the outline near the rim is the osculating
-    // sphere's, a circle about the projected centre U = w0 w'(0):
-    // a^2 = w0^2 - U^2 tan^2 e.
-    let tan2 = (sin_e * sin_e) / (1.0 - sin_e * sin_e);
-    let f = 1.0 - b * b * tan2;
-    if w0 <= 0.0 || f <= 0.0 {
+    let [big_a, big_b, big_c] = [coef[0], coef[1], coef[2]];
+    let s2 = sin_e * sin_e;
+    let f = 1.0 + s2 * big_c;
+    let alpha = big_a - big_b * big_b * s2 / (4.0 * f);
+    if big_a <= 0.0 || f <= 0.0 || alpha <= 0.0 {
         return Err(TrackError::NotFound {
             what: "the scale".into(),
             detail: "the bubble's sides near the clamp do not close into an opening".into(),
             keys: "metres_per_pixel",
         });
     }
-    let a = w0 * f.sqrt();
-    let uu = w0 * b;
+    let a = alpha.sqrt();
     let infl = lag1_inflation(&res);
-    let g = [f.sqrt(), -w0 * b * tan2 / f.sqrt()];
-    let var_fit =
-        (g[0] * g[0] * cov[0][0] + 2.0 * g[0] * g[1] * cov[0][1] + g[1] * g[1] * cov[1][1])
-            * infl
-            * infl;
-    // A clamp row off by dc moves the plane along the sides: dw/du = U / a.
-    let var_row = (uu / a).powi(2) * clamp.row.std.powi(2);
-    // The meridian departs from the quadratic over the fitted rows: on
-    // synthetic neo-Hookean bubbles the width came out 0.01-0.12 % large
-    // where the fit's own error was a few hundredths of a per cent.
+    // d a / d (A, B, C).
+    let g = [
+        1.0,
+        -big_b * s2 / (2.0 * f),
+        big_b * big_b * s2 * s2 / (4.0 * f * f),
+    ]
+    .map(|v| v / (2.0 * a));
+    let var_fit = (0..3)
+        .map(|i| (0..3).map(|j| g[i] * g[j] * cov[i][j]).sum::<f64>())
+        .sum::<f64>()
+        * infl
+        * infl;
+    // A clamp row off by dc moves the plane along the sides:
+    // d a / d c = B / (2 a (1 + s^2 C)).
+    let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
+    // The meridian departs from the conic over the fitted rows: on exact
+    // neo-Hookean meridians (apex 0.26-0.53 a, rows from 0.03 a or 0.08 a
+    // up, 0.15 a tall) the conic met the rim 0.01-0.07 % wide.
     let var_model = (MODEL_REL * a).powi(2);
     Ok((
         Estimate {

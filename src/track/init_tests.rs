@@ -1,113 +1,28 @@
 //! `bulge init` on synthetic experiments: random framing, a raised camera,
 //! clutter and gloss. Seeds 201.. are used by these tests only; the
-//! benchmark (`cargo run --release --example init_accuracy`) uses 1..=100.
+//! benchmark (`cargo run --release --example init_accuracy`) uses 1..=N.
 
-use std::path::Path;
-
-use super::init::{self, Given, Sources};
-use super::synth::{self, Look, SequenceSpec, Silhouette, SynthFrame};
+use super::init::{self, Given};
+use super::synth::trial::{InitTrial, init_and_track, neo_hookean_bubble as bubble};
+use super::synth::{self, Look, SequenceSpec};
 use super::*;
-use crate::experiment::{Experiment, Specimen};
-
-/// The exact neo-Hookean bubble (C1 = 0.2 MPa) at `n` pressures up to an
-/// apex height of about 0.53 a.
-pub(super) fn bubble(specimen: &Specimen, n: usize) -> Vec<SynthFrame> {
-    let material = crate::material::Material {
-        model: crate::material::Model::NeoHookean { c1_pa: 0.2e6 },
-        poisson: 0.45,
-        fit: None,
-    };
-    let opts = crate::axisym::Options::default();
-    (1..=n)
-        .map(|k| {
-            let p = 3700.0 * k as f64 / n as f64;
-            let sol = crate::axisym::solve_pressure(&material, specimen, p, &opts).unwrap();
-            SynthFrame {
-                pressure_pa: p,
-                silhouette: Silhouette {
-                    rho_m: sol.profile.rho_m.clone(),
-                    z_m: sol.profile.z_m.clone(),
-                },
-            }
-        })
-        .collect()
-}
-
-/// What one case gives: relative scale error, clamp row error (px),
-/// elevation error (degrees), worst relative height error after tracking.
-#[derive(Debug)]
-pub(super) struct Outcome {
-    pub scale: f64,
-    /// The stated relative standard deviation of the scale.
-    pub scale_std: f64,
-    pub clamp_px: f64,
-    pub elevation_deg: f64,
-    pub heights: f64,
-}
-
-/// Writes the sequence, runs init and tracks with the file it wrote;
-/// with clutter, frames the tracker refuses are left out (and compared by
-/// name).
-pub(super) fn run_case(dir: &Path, spec: &SequenceSpec, n: usize, scale_given: bool) -> Outcome {
-    let frames = bubble(&spec.specimen, n);
-    let w = synth::write_sequence(dir, spec, &frames).unwrap();
-    let photos = list_photos(&dir.join("photos"), "*.jpg").unwrap();
-    let given = Given {
-        metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
-        elevation_deg: None,
-    };
-    let found = init::find(&photos, spec.specimen.radius_m, given)
-        .unwrap_or_else(|e| panic!("seed {}: {e}", spec.seed));
-    let toml = found.experiment_toml(
-        &spec.specimen,
-        &Sources {
-            dir: "photos".into(),
-            glob: "*.jpg".into(),
-            video_every: None,
-            count: photos.len(),
-            pressure_csv: Some("pressure.csv".into()),
-            points: None,
-        },
-    );
-    let path = dir.join("init.toml");
-    std::fs::write(&path, &toml).unwrap();
-    let e = Experiment::read(&path).unwrap_or_else(|e| panic!("{e}\n{toml}"));
-    let opts = Options {
-        skip_bad_frames: spec.look.clutter,
-        ..Options::default()
-    };
-    let t = track(&setup_from_experiment(&e).unwrap(), &opts, &|| {})
-        .unwrap_or_else(|e| panic!("seed {}: {e}\n{toml}", spec.seed));
-    if !spec.look.clutter {
-        assert_eq!(t.rows.len(), w.truth.len(), "seed {}", spec.seed);
-    }
-    let heights = t
-        .rows
-        .iter()
-        .map(|r| {
-            let tr = w.truth.iter().find(|x| x.file == r.file).unwrap();
-            (r.height_m / tr.height_m - 1.0).abs()
-        })
-        .fold(0.0, f64::max);
-    Outcome {
-        scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
-        scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
-        clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
-        elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
-        heights,
-    }
-}
+use crate::experiment::Experiment;
 
 /// Prints each case and holds the bounds.
-fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec, bool)>, n: usize, heights: bool) {
-    let cases: Vec<(u64, SequenceSpec, bool)> = cases.into_iter().collect();
+fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec)>, n: usize, heights: bool) {
+    let cases: Vec<(u64, SequenceSpec)> = cases.into_iter().collect();
     // One case after the other: tracking itself runs on the rayon pool
     // and waits for it.
-    let out: Vec<(u64, String, Outcome)> = cases
+    let out: Vec<(u64, String, InitTrial)> = cases
         .iter()
-        .map(|(seed, spec, scale_given)| {
+        .map(|(seed, spec)| {
             let dir = tempfile::tempdir().unwrap();
-            let o = run_case(dir.path(), spec, n, *scale_given);
+            let frames = bubble(&spec.specimen, n);
+            let o =
+                init_and_track(dir.path(), spec, &frames, false).unwrap_or_else(|e| panic!("{e}"));
+            if !spec.look.clutter {
+                assert_eq!(o.tracked[0], o.tracked[1], "seed {seed}: {o:?}");
+            }
             (
                 *seed,
                 format!("{}x{} {:?}", spec.width, spec.height, spec.look),
@@ -136,15 +51,15 @@ fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec, bool)>, n: usize, h
 fn init_sets_up_randomly_framed_photos() {
     let sizes = [(640, 480), (800, 600), (1024, 768), (1280, 960)];
     check(
-        (201..=220).map(|s| (s, synth::random_camera(s, &sizes, Look::default()), false)),
+        (201..=220).map(|s| (s, synth::random_camera(s, &sizes, Look::default()))),
         5,
         true,
     );
 }
 
 /// A camera 0 to 5 degrees above the clamp plane (the clamp's ends in the
-/// picture): the elevation within 0.5 degree and the heights, corrected
-/// for it, within 0.5 %.
+/// picture): the scale within 0.3 %, the elevation within 0.5 degree and
+/// the heights, corrected for it, within 0.5 %.
 #[test]
 fn init_finds_the_elevation_of_a_raised_camera() {
     let sizes = [(800, 600), (1024, 768)];
@@ -160,12 +75,11 @@ fn init_finds_the_elevation_of_a_raised_camera() {
                 },
             );
             // The clamp (1.25 a) in the picture: the axis in the middle.
+            // The scale is found too: at 5 degrees the clamp's face hides
+            // the sides up to 0.065 a above the plane, and the opening is
+            // extrapolated to it.
             s.framing.axis_x_px = Some(0.5 * s.width as f64 - 0.3);
-            // At 5 degrees the clamp's face hides the sides up to 0.065 a
-            // above the plane and the scale from the opening is 0.4 % off:
-            // the scale is given (a calibration target's), the clamp row
-            // and elevation found.
-            (seed, s, k > 4)
+            (seed, s)
         }),
         5,
         true,
@@ -189,7 +103,7 @@ fn init_is_not_misled_by_clutter_and_gloss() {
                     elevation_deg: 0.0,
                 },
             );
-            (seed, s, false)
+            (seed, s)
         }),
         5,
         false,

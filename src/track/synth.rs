@@ -21,6 +21,7 @@ use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
 mod look;
+pub mod trial;
 pub use look::{Framing, Look};
 
 /// A meridian profile, pole first: `rho_m` is the current radial position and

@@ -1,0 +1,105 @@
+//! One synthetic experiment through `bulge init` and `bulge track`: the
+//! photos written, the set-up found from them alone, the heights tracked
+//! with the experiment file it wrote, and every figure against the truth.
+//! The tests and `cargo run --release --example init_accuracy` share it.
+
+use std::path::Path;
+
+use super::{SequenceSpec, SynthFrame, axisym_frame, write_sequence};
+use crate::experiment::{Experiment, Specimen};
+use crate::material::{Material, Model};
+use crate::track::init::{self, Given, Sources};
+use crate::track::{Options, list_photos, setup_from_experiment, track};
+
+/// The exact neo-Hookean bubble (C1 = 0.2 MPa, Poisson 0.45) of `specimen`
+/// at `n` pressures evenly up to 3.7 kPa (an apex height of about 0.53 a on
+/// the default disc and its scaled copies).
+pub fn neo_hookean_bubble(specimen: &Specimen, n: usize) -> Vec<SynthFrame> {
+    let material = Material {
+        model: Model::NeoHookean { c1_pa: 0.2e6 },
+        poisson: 0.45,
+        fit: None,
+    };
+    (1..=n)
+        .map(|k| {
+            let p = 3700.0 * k as f64 / n as f64;
+            axisym_frame(&material, specimen, p, p).expect("the default disc solves to 3.7 kPa")
+        })
+        .collect()
+}
+
+/// What one experiment gives against its truth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InitTrial {
+    /// Relative error of the scale found.
+    pub scale: f64,
+    /// The stated relative standard deviation of the scale.
+    pub scale_std: f64,
+    /// Error of the clamp row found, px.
+    pub clamp_px: f64,
+    /// Error of the elevation found, degrees (0 when none was found).
+    pub elevation_deg: f64,
+    /// The largest relative height error over the photos tracked.
+    pub heights: f64,
+    /// Photos tracked, of those written.
+    pub tracked: [usize; 2],
+}
+
+/// Writes `frames` as `spec` into `dir`, finds the set-up with `bulge
+/// init`'s search (the scale given only when `scale_given`), tracks with
+/// the experiment file it wrote (leaving out the photos it refuses when
+/// the look has clutter) and compares. Errors name the seed.
+pub fn init_and_track(
+    dir: &Path,
+    spec: &SequenceSpec,
+    frames: &[SynthFrame],
+    scale_given: bool,
+) -> Result<InitTrial, String> {
+    let seed = spec.seed;
+    let err = |e: &dyn std::fmt::Display| format!("seed {seed}: {e}");
+    let w = write_sequence(dir, spec, frames).map_err(|e| err(&e))?;
+    let photos = list_photos(&dir.join("photos"), "*.jpg").map_err(|e| err(&e))?;
+    let given = Given {
+        metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
+        elevation_deg: None,
+    };
+    let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
+    let toml = found.experiment_toml(
+        &spec.specimen,
+        &Sources {
+            dir: "photos".into(),
+            glob: "*.jpg".into(),
+            video_every: None,
+            count: photos.len(),
+            pressure_csv: Some("pressure.csv".into()),
+            points: None,
+        },
+    );
+    let path = dir.join("init.toml");
+    std::fs::write(&path, &toml).map_err(|e| err(&e))?;
+    let e = Experiment::read(&path).map_err(|e| err(&format!("{e}\n{toml}")))?;
+    let opts = Options {
+        skip_bad_frames: spec.look.clutter,
+        ..Options::default()
+    };
+    // `track` decodes on rayon's pool itself: never call it from inside it.
+    let setup = setup_from_experiment(&e).map_err(|e| err(&e))?;
+    let t = track(&setup, &opts, &|| {}).map_err(|e| err(&format!("{e}\n{toml}")))?;
+    let mut heights = 0.0f64;
+    for r in &t.rows {
+        let tr = w
+            .truth
+            .iter()
+            .find(|x| x.file == r.file)
+            .ok_or_else(|| err(&format!("no truth for {}", r.file)))?;
+        heights = heights.max((r.height_m / tr.height_m - 1.0).abs());
+    }
+    Ok(InitTrial {
+        scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
+        scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
+        clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
+        elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
+        heights,
+        tracked: [t.rows.len(), w.truth.len()],
+    })
+}
