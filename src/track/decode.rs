@@ -182,7 +182,15 @@ pub(super) fn match_frames(
         } else {
             let (apex, std) = state.apex(&loc);
             let x_std = state.apex_x_std(&loc);
-            match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
+            // The template's match alone is not the bubble's top: it may
+            // have locked on a line behind the bubble that its own
+            // background shows.
+            let first = if opts.refine == Refine::Edge && loc.edge.is_none() {
+                Err("no edge of the bubble's top was found at the template's match: the template locked on something else, or the top is hidden".to_string())
+            } else {
+                guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref())
+            };
+            match first {
                 Ok(()) => Ok(loc),
                 Err(why) => {
                     let again = guard
