@@ -102,6 +102,10 @@ pub struct Found {
     /// The camera's elevation above the clamp plane, degrees (`None`: the
     /// clamp's ends are outside the picture and its edge is straight: level).
     pub elevation_deg: Option<Estimate>,
+    /// The camera's roll about its view axis, degrees: the slope of the
+    /// clamp's top edge across the photo (positive when it descends to the
+    /// right). At most [`MAX_ROLL_DEG`].
+    pub roll_deg: Estimate,
     /// Half-width of the clamp's top face, px, when its ends are in the picture.
     pub clamp_half_width_px: Option<f64>,
     /// The free radius in px, from the silhouette at the clamp plane
@@ -502,6 +506,9 @@ fn follow_side(img: &Plane, x: f64, r0: usize, dir: f64) -> Option<(f64, f64)> {
 struct Clamp {
     row: Estimate,
     sin_e: Option<Estimate>,
+    /// The slope of the clamp's top edge, rows per column (a rolled
+    /// camera): the row at the axis is `row`.
+    slope: Estimate,
     half_width_px: Option<f64>,
     points: Vec<[f64; 2]>,
 }
@@ -647,29 +654,27 @@ fn find_clamp(
         [None, None] => None,
     };
     let floor = 0.25;
-    let (row, sin_e) = match (half, given_sin_e) {
+    // Each fit has a slope across the photo: a camera rolled about its
+    // view axis sees the clamp's edge tilted (the row at the axis stays
+    // the clamp ring's centre's).
+    let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
             let used: Vec<&(f64, f64, f64)> =
                 pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
             let x: Vec<Vec<f64>> = used
                 .iter()
-                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt()])
+                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
                 .collect();
             let y: Vec<f64> = used.iter().map(|p| p.1).collect();
-            let ((coef, cov, res), keep) =
-                robust_lstsq(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
             check_inliers(&keep, ambiguous)?;
             let infl = lag1_inflation(&res);
-            (
-                Estimate {
-                    value: coef[0],
-                    std: cov[0][0].sqrt() * infl,
-                },
-                Some(Estimate {
-                    value: coef[1],
-                    std: cov[1][1].sqrt() * infl,
-                }),
-            )
+            let est = |i: usize| Estimate {
+                value: coef[i],
+                std: cov[i][i].sqrt() * infl,
+            };
+            (est(0), Some(est(1)), slope)
         }
         (_, Some(s)) if s != 0.0 => {
             let Some(a_f) = half else {
@@ -679,29 +684,27 @@ fn find_clamp(
             };
             let used: Vec<&(f64, f64, f64)> =
                 pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
-            let x: Vec<Vec<f64>> = used.iter().map(|_| vec![1.0]).collect();
+            let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
             let y: Vec<f64> = used
                 .iter()
                 .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
                 .collect();
-            let ((coef, cov, res), keep) =
-                robust_lstsq(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
             check_inliers(&keep, ambiguous)?;
-            (
-                Estimate {
-                    value: coef[0],
-                    std: cov[0][0].sqrt() * lag1_inflation(&res),
-                },
-                None,
-            )
+            let row = Estimate {
+                value: coef[0],
+                std: cov[0][0].sqrt() * lag1_inflation(&res),
+            };
+            (row, None, slope)
         }
         _ => {
             // Level (or the ends unseen): a straight edge, checked for a
             // curvature that would betray a raised camera.
-            let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0]).collect();
+            let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0, p.0]).collect();
             let y: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            let ((coef, cov, _), keep) =
-                robust_lstsq(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            let (((coef, cov, _), keep), _) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
             check_inliers(&keep, ambiguous)?;
             let dmax = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
             let bend = coef[1] * dmax * dmax;
@@ -720,25 +723,42 @@ fn find_clamp(
                 .zip(&y)
                 .zip(&keep)
                 .filter(|(_, k)| **k)
-                .map(|((r, v), _)| (vec![r[0]], *v))
+                .map(|((r, v), _)| (vec![r[0], r[2]], *v))
                 .unzip();
-            let (c, ccov, cres) =
-                lstsq(&kept_x, &kept_y).ok_or_else(|| not_found("too few columns".into()))?;
-            (
-                Estimate {
-                    value: c[0],
-                    std: ccov[0][0].sqrt() * lag1_inflation(&cres),
-                },
-                None,
-            )
+            let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
+                .ok_or_else(|| not_found("too few columns".into()))?;
+            let row = Estimate {
+                value: c[0],
+                std: ccov[0][0].sqrt() * lag1_inflation(&cres),
+            };
+            (row, None, slope)
         }
     };
     Ok(Clamp {
         row,
         sin_e,
+        slope,
         half_width_px: half,
         points: pts.iter().map(|p| [x0 + p.0, p.1]).collect(),
     })
+}
+
+/// [`robust_lstsq`] of the clamp's edge whose rows end with the column's
+/// distance from the axis (the slope of a rolled camera's edge): the fit
+/// with the slope when it is significant (beyond 4 standard deviations),
+/// else the fit without it, and the slope measured either way.
+fn with_slope(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<((Fit, Vec<bool>), Estimate)> {
+    let (fit, keep) = robust_lstsq(rows, y, floor)?;
+    let k = rows.first()?.len() - 1;
+    let slope = Estimate {
+        value: fit.0[k],
+        std: fit.1[k][k].sqrt() * lag1_inflation(&fit.2),
+    };
+    if slope.value.abs() > 4.0 * slope.std {
+        return Some(((fit, keep), slope));
+    }
+    let level: Vec<Vec<f64>> = rows.iter().map(|r| r[..k].to_vec()).collect();
+    Some((robust_lstsq(&level, y, floor)?, slope))
 }
 
 /// Refuses a clamp edge whose columns split between two edges.
@@ -756,6 +776,13 @@ fn check_inliers(keep: &[bool], ambiguous: usize) -> Result<(), TrackError> {
     }
     Ok(())
 }
+
+/// The largest roll of the camera about its view axis, degrees, that init
+/// takes. The heights, measured along the photo's columns, and the scale,
+/// from the silhouette's width along its rows, are then a few hundredths of
+/// a per cent off; beyond about 1.5 degrees the apex moves sideways by more
+/// than the tracker's guard on the axis allows as the bubble grows.
+pub const MAX_ROLL_DEG: f64 = 1.0;
 
 /// The relative standard deviation of the opening's width from the
 /// meridian's shape near the rim (see [`find_radius`]).
@@ -1199,6 +1226,20 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     let y_low = bottom as f64;
     let given_sin = given.elevation_deg.map(|e| e.to_radians().sin());
     let clamp = find_clamp(&mean, x0, a0, [y_low, base], sw.noise, given_sin)?;
+    let roll_deg = Estimate {
+        value: clamp.slope.value.atan().to_degrees(),
+        std: (clamp.slope.std / (1.0 + clamp.slope.value.powi(2))).to_degrees(),
+    };
+    if roll_deg.value.abs() > MAX_ROLL_DEG + 4.0 * roll_deg.std {
+        return Err(TrackError::NotFound {
+            what: "a level clamp".into(),
+            detail: format!(
+                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows); level the camera, or rotate the photos, or",
+                roll_deg.value, roll_deg.std
+            ),
+            keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
+        });
+    }
     if clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1) {
         return Err(TrackError::NotFound {
             what: "the clamp plane".into(),
@@ -1329,6 +1370,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         axis_x_px,
         clamp_row_px: clamp.row,
         elevation_deg,
+        roll_deg,
         clamp_half_width_px: clamp.half_width_px,
         radius_px,
         metres_per_pixel,
@@ -1449,6 +1491,10 @@ impl Found {
             self.clamp_points_px.len(),
             self.clamp_row_px.value,
             self.clamp_row_px.std.max(1e-4),
+        ));
+        t.push_str(&format!(
+            "# the camera's roll about its view axis: the clamp's edge slopes by {:.2} +- {:.2} degrees (at most {MAX_ROLL_DEG} is taken)\n",
+            self.roll_deg.value, self.roll_deg.std
         ));
         match self.elevation_deg {
             Some(e) if e.std == 0.0 => t.push_str(&format!(

@@ -206,3 +206,73 @@ fn a_highlight_against_the_edge_is_tracked_within_its_uncertainty() {
     assert!(rms <= 0.1, "apex row RMS {rms:.3} px");
     assert!(3 * n >= 2 * total, "only {n} of {total} frames tracked");
 }
+
+/// A camera rolled about its view axis sees the clamp's edge tilted: up to
+/// `MAX_ROLL_DEG` the roll is found (and the clamp row at the axis and the
+/// scale as for a level camera), beyond it the photos are refused, naming
+/// the roll. Before the clamp fits had a slope, a roll of 2 degrees gave a
+/// clamp row 4.2 px off and an elevation of 1.8 degrees, exit 0.
+#[test]
+fn a_rolled_camera_is_measured_or_refused_by_name() {
+    use opencv::core::{BORDER_REPLICATE, Mat, Point2f, Size};
+    use opencv::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let spec = synth::random_camera(262, &[(1024, 768)], Look::default());
+    let w = synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5)).unwrap();
+    let photos = list_photos(&dir.path().join("photos"), "*.jpg").unwrap();
+    // The photos turned by `deg` (counter-clockwise) about the clamp ring's
+    // centre, as PNG.
+    let rolled = |deg: f64| -> Vec<std::path::PathBuf> {
+        let sub = dir.path().join(format!("roll{deg}"));
+        std::fs::create_dir_all(&sub).unwrap();
+        let centre = Point2f::new(w.scene.axis_x_px as f32, w.scene.clamp_row_px as f32);
+        let m = opencv::imgproc::get_rotation_matrix_2d(centre, deg, 1.0).unwrap();
+        photos
+            .iter()
+            .map(|p| {
+                let g = image::read_gray(p, None).unwrap().crop;
+                let src =
+                    Mat::new_rows_cols_with_data(g.height as i32, g.width as i32, &g.data).unwrap();
+                let mut out = Mat::default();
+                let size = Size::new(g.width as i32, g.height as i32);
+                opencv::imgproc::warp_affine(
+                    &src,
+                    &mut out,
+                    &m,
+                    size,
+                    opencv::imgproc::INTER_LINEAR,
+                    BORDER_REPLICATE,
+                    Default::default(),
+                )
+                .unwrap();
+                let r = image::Gray {
+                    width: g.width,
+                    height: g.height,
+                    data: out.data_bytes().unwrap().to_vec(),
+                };
+                let path = sub.join(p.file_name().unwrap()).with_extension("png");
+                std::fs::write(&path, image::encode(&r, image::Encoding::Png).unwrap()).unwrap();
+                path
+            })
+            .collect()
+    };
+    let a = spec.specimen.radius_m;
+    let f = init::find(&rolled(0.8), a, Given::default()).unwrap();
+    eprintln!(
+        "0.8 degrees: roll {:?}, scale {:+.4} %, clamp row {:+.3} px",
+        f.roll_deg,
+        100.0 * (f.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0),
+        f.clamp_row_px.value - w.scene.clamp_row_px
+    );
+    // Counter-clockwise: the edge rises to the right (rows fall).
+    assert!((f.roll_deg.value + 0.8).abs() < 0.02, "{:?}", f.roll_deg);
+    assert!((f.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0).abs() < 0.003);
+    assert!((f.clamp_row_px.value - w.scene.clamp_row_px).abs() < 0.5);
+    let e = init::find(&rolled(2.0), a, Given::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("rolled") && e.contains("-2.0") && e.contains("clamp_row_px"),
+        "{e}"
+    );
+}
