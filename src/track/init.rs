@@ -1234,7 +1234,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         return Err(TrackError::NotFound {
             what: "a level clamp".into(),
             detail: format!(
-                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows); level the camera, or rotate the photos, or",
+                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows): level the camera or rotate the photos",
                 roll_deg.value, roll_deg.std
             ),
             keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
