@@ -47,7 +47,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     spec.framing.axis_x_px = Some(0.5 * spec.width as f64 - 0.3);
                 }
                 let dir = tempfile::tempdir()?;
-                let frames = neo_hookean_bubble(&spec.specimen, 5);
+                let frames = neo_hookean_bubble(&spec.specimen, 5)?;
                 // One experiment at a time: `track` decodes on rayon's pool.
                 let t = init_and_track(dir.path(), &spec, &frames, scale_given)?;
                 if verbose {

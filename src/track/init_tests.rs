@@ -17,7 +17,7 @@ fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec)>, n: usize, heights
         .iter()
         .map(|(seed, spec)| {
             let dir = tempfile::tempdir().unwrap();
-            let frames = bubble(&spec.specimen, n);
+            let frames = bubble(&spec.specimen, n).unwrap();
             let o =
                 init_and_track(dir.path(), spec, &frames, false).unwrap_or_else(|e| panic!("{e}"));
             if !spec.look.clutter {
@@ -116,7 +116,7 @@ fn init_is_not_misled_by_clutter_and_gloss() {
 fn init_refuses_what_it_cannot_find() {
     let dir = tempfile::tempdir().unwrap();
     let spec = synth::random_camera(261, &[(640, 480)], Look::default());
-    let frames = bubble(&spec.specimen, 4);
+    let frames = bubble(&spec.specimen, 4).unwrap();
     let w = synth::write_sequence(dir.path(), &spec, &frames).unwrap();
     let photos = list_photos(&dir.path().join("photos"), "*.jpg").unwrap();
     let a = spec.specimen.radius_m;
@@ -178,7 +178,8 @@ fn a_highlight_against_the_edge_is_tracked_within_its_uncertainty() {
     for seed in 251..=253 {
         let dir = tempfile::tempdir().unwrap();
         let spec = synth::random_camera(seed, &[(1024, 768), (1280, 960)], look);
-        let w = synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5)).unwrap();
+        let w =
+            synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5).unwrap()).unwrap();
         let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
         let opts = Options {
             skip_bad_frames: true,
@@ -218,7 +219,7 @@ fn a_rolled_camera_is_measured_or_refused_by_name() {
     use opencv::prelude::*;
     let dir = tempfile::tempdir().unwrap();
     let spec = synth::random_camera(262, &[(1024, 768)], Look::default());
-    let w = synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5)).unwrap();
+    let w = synth::write_sequence(dir.path(), &spec, &bubble(&spec.specimen, 5).unwrap()).unwrap();
     let photos = list_photos(&dir.path().join("photos"), "*.jpg").unwrap();
     // The photos turned by `deg` (counter-clockwise) about the clamp ring's
     // centre, as PNG.

@@ -436,7 +436,7 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
         elevation_deg: 0.0,
     };
     let spec = synth::random_camera(336, &[(640, 480), (1024, 768)], look);
-    let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6);
+    let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let w = synth::write_sequence(dir.path(), &spec, &frames).unwrap();
     let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
