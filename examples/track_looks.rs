@@ -14,7 +14,6 @@
 //! (`--verbose` names every photo beyond 4 standard deviations).
 
 use bulge::experiment::Experiment;
-use bulge::material::{Material, Model};
 use bulge::track::synth::{self, Look};
 use bulge::track::{Options, setup_from_experiment, track};
 
@@ -41,23 +40,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             },
         ),
     ];
-    let material = Material {
-        model: Model::NeoHookean { c1_pa: 0.2e6 },
-        poisson: 0.45,
-        fit: None,
-    };
     println!("| look | photos tracked | apex row RMS error, px | beyond 4 std | worst err/std |");
     println!("|---|---|---|---|---|");
     for (name, look) in looks {
         let (mut total, mut tracked, mut sum2, mut beyond, mut worst) = (0, 0, 0.0, 0, 0.0f64);
         for seed in 1..=seeds {
             let spec = synth::random_camera(seed, &[(640, 480), (1024, 768), (1280, 960)], look);
-            let frames = (1..=6)
-                .map(|k| {
-                    let p = 3700.0 * k as f64 / 6.0;
-                    synth::axisym_frame(&material, &spec.specimen, p, p)
-                })
-                .collect::<Result<Vec<_>, _>>()?;
+            let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6)?;
             let dir = tempfile::tempdir()?;
             let w = synth::write_sequence(dir.path(), &spec, &frames)?;
             let e = Experiment::read(dir.path().join("experiment.toml"))?;
