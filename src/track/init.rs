@@ -889,11 +889,7 @@ fn find_radius(
         big_b * big_b * s2 * s2 / (4.0 * f * f),
     ]
     .map(|v| v / (2.0 * a));
-    let var_fit = (0..3)
-        .map(|i| (0..3).map(|j| g[i] * g[j] * cov[i][j]).sum::<f64>())
-        .sum::<f64>()
-        * infl
-        * infl;
+    let var_fit = super::matcher::quad_form(&cov, &g) * infl * infl;
     // A clamp row off by dc moves the plane along the sides:
     // d a / d c = B / (2 a (1 + s^2 C)).
     let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);

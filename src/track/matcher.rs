@@ -828,11 +828,13 @@ fn even_fit_rss(pts: &[(f64, f64)], centre: f64, scale: f64) -> impl Fn(f64) -> 
     }
 }
 
-fn quad_form(m: &[[f64; 3]; 3], g: &[f64; 3]) -> f64 {
+/// `g^T M g` (clamped at 0), the variance of a linear combination `g` of
+/// estimates whose covariance is `M`.
+pub(crate) fn quad_form<R: AsRef<[f64]>>(m: &[R], g: &[f64]) -> f64 {
     let mut v = 0.0;
-    for i in 0..3 {
-        for j in 0..3 {
-            v += g[i] * m[i][j] * g[j];
+    for (gi, row) in g.iter().zip(m) {
+        for (gj, mij) in g.iter().zip(row.as_ref()) {
+            v += gi * mij * gj;
         }
     }
     v.max(0.0)
