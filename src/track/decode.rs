@@ -144,6 +144,7 @@ pub(super) fn match_frames(
         },
         Some(setup.calibration.opening_radius_m / setup.calibration.metres_per_pixel),
         edge_settings.half_span_px,
+        opts.refine == Refine::Edge,
     );
     let mut locate_time = 0.0;
     while located.len() < n {
@@ -182,15 +183,7 @@ pub(super) fn match_frames(
         } else {
             let (apex, std) = state.apex(&loc);
             let x_std = state.apex_x_std(&loc);
-            // The template's match alone is not the bubble's top: it may
-            // have locked on a line behind the bubble that its own
-            // background shows.
-            let first = if opts.refine == Refine::Edge && loc.edge.is_none() {
-                Err("no edge of the bubble's top was found at the template's match: the template locked on something else, or the top is hidden".to_string())
-            } else {
-                guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref())
-            };
-            match first {
+            match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
                 Ok(()) => Ok(loc),
                 Err(why) => {
                     let again = guard
@@ -461,16 +454,25 @@ pub(super) struct Guard {
     opening_px: Option<f64>,
     /// Half-width of the edge fit's span of columns, px.
     span: f64,
+    /// The apex is the edge fit's (`--refine edge`): a frame without an
+    /// edge has no measurement, only the template's match.
+    edge_required: bool,
     /// The accepted frames.
     history: Vec<Accepted>,
 }
 
 impl Guard {
-    pub(super) fn new(clamp_row: Option<f64>, opening_px: Option<f64>, span_px: usize) -> Self {
+    pub(super) fn new(
+        clamp_row: Option<f64>,
+        opening_px: Option<f64>,
+        span_px: usize,
+        edge_required: bool,
+    ) -> Self {
         Guard {
             clamp_row,
             opening_px: opening_px.filter(|a| a.is_finite() && *a > 0.0),
             span: span_px as f64,
+            edge_required,
             history: Vec::new(),
         }
     }
@@ -504,6 +506,11 @@ impl Guard {
         stds: [f64; 2],
         edge: Option<&EdgeFit>,
     ) -> Result<(), String> {
+        // The template's match alone is not the bubble's top: it may have
+        // locked on a line behind the bubble that its own background shows.
+        if self.edge_required && edge.is_none() {
+            return Err("no edge of the bubble's top was found at the template's match: the template locked on something else, or the top is hidden".to_string());
+        }
         let [x_std, std] = stds;
         let y = apex[1];
         // The axis does not move: the apex column stays within its

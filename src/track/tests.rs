@@ -499,7 +499,7 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
     };
     // Clamp plane at row 200; apexes at heights 40, 50 px (curvature per px
     // of height 2e-5).
-    let mut g = Guard::new(Some(200.0), None, 64);
+    let mut g = Guard::new(Some(200.0), None, 64, false);
     g.accept(
         100.0,
         [100.0, 160.0],
