@@ -335,7 +335,6 @@ fn lab_sequence(
     look: synth::Look,
     skip: bool,
 ) -> (Result<Tracked, TrackError>, Vec<synth::Truth>) {
-    let dir = tempfile::tempdir().unwrap();
     let s = synth::SequenceSpec {
         width: 1280,
         height: 960,
@@ -343,7 +342,19 @@ fn lab_sequence(
         ..spec(seed, 1.5, 3.0, image::Encoding::Jpeg(90))
     };
     let frames = synth::cap_frames(s.specimen.radius_m, 0.6 * s.specimen.radius_m, 12);
-    let w = synth::write_sequence(dir.path(), &s, &frames).unwrap();
+    written_and_tracked(&s, &frames, skip)
+}
+
+/// `frames` written as `s` into a temporary folder and tracked with the
+/// experiment file written beside them (the true set-up): the tracking and
+/// the truth.
+fn written_and_tracked(
+    s: &synth::SequenceSpec,
+    frames: &[synth::SynthFrame],
+    skip: bool,
+) -> (Result<Tracked, TrackError>, Vec<synth::Truth>) {
+    let dir = tempfile::tempdir().unwrap();
+    let w = synth::write_sequence(dir.path(), s, frames).unwrap();
     let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
     let setup = setup_from_experiment(&e).unwrap();
     let opts = Options {
@@ -437,14 +448,8 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
     };
     let spec = synth::random_camera(336, &[(640, 480), (1024, 768)], look);
     let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let w = synth::write_sequence(dir.path(), &spec, &frames).unwrap();
-    let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
-    let opts = Options {
-        skip_bad_frames: true,
-        ..Options::default()
-    };
-    let t = track(&setup_from_experiment(&e).unwrap(), &opts, &|| {}).unwrap();
+    let (t, truth) = written_and_tracked(&spec, &frames, true);
+    let t = t.unwrap();
     let skipped = t.skipped.iter().find(|s| s.file == "frame_002.jpg");
     assert!(
         skipped.is_some_and(|s| s.reason.contains("no edge of the bubble's top")),
@@ -453,7 +458,7 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
     );
     assert!(!t.rows.is_empty());
     for r in &t.rows {
-        let tr = w.truth.iter().find(|x| x.file == r.file).unwrap();
+        let tr = truth.iter().find(|x| x.file == r.file).unwrap();
         let err = r.apex_y_px - tr.apex_y_px;
         assert!(
             err.abs() <= 4.0 * r.apex_y_std_px,
