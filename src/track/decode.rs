@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::image::{Decoded, Gray};
-use super::matcher::{EdgeFit, EdgeSettings};
+use super::matcher::{EdgeFit, EdgeSettings, Extremes};
 use super::tracker::{Located, Tracker};
 use super::*;
 use crate::io::fmt_short;
@@ -56,24 +56,29 @@ pub(super) fn match_frames(
         }
     };
     let ref_crop = full.crop.crop(roi[0] - bx, roi[1] - by, roi[2], roi[3]);
-    // The frame where the bubble is largest (the highest pressure, the last
-    // of equals), decoded once more up front: every other frame's edge is
-    // checked against it (`matcher::Columns::with_fullest`). Not for a
-    // video, whose frames are read once in order.
-    let fullest_frame = (0..n)
-        .max_by(|&a, &b| {
-            setup.frames[a]
-                .pressure_pa
-                .total_cmp(&setup.frames[b].pressure_pa)
-        })
-        .unwrap_or(0);
-    let fullest: Option<Gray> = match (&setup.video, fullest_frame == setup.reference_frame) {
-        (None, false) => decode_frame(&setup.frames[fullest_frame].path, Some(roi))
-            .ok()
-            .map(|d| d.crop),
-        (None, true) => Some(ref_crop.clone()),
-        _ => None,
+    // The frames where the bubble is largest (the highest pressure, the
+    // last of equals) and smallest (the lowest, the first of equals),
+    // decoded once more up front: every other frame's edge is checked
+    // against them (`matcher::Columns::with_extremes`). Not for a video,
+    // whose frames are read once in order.
+    let by_pressure = |a: &usize, b: &usize| {
+        setup.frames[*a]
+            .pressure_pa
+            .total_cmp(&setup.frames[*b].pressure_pa)
     };
+    let fullest_frame = (0..n).max_by(by_pressure).unwrap_or(0);
+    let emptiest_frame = (0..n).min_by(by_pressure).unwrap_or(0);
+    let extreme = |k: usize| -> Option<Gray> {
+        match (&setup.video, k == setup.reference_frame) {
+            (None, false) => decode_frame(&setup.frames[k].path, Some(roi))
+                .ok()
+                .map(|d| d.crop),
+            (None, true) => Some(ref_crop.clone()),
+            _ => None,
+        }
+    };
+    let fullest = extreme(fullest_frame);
+    let emptiest = extreme(emptiest_frame);
     drop(full);
     if templ.width > roi[2] || templ.height > roi[3] {
         return Err(TrackError::TemplateLargerThanRegion {
@@ -169,8 +174,11 @@ pub(super) fn match_frames(
             &crop_owned
         };
         let t0 = std::time::Instant::now();
-        let fullest = fullest.as_ref().filter(|_| i != fullest_frame);
-        let loc = state.locate(crop, fullest)?;
+        let extremes = Extremes {
+            fullest: fullest.as_ref().filter(|_| i != fullest_frame),
+            emptiest: emptiest.as_ref().filter(|_| i != emptiest_frame),
+        };
+        let loc = state.locate(crop, extremes)?;
         let low = loc.m.score < opts.min_score || !loc.m.score.is_finite();
         let score = loc.m.score;
         // A good score, then the plausibility guards; an implausible apex is
@@ -188,7 +196,7 @@ pub(super) fn match_frames(
                 Err(why) => {
                     let again = guard
                         .predict(f.pressure_pa)
-                        .and_then(|pred| state.locate_at(crop, fullest, pred).transpose())
+                        .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
                         .transpose()?
                         .filter(|l| {
                             let (a, s) = state.apex(l);

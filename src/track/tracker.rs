@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use super::decode::{decode_frame, match_frames, reference_box};
 use super::image::{Decoded, Gray};
-use super::matcher::{EdgeFit, EdgeSettings, Match};
+use super::matcher::{EdgeFit, EdgeSettings, Extremes, Match};
 use super::*;
 
 /// Systematic error of the edge fit that its residuals do not show, px: the
@@ -222,11 +222,7 @@ impl Tracker<'_> {
         }
     }
 
-    pub(super) fn locate(
-        &self,
-        crop: &Gray,
-        fullest: Option<&Gray>,
-    ) -> Result<Located, TrackError> {
+    pub(super) fn locate(&self, crop: &Gray, extremes: Extremes) -> Result<Located, TrackError> {
         let margin = self.opts.search_margin_px as f64;
         let m = match &self.reduced {
             None => self.search(crop, self.templ, self.last, self.prev, margin)?,
@@ -276,7 +272,7 @@ impl Tracker<'_> {
             m.quadratic[1] + self.apex_in_t[1],
         ];
         let mut cols =
-            matcher::Columns::with_fullest(crop, self.edge_settings.half_window_px, fullest);
+            matcher::Columns::with_extremes(crop, self.edge_settings.half_window_px, extremes);
         let edge = matcher::edge_fit_in(
             &mut cols,
             apex[0],
@@ -284,11 +280,10 @@ impl Tracker<'_> {
             self.curvature,
             self.edge_settings,
         );
-        // The axis over the whole region's width (less the slope margin).
-        let axis = edge.and_then(|e| {
-            let half = (crop.width / 2).saturating_sub(1);
-            matcher::axis_fit_in(&mut cols, &e, half)
-        });
+        let (edge, axis) = match edge {
+            Some(e) => self.on_axis(&mut cols, e),
+            None => (None, None),
+        };
         Ok(Located { m, edge, axis })
     }
 
@@ -299,11 +294,11 @@ impl Tracker<'_> {
     pub(super) fn locate_at(
         &self,
         crop: &Gray,
-        fullest: Option<&Gray>,
+        extremes: Extremes,
         pred: [f64; 2],
     ) -> Result<Option<Located>, TrackError> {
         let mut cols =
-            matcher::Columns::with_fullest(crop, self.edge_settings.half_window_px, fullest);
+            matcher::Columns::with_extremes(crop, self.edge_settings.half_window_px, extremes);
         let Some(edge) = matcher::edge_fit_in(
             &mut cols,
             pred[0],
@@ -313,9 +308,9 @@ impl Tracker<'_> {
         ) else {
             return Ok(None);
         };
-        let axis = {
-            let half = (crop.width / 2).saturating_sub(1);
-            matcher::axis_fit_in(&mut cols, &edge, half)
+        let (edge, axis) = self.on_axis(&mut cols, edge);
+        let Some(edge) = edge else {
+            return Ok(None);
         };
         // The template's score near the edge's apex (its top-left corner
         // within 2 px of where the apex puts it).
@@ -332,5 +327,29 @@ impl Tracker<'_> {
             edge: Some(edge),
             axis,
         }))
+    }
+
+    /// The bubble's axis over the whole region's width (less the slope
+    /// margin) from the free edge fit `edge`, searched near the axis of the
+    /// frames before when known, and the apex refitted on it
+    /// ([`matcher::edge_fit_about`]). Without a known axis, the free fit
+    /// stays when the axis is not found; with one, an edge that is not
+    /// mirror-symmetric about a column near it is not the bubble's top (a
+    /// cable or a shelf edge across it), and no edge is returned.
+    fn on_axis(
+        &self,
+        cols: &mut matcher::Columns,
+        edge: EdgeFit,
+    ) -> (Option<EdgeFit>, Option<(f64, f64)>) {
+        let half = (cols.width() / 2).saturating_sub(1);
+        let near = self.last.map(|l| l[0] + self.apex_in_t[0]);
+        let axis = matcher::axis_fit_in(cols, &edge, near, half);
+        let on_axis =
+            axis.and_then(|a| matcher::edge_fit_about(cols, a, &edge, self.edge_settings));
+        match (on_axis, near) {
+            (Some(e), _) => (Some(e), axis),
+            (None, None) => (Some(edge), axis),
+            (None, Some(_)) => (None, axis),
+        }
     }
 }
