@@ -936,9 +936,54 @@ pub fn axis_fit_in(
             located.push((c as f64, e, step));
         }
     }
-    let pts = strong_columns(&located, 9, 0.0)?;
-    let rss = even_fit_rss(&pts, near, half_span_px.max(1) as f64);
-    let (mut a, mut b) = (near - 8.0, near + 8.0);
+    let mut pts = strong_columns(&located, 9, 0.0)?;
+    let scale = half_span_px.max(1) as f64;
+    // Columns far off the even model (a cable or a shelf edge crossing the
+    // flanks) are left out as in `robust_parabola`, and the axis found again.
+    let mut s = golden_axis(&even_fit_rss(&pts, near, scale), near, 8.0);
+    // A minimum on the search's border lies beyond it.
+    if (s - near).abs() > 7.9 {
+        return None;
+    }
+    for _ in 0..3 {
+        let res = even_residuals(&pts, s, scale)?;
+        let mut abs: Vec<f64> = res.iter().map(|r| r.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let spread = (1.4826 * abs[abs.len() / 2]).max(0.05);
+        let kept: Vec<(f64, f64)> = pts
+            .iter()
+            .zip(&res)
+            .filter(|(_, r)| r.abs() < 4.685 * spread)
+            .map(|(p, _)| *p)
+            .collect();
+        if kept.len() == pts.len() || kept.len() < 9.max(pts.len() / 2) {
+            break;
+        }
+        pts = kept;
+        // Near the first axis: leaving out a few columns refines it, it
+        // does not move it to another minimum.
+        s = golden_axis(&even_fit_rss(&pts, near, scale), s, 2.0);
+    }
+    let rss = even_fit_rss(&pts, near, scale);
+    if (s - near).abs() > 7.9 {
+        return None;
+    }
+    // Standard error from the curvature of RSS(s): var = 2 sigma^2 / RSS''.
+    let h = 0.05;
+    let (r0, rp, rm) = (rss(s), rss(s + h), rss(s - h));
+    let curv = (rp + rm - 2.0 * r0) / (h * h);
+    let n = pts.len() as f64;
+    let sigma2 = r0 / (n - 4.0).max(1.0);
+    if curv.is_nan() || curv <= 0.0 {
+        return None;
+    }
+    Some((s, (2.0 * sigma2 / curv).sqrt()))
+}
+
+/// The axis in `near +- half` px that minimises `rss` (golden-section
+/// search).
+fn golden_axis(rss: &impl Fn(f64) -> f64, near: f64, half: f64) -> f64 {
+    let (mut a, mut b) = (near - half, near + half);
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
     let (mut fc, mut fd) = (rss(c), rss(d));
@@ -957,20 +1002,25 @@ pub fn axis_fit_in(
             fd = rss(d);
         }
     }
-    let s = 0.5 * (a + b);
-    if (s - near).abs() > 7.9 {
-        return None;
+    0.5 * (a + b)
+}
+
+/// The residuals of the least-squares fit of the even model of
+/// [`even_fit_rss`] about the axis `s`.
+fn even_residuals(pts: &[(f64, f64)], s: f64, scale: f64) -> Option<Vec<f64>> {
+    let basis = |x: f64| {
+        let v = ((x - s) / scale).powi(2);
+        nalgebra::Vector3::new(1.0, v, v * v)
+    };
+    let mut ata = nalgebra::Matrix3::<f64>::zeros();
+    let mut aty = nalgebra::Vector3::<f64>::zeros();
+    for &(x, y) in pts {
+        let g = basis(x);
+        ata += g * g.transpose();
+        aty += g * y;
     }
-    // Standard error from the curvature of RSS(s): var = 2 sigma^2 / RSS''.
-    let h = 0.05;
-    let (r0, rp, rm) = (rss(s), rss(s + h), rss(s - h));
-    let curv = (rp + rm - 2.0 * r0) / (h * h);
-    let n = pts.len() as f64;
-    let sigma2 = r0 / (n - 4.0).max(1.0);
-    if curv.is_nan() || curv <= 0.0 {
-        return None;
-    }
-    Some((s, (2.0 * sigma2 / curv).sqrt()))
+    let c = ata.cholesky()?.solve(&aty);
+    Some(pts.iter().map(|&(x, y)| y - basis(x).dot(&c)).collect())
 }
 
 /// `RSS(s)` of the least-squares fit of `y = A + C v + E v^2`, with
