@@ -946,16 +946,7 @@ pub fn axis_fit_in(
         return None;
     }
     for _ in 0..3 {
-        let res = even_residuals(&pts, s, scale)?;
-        let mut abs: Vec<f64> = res.iter().map(|r| r.abs()).collect();
-        abs.sort_by(f64::total_cmp);
-        let spread = (1.4826 * abs[abs.len() / 2]).max(0.05);
-        let kept: Vec<(f64, f64)> = pts
-            .iter()
-            .zip(&res)
-            .filter(|(_, r)| r.abs() < 4.685 * spread)
-            .map(|(p, _)| *p)
-            .collect();
+        let kept = within_biweight(&pts, &even_residuals(&pts, s, scale)?);
         if kept.len() == pts.len() || kept.len() < 9.max(pts.len() / 2) {
             break;
         }
@@ -1117,6 +1108,20 @@ impl Parabola {
     }
 }
 
+/// The points whose residual `res` lies within Tukey's biweight cut-off,
+/// 4.685 robust standard deviations (the scale from the median absolute
+/// residual, at least 0.05 px).
+fn within_biweight(pts: &[(f64, f64)], res: &[f64]) -> Vec<(f64, f64)> {
+    let mut abs: Vec<f64> = res.iter().map(|r| r.abs()).collect();
+    abs.sort_by(f64::total_cmp);
+    let scale = (1.4826 * abs[abs.len() / 2]).max(0.05);
+    pts.iter()
+        .zip(res)
+        .filter(|(_, r)| r.abs() < 4.685 * scale)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
 /// The least-squares parabola through the columns after those far off it
 /// are left out: Tukey's biweight (c = 4.685 robust standard deviations,
 /// the scale from the median absolute residual, at least 0.05 px) by
@@ -1133,15 +1138,7 @@ fn robust_parabola(pts: &[(f64, f64)], even: bool) -> Option<(Parabola, Vec<(f64
             .iter()
             .map(|&(u, y)| y - (c[0] + c[1] * u + c[2] * u * u))
             .collect();
-        let mut abs: Vec<f64> = res.iter().map(|r| r.abs()).collect();
-        abs.sort_by(f64::total_cmp);
-        let scale = (1.4826 * abs[abs.len() / 2]).max(0.05);
-        let next: Vec<(f64, f64)> = pts
-            .iter()
-            .zip(&res)
-            .filter(|(_, r)| r.abs() < 4.685 * scale)
-            .map(|(p, _)| *p)
-            .collect();
+        let next = within_biweight(pts, &res);
         if next.len() == kept.len() || next.len() < 5.max(pts.len() / 2) {
             break;
         }
