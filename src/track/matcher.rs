@@ -714,7 +714,8 @@ fn edge_fit_core(
     Some(match axis {
         None => r,
         Some((_, s_std)) => {
-            // dA/ds by refitting the kept columns about a shifted axis.
+            // The axis's error through dA/ds (by refitting the kept columns
+            // about a shifted axis), and the sides' disagreement.
             let h = 0.1;
             let at = |d: f64| {
                 let shifted: Vec<(f64, f64)> = kept.iter().map(|&(u, y)| (u - d, y)).collect();
@@ -724,13 +725,44 @@ fn edge_fit_core(
                 (Some(p), Some(m)) => (p - m) / (2.0 * h),
                 _ => 0.0,
             };
+            let sides = sides_bias2(&kept);
             EdgeFit {
-                y_std: r.y_std.hypot(slope * s_std),
+                y_std: (r.y_std * r.y_std + (slope * s_std).powi(2) + sides).sqrt(),
                 x_std: s_std,
                 ..r
             }
         }
     })
+}
+
+/// The mirror test of an even fit about the axis: the apex row fitted on
+/// each side alone (`u < 0`, `u > 0`, each the even parabola, at least 5
+/// columns), whose difference `D` a symmetric silhouette makes zero but a
+/// highlight or clutter on one side does not. Returns the squared bias of
+/// the joint apex this implies beyond the difference's own variance,
+/// `max(0, (D^2 - var D) / 4)` (half the difference: the joint fit
+/// shares the biased side's columns about equally), 0 when a side has too
+/// few columns.
+fn sides_bias2(kept: &[(f64, f64)]) -> f64 {
+    let side = |left: bool| {
+        let pts: Vec<(f64, f64)> = kept
+            .iter()
+            .copied()
+            .filter(|p| (p.0 < 0.0) == left && p.0 != 0.0)
+            .collect();
+        if pts.len() < 5 {
+            return None;
+        }
+        let f = parabola(&pts, true)?;
+        Some((
+            f.coef[0],
+            f.cov[0][0] * lag1_inflation(&f.residuals(&pts)).powi(2),
+        ))
+    };
+    match (side(true), side(false)) {
+        (Some((a, va)), Some((b, vb))) => (((a - b).powi(2) - va - vb) / 4.0).max(0.0),
+        _ => 0.0,
+    }
 }
 
 /// What the test of the centroids against the step model says.
