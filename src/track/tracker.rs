@@ -334,8 +334,9 @@ impl Tracker<'_> {
     /// frames before when known, and the apex refitted on it
     /// ([`matcher::edge_fit_about`]). Without a known axis, the free fit
     /// stays when the axis is not found; with one, an edge that is not
-    /// mirror-symmetric about a column near it is not the bubble's top (a
-    /// cable or a shelf edge across it), and no edge is returned.
+    /// mirror-symmetric about a column near it (or too few of whose columns
+    /// are left about that column) is not the bubble's top (a cable or a
+    /// shelf edge across it), and no edge is returned.
     fn on_axis(
         &self,
         cols: &mut matcher::Columns,
