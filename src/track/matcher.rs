@@ -418,7 +418,8 @@ impl<'a> Columns<'a> {
     /// As [`Columns::new`], each edge checked against the same region in
     /// the frames where the bubble is largest (`extremes.fullest`, see
     /// [`below_is_dome`]) and smallest (`extremes.emptiest`, see
-    /// [`above_is_background`]).
+    /// [`above_is_background`]; against it too, static clutter above an
+    /// edge cancels: [`Columns::without_clutter`]).
     pub fn with_extremes(img: &'a Gray, half_window_px: usize, extremes: Extremes<'a>) -> Self {
         let same = |f: &&Gray| (f.width, f.height) == (img.width, img.height);
         Columns {
