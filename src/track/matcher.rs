@@ -1516,4 +1516,25 @@ mod tests {
         .unwrap();
         assert!((fit.y - y0).abs() < 0.05, "apex row {} against {y0}", fit.y);
     }
+
+    #[test]
+    fn the_mirror_test_measures_a_one_sided_shift() {
+        // An even edge about the axis, the columns of one side lifted by
+        // 0.4 px (a highlight's bias): the sides' apex rows differ by 0.4,
+        // and half of it is the joint fit's bias; a symmetric edge has none.
+        let edge = |lift: f64| -> Vec<(f64, f64)> {
+            (-20..=20)
+                .filter(|&u| u != 0)
+                .map(|u| {
+                    let u = f64::from(u);
+                    (u, 30.0 + 0.005 * u * u - if u < 0.0 { lift } else { 0.0 })
+                })
+                .collect()
+        };
+        assert!(sides_bias2(&edge(0.0)).abs() < 1e-12);
+        assert!((sides_bias2(&edge(0.4)) - 0.04).abs() < 1e-9);
+        // Too few columns on one side: no test.
+        let one_sided: Vec<(f64, f64)> = edge(0.4).into_iter().filter(|p| p.0 > -4.0).collect();
+        assert_eq!(sides_bias2(&one_sided), 0.0);
+    }
 }
