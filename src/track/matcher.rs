@@ -399,6 +399,10 @@ pub struct Columns<'a> {
     img: &'a Gray,
     hw: f64,
     found: Vec<Option<(f64, f64)>>,
+    /// Per column, the centroid row the step model ([`step_model_edge`])
+    /// started from and its row: the free edge fit and the fit on the axis
+    /// test the same columns.
+    model: Vec<Option<(f64, Option<f64>)>>,
     fullest: Option<&'a Gray>,
     emptiest: Option<&'a Gray>,
 }
@@ -410,6 +414,7 @@ impl<'a> Columns<'a> {
             img,
             hw: half_window_px.max(2) as f64,
             found: vec![None; img.width],
+            model: vec![None; img.width],
             fullest: None,
             emptiest: None,
         }
@@ -458,6 +463,20 @@ impl<'a> Columns<'a> {
                 (d.1 * step > 0.0 && d.1.abs() >= 0.5 * step.abs()).then_some(d)
             }
         }
+    }
+
+    /// The step model's edge row of column `c` from the centroid row `e`
+    /// (located once per column and row).
+    fn model_edge(&mut self, c: usize, e: f64) -> Option<f64> {
+        if let Some((e0, m)) = self.model[c]
+            && e0 == e
+        {
+            return m;
+        }
+        let img = self.img;
+        let m = step_model_edge(|j| f64::from(img.at(c, j as usize)), img.height as i64, e);
+        self.model[c] = Some((e, m));
+        m
     }
 
     /// The edge row and step of column `c` starting from row `start`.
@@ -853,20 +872,18 @@ const UPPER_SHARE: f64 = 0.8;
 /// beyond its variance, `max(0, D^2 - sd^2)` (unbiased for the squared
 /// bias), is returned to be added to the apex row's variance.
 fn two_sided_refit(
-    cols: &Columns,
+    cols: &mut Columns,
     pts: &[(f64, f64)],
     centre: f64,
     u_v: f64,
     even: bool,
 ) -> Option<TwoSided> {
-    let img = cols.img;
     let mut model = Vec::with_capacity(pts.len());
     let mut diff = Vec::with_capacity(pts.len());
     for &(u, e) in pts {
         // `u` is a column minus `centre`, so rounding recovers the column.
         let c = (centre + u).round() as usize;
-        let column = |j: i64| f64::from(img.at(c, j as usize));
-        if let Some(m) = step_model_edge(column, img.height as i64, e) {
+        if let Some(m) = cols.model_edge(c, e) {
             model.push((u, m));
             diff.push((u, m - e));
         }
