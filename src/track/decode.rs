@@ -177,6 +177,7 @@ pub(super) fn match_frames(
         let extremes = Extremes {
             fullest: fullest.as_ref().filter(|_| i != fullest_frame),
             emptiest: emptiest.as_ref().filter(|_| i != emptiest_frame),
+            is_emptiest: i == emptiest_frame,
         };
         let loc = state.locate(crop, extremes)?;
         let low = loc.m.score < opts.min_score || !loc.m.score.is_finite();
@@ -518,6 +519,9 @@ impl Guard {
         // locked on a line behind the bubble that its own background shows.
         if self.edge_required && edge.is_none() {
             return Err("no edge of the bubble's top was found at the template's match: the template locked on something else, or the top is hidden".to_string());
+        }
+        if edge.is_some_and(|e| e.clutter_on_top) {
+            return Err("a line behind the bubble (clutter) lies a few rows above the top in this photo at the lowest pressure, and no emptier photo shows the background there to tell the two apart: clear the background or add a photo at a lower pressure".to_string());
         }
         let [x_std, std] = stds;
         let y = apex[1];

@@ -148,6 +148,14 @@ pub struct EdgeFit {
     /// centroids: the test of the two found the dome side under the edge
     /// biasing the centroids (a highlight, texture).
     pub two_sided: bool,
+    /// Whether, in the frame at the lowest pressure (no emptier frame shows
+    /// the background behind its top), a quarter or more of the columns
+    /// located show a line in the rows above their edge that the edge's
+    /// location reads ([`line_above`]): clutter behind the bubble a few
+    /// rows above its top, which pulls the edge by up to a pixel, or on
+    /// which the edge was located instead of the top. Such a frame cannot
+    /// be measured.
+    pub clutter_on_top: bool,
 }
 
 /// Settings of the edge fit.
@@ -195,9 +203,6 @@ fn profile_edge_with(
     hw: f64,
     slopes: bool,
 ) -> Option<(f64, f64)> {
-    // Rows beyond the window on each side over which the background slope is
-    // measured.
-    const SLOPE_ROWS: i64 = 6;
     let h = len;
     let mut e = start;
     let mut step = 0.0;
@@ -265,6 +270,10 @@ fn profile_edge_with(
     }
     Some((e, step))
 }
+
+/// Rows beyond the window on each side of [`profile_edge`] over which the
+/// slope beside the edge is measured.
+const SLOPE_ROWS: i64 = 6;
 
 /// Rows on each side of the edge over which [`step_model_edge`] fits.
 const MODEL_ROWS: i64 = 5;
@@ -405,6 +414,8 @@ pub struct Columns<'a> {
     model: Vec<Option<(f64, Option<f64>)>>,
     fullest: Option<&'a Gray>,
     emptiest: Option<&'a Gray>,
+    /// This frame is the emptiest: see [`Extremes::is_emptiest`].
+    is_emptiest: bool,
 }
 
 impl<'a> Columns<'a> {
@@ -417,6 +428,7 @@ impl<'a> Columns<'a> {
             model: vec![None; img.width],
             fullest: None,
             emptiest: None,
+            is_emptiest: false,
         }
     }
 
@@ -430,6 +442,7 @@ impl<'a> Columns<'a> {
         Columns {
             fullest: extremes.fullest.filter(same),
             emptiest: extremes.emptiest.filter(same),
+            is_emptiest: extremes.is_emptiest,
             ..Columns::new(img, half_window_px)
         }
     }
@@ -440,7 +453,8 @@ impl<'a> Columns<'a> {
     }
 
     /// The edge `(e, step)` of column `c` again where the emptiest frame
-    /// shows clutter in the window above it: then from the difference of
+    /// shows clutter in the rows above it that the edge's location reads
+    /// ([`clutter_in_window`]): then from the difference of
     /// this frame and the emptiest, in which static clutter cancels (the
     /// bubble covers it only below the edge). `None` when the emptiest
     /// frame shows clutter on both sides of the edge.
@@ -466,15 +480,28 @@ impl<'a> Columns<'a> {
     }
 
     /// The step model's edge row of column `c` from the centroid row `e`
-    /// (located once per column and row).
+    /// (located once per column and row); like the centroid, on the
+    /// difference from the emptiest frame where that shows clutter above
+    /// the edge ([`Columns::without_clutter`]).
     fn model_edge(&mut self, c: usize, e: f64) -> Option<f64> {
         if let Some((e0, m)) = self.model[c]
             && e0 == e
         {
             return m;
         }
-        let img = self.img;
-        let m = step_model_edge(|j| f64::from(img.at(c, j as usize)), img.height as i64, e);
+        let (img, len) = (self.img, self.img.height as i64);
+        let step = self.found[c].map_or(0.0, |f| f.1);
+        let m = match self
+            .emptiest
+            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
+        {
+            Some(f) => step_model_edge(
+                |j| f64::from(img.at(c, j as usize)) - f64::from(f.at(c, j as usize)),
+                len,
+                e,
+            ),
+            None => step_model_edge(|j| f64::from(img.at(c, j as usize)), len, e),
+        };
         self.model[c] = Some((e, m));
         m
     }
@@ -510,6 +537,9 @@ pub struct Extremes<'a> {
     pub fullest: Option<&'a Gray>,
     /// The frame at the lowest pressure.
     pub emptiest: Option<&'a Gray>,
+    /// This frame is the one at the lowest pressure. Nothing cancels
+    /// clutter above its edge: see [`EdgeFit::clutter_on_top`].
+    pub is_emptiest: bool,
 }
 
 /// Rows below the edge compared with the fullest frame, from this far
@@ -572,27 +602,56 @@ fn above_is_background(img: &Gray, emptiest: &Gray, c: usize, e: f64, step: f64)
     diff.abs() <= 0.25 * step.abs()
 }
 
+/// The difference between neighbouring rows, grey levels, beyond which a
+/// column shows a line (clutter behind the bubble) rather than the
+/// background's own gradient and noise: `max(15, 0.2 |step|)` for an edge
+/// whose step is `step`.
+fn line_limit(step: f64) -> f64 {
+    15f64.max(0.2 * step.abs())
+}
+
+/// Whether column `c` of `img` shows a line between rows `a` and `b`
+/// (pairs of neighbouring rows `j, j + 1` for `j` in `a..b`, clipped to
+/// the image): a difference larger than `lim`.
+fn line_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool {
+    let h = img.height as i64;
+    (a.max(0)..b.min(h - 1)).any(|j| {
+        (f64::from(img.at(c, (j + 1) as usize)) - f64::from(img.at(c, j as usize))).abs() > lim
+    })
+}
+
 /// Whether the emptiest frame shows a line (clutter behind the bubble)
-/// in the rows of the edge window above row `e` of column `c`, and in
-/// those below it: a difference between neighbouring rows larger than
-/// `max(15, 0.2 |step|)` grey levels (the background's own gradient and
-/// noise stay below). Below the edge the emptiest frame's own edge counts
+/// in the rows above row `e` of column `c` that the edge's location reads
+/// (the edge window and the rows beyond it where the slope beside the
+/// edge is measured), and in the rows of the window below it ([`line_in`],
+/// [`line_limit`]). Below the edge the emptiest frame's own edge counts
 /// as a line too, which is as it should be: its rows there are then no
 /// clean background.
 fn clutter_in_window(emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> (bool, bool) {
-    let lim = 15f64.max(0.2 * step.abs());
-    let h = emptiest.height as i64;
-    let lo = ((e - hw - 1.0).floor() as i64).max(0);
-    let hi = ((e + hw + 1.0).ceil() as i64).min(h - 2);
+    let lim = line_limit(step);
+    let lo = (e - hw - 1.0).floor() as i64 - SLOPE_ROWS;
+    let hi = (e + hw + 1.0).ceil() as i64;
     let mid = e.round() as i64;
-    let line = |a: i64, b: i64| {
-        (a..b).any(|j| {
-            (f64::from(emptiest.at(c, (j + 1) as usize)) - f64::from(emptiest.at(c, j as usize)))
-                .abs()
-                > lim
-        })
-    };
-    (line(lo, mid - 1), line(mid + 1, hi + 1))
+    (
+        line_in(emptiest, c, lo, mid - 1, lim),
+        line_in(emptiest, c, mid + 1, hi + 1, lim),
+    )
+}
+
+/// Whether column `c` of a frame with no emptier frame to compare with
+/// shows a line in the rows above its edge at row `e` that the edge's
+/// location reads (as [`clutter_in_window`]), up to [`ABOVE_FROM_PX`]
+/// above the edge, beyond its own blur. Such a line, a few rows above a
+/// flat top, pulls the edge by a good part of a pixel.
+fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
+    let lo = (e - hw - 1.0).floor() as i64 - SLOPE_ROWS;
+    line_in(
+        img,
+        c,
+        lo,
+        (e - ABOVE_FROM_PX).floor() as i64,
+        line_limit(step),
+    )
 }
 
 /// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
@@ -708,10 +767,15 @@ fn edge_fit_core(
         let (fit, pts) = robust_parabola(&pts, even)?;
         coef = fit.coef;
         let r = summarise(&fit, &pts, centre, span as f64, false);
-        last = Some((pts, centre, r.x_vertex - centre, weakened));
+        last = Some((pts, centre, r.x_vertex - centre, weakened, located));
         result = Some(r);
     }
-    let (pts, centre, u_v, weakened) = last?;
+    let (pts, centre, u_v, weakened, located) = last?;
+    let lined = |&&(u, e, step): &&(f64, f64, f64)| {
+        line_above(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+    };
+    let clutter_on_top =
+        cols.is_emptiest && 4 * located.iter().filter(lined).count() >= located.len();
     let (r, kept) = match weakened
         .then(|| two_sided_refit(cols, &pts, centre, u_v, even))
         .flatten()
@@ -730,6 +794,10 @@ fn edge_fit_core(
             )
         }
         None => (result?, pts),
+    };
+    let r = EdgeFit {
+        clutter_on_top,
+        ..r
     };
     Some(match axis {
         None => r,
@@ -828,6 +896,7 @@ fn summarise(
         columns: pts.len(),
         rms: (fit.rss / pts.len() as f64).sqrt(),
         two_sided,
+        clutter_on_top: false,
     }
 }
 
@@ -1522,6 +1591,7 @@ mod tests {
         let extremes = Extremes {
             fullest: None,
             emptiest: Some(&emptiest),
+            is_emptiest: false,
         };
         let fit = edge_fit_in(
             &mut Columns::with_extremes(&img, 3, extremes),
