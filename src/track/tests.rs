@@ -542,6 +542,7 @@ fn a_highlight_on_small_photos_is_tracked_within_its_uncertainty() {
         ));
     }
     let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len() as f64).sqrt();
+    eprintln!("{} of {total} kept, apex row RMS {rms:.3} px", errors.len());
     assert!(errors.len() >= 50, "{} of {total} kept", errors.len());
     assert!(
         rms <= 0.15,
