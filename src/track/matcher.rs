@@ -756,8 +756,6 @@ fn edge_fit_core(
                 located.push((u, e, step));
             }
         }
-        // Keep columns whose step has the dome's polarity and about the
-        // contrast of most.
         // Leave out the columns with a bright spot under the edge, where
         // enough others remain.
         let unspotted: Vec<(f64, f64, f64)> = located
@@ -769,6 +767,8 @@ fn edge_fit_core(
             .collect();
         let enough = unspotted.len() >= SPOT_MIN_KEPT && 4 * unspotted.len() >= located.len();
         let candidates = if enough { &unspotted } else { &located };
+        // Keep columns whose step has the dome's polarity and about the
+        // contrast of most.
         let Some(pts) = strong_columns(candidates, 5, UPPER_SHARE) else {
             break;
         };
@@ -1660,6 +1660,40 @@ mod tests {
         )
         .unwrap();
         assert!((fit.y - y0).abs() < 0.05, "apex row {} against {y0}", fit.y);
+    }
+
+    #[test]
+    fn a_spot_under_the_edge_is_told_from_shading_and_the_clamp() {
+        // One column, 40 rows: background 200 above an edge at row 15.3,
+        // a dome at 60 below it (blur 1.2 px), with what lies under it.
+        let column = |under: &dyn Fn(f64) -> f64| {
+            let p = blurred_step(15.3, 1.2, 0.0, 40);
+            Gray {
+                width: 1,
+                height: 40,
+                data: p
+                    .iter()
+                    .enumerate()
+                    .map(|(j, v)| (v + under(j as f64)).round().clamp(0.0, 255.0) as u8)
+                    .collect(),
+            }
+        };
+        let found = |img: &Gray| {
+            let (e, step) = column_edge(img, 0, 15.0, 3.0).unwrap();
+            spot_below(img, 0, e, 3.0, step)
+        };
+        let below = |y: f64| if y > 15.3 { 1.0 } else { 0.0 };
+        // A highlight 40 grey levels high (29 % of the step), 5 px under
+        // the edge: a spot.
+        let spot = |y: f64| 40.0 * (-0.5 * ((y - 20.3) / 1.5).powi(2)).exp() * below(y);
+        assert!(found(&column(&spot)));
+        // Half as high (14 %): below the share.
+        assert!(!found(&column(&|y| 0.5 * spot(y))));
+        // Shading that brightens steadily away from the edge (3 grey
+        // levels a row) turns back but never away again.
+        assert!(!found(&column(&|y| 3.0 * (y - 15.3).max(0.0))));
+        // A brighter clamp fixture 6 px under a low top: a step, no spot.
+        assert!(!found(&column(&|y| if y > 21.3 { 80.0 } else { 0.0 })));
     }
 
     #[test]
