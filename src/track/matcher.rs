@@ -466,10 +466,9 @@ impl<'a> Columns<'a> {
             (false, _) => Some((e, step)),
             (true, true) => None,
             (true, false) => {
-                let img = self.img;
                 let d = profile_edge_with(
-                    |j| f64::from(img.at(c, j as usize)) - f64::from(f.at(c, j as usize)),
-                    img.height as i64,
+                    difference(self.img, f, c),
+                    self.img.height as i64,
                     e,
                     self.hw,
                     false,
@@ -495,11 +494,7 @@ impl<'a> Columns<'a> {
             .emptiest
             .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
         {
-            Some(f) => step_model_edge(
-                |j| f64::from(img.at(c, j as usize)) - f64::from(f.at(c, j as usize)),
-                len,
-                e,
-            ),
+            Some(f) => step_model_edge(difference(img, f, c), len, e),
             None => step_model_edge(|j| f64::from(img.at(c, j as usize)), len, e),
         };
         self.model[c] = Some((e, m));
@@ -527,6 +522,12 @@ impl<'a> Columns<'a> {
         }
         r
     }
+}
+
+/// Column `c` of `img` less the same column of `emptiest`, as a profile
+/// for [`profile_edge_with`] or [`step_model_edge`]: static clutter cancels.
+fn difference<'i>(img: &'i Gray, emptiest: &'i Gray, c: usize) -> impl Fn(i64) -> f64 + 'i {
+    move |j| f64::from(img.at(c, j as usize)) - f64::from(emptiest.at(c, j as usize))
 }
 
 /// The same region in the frames of a sequence where the bubble is largest
@@ -629,7 +630,7 @@ fn line_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool {
 /// clean background.
 fn clutter_in_window(emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> (bool, bool) {
     let lim = line_limit(step);
-    let lo = (e - hw - 1.0).floor() as i64 - SLOPE_ROWS;
+    let lo = first_row_read_above(e, hw);
     let hi = (e + hw + 1.0).ceil() as i64;
     let mid = e.round() as i64;
     (
@@ -644,14 +645,19 @@ fn clutter_in_window(emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> (
 /// above the edge, beyond its own blur. Such a line, a few rows above a
 /// flat top, pulls the edge by a good part of a pixel.
 fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
-    let lo = (e - hw - 1.0).floor() as i64 - SLOPE_ROWS;
     line_in(
         img,
         c,
-        lo,
+        first_row_read_above(e, hw),
         (e - ABOVE_FROM_PX).floor() as i64,
         line_limit(step),
     )
+}
+
+/// The first row above an edge at row `e` that [`profile_edge`] reads with
+/// a window of half-height `hw`: the window, then the slope rows.
+fn first_row_read_above(e: f64, hw: f64) -> i64 {
+    (e - hw - 1.0).floor() as i64 - SLOPE_ROWS
 }
 
 /// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
