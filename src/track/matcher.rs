@@ -996,9 +996,13 @@ const UPPER_SHARE: f64 = 0.8;
 /// stays unbiased when it is not, at more noise. Each column's difference
 /// between the two is fitted by a parabola and evaluated at the apex
 /// (`u_v`); its standard error comes from the differences' own scatter
-/// (what the shared noise cancels from). When the difference exceeds 3
-/// standard errors plus [`TWO_SIDED_MARGIN_PX`], something under the edge (a
-/// highlight's flank, texture) biased the centroids, and the robust
+/// (what the shared noise cancels from). By Hausman's identity that
+/// variance, `sd^2`, is the step model's variance less the centroids', so
+/// the centroids' squared bias `b^2`, estimated by `D^2 - sd^2`, costs more
+/// than the step model's extra noise when `D^2 > 2 sd^2`. When the
+/// difference exceeds sqrt(2) standard errors plus [`TWO_SIDED_MARGIN_PX`],
+/// something under the edge (a highlight's flank, texture) biased the
+/// centroids more than the step model's noise costs, and the robust
 /// parabola through the step model's rows is returned instead. Below it,
 /// the difference still estimates the centroids' bias on a frame where
 /// something lies on the edge (the test is made only there): its square
@@ -1028,7 +1032,7 @@ fn two_sided_refit(
     let sd = d.var_at(u_v).sqrt() * lag1_inflation(&d.residuals(&diff));
     let [a, b, c] = d.coef;
     let at_apex = a + b * u_v + c * u_v * u_v;
-    if at_apex.abs() <= 3.0 * sd + TWO_SIDED_MARGIN_PX {
+    if at_apex.abs() <= std::f64::consts::SQRT_2 * sd + TWO_SIDED_MARGIN_PX {
         return Some(TwoSided::Bias((at_apex * at_apex - sd * sd).max(0.0)));
     }
     let (fit, kept) = robust_parabola(&model, even)?;
