@@ -509,6 +509,10 @@ impl<'a> Columns<'a> {
             return Some((e, step));
         }
         let r = column_edge(self.img, c, start, self.hw)
+            .filter(|&(e, step)| {
+                self.emptiest
+                    .is_none_or(|f| !static_line_on_edge(self.img, f, c, e, self.hw, step))
+            })
             .and_then(|(e, step)| self.without_clutter(c, e, step))
             .filter(|&(e, step)| {
                 self.fullest
@@ -522,6 +526,34 @@ impl<'a> Columns<'a> {
         }
         r
     }
+}
+
+/// Whether the edge found at row `e` of column `c` (step `step`) is the
+/// upper border of a line behind the bubble (a cable, a shelf edge) that
+/// the bubble's top touches, rather than the top itself: the two rows just
+/// under the edge look as they do in the emptiest frame (within a quarter
+/// of the step: what is dark there was there before the bubble reached
+/// it), and further down, within the rows the edge's location reads, the
+/// emptiest frame turns back to the background by half the step or more
+/// where this frame shows the dome (so what the emptiest frame shows there
+/// is a line, not its own dome under an edge in nearly the same place).
+/// Where the dome's edge runs along such a line, dark against dark, it
+/// cannot be seen in the column: its centroid sits on the line's upper
+/// border, up to the line's width above the top, and the difference from
+/// the emptiest frame on its lower border.
+fn static_line_on_edge(img: &Gray, emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
+    let h = img.height as i64;
+    let j0 = (e + 0.5).ceil() as i64;
+    let j1 = ((e + hw + 1.0).ceil() as i64 + SLOPE_ROWS).min(h - 2);
+    if j0 < 0 || j0 + 2 > j1 || step == 0.0 {
+        return false;
+    }
+    // Values turned so that the dome side lies low and the background high.
+    let v = |f: &Gray, j: i64| -step.signum() * f64::from(f.at(c, j as usize));
+    let pair = |f: &Gray, j: i64| 0.5 * (v(f, j) + v(f, j + 1));
+    let under = (pair(img, j0) - pair(emptiest, j0)).abs();
+    under <= 0.25 * step.abs()
+        && (j0 + 2..j1).any(|j| pair(emptiest, j) - pair(img, j) >= 0.5 * step.abs())
 }
 
 /// Column `c` of `img` less the same column of `emptiest`, as a profile
@@ -1670,6 +1702,71 @@ mod tests {
         )
         .unwrap();
         assert!((fit.y - y0).abs() < 0.05, "apex row {} against {y0}", fit.y);
+    }
+
+    #[test]
+    fn a_line_along_the_top_is_left_out_not_taken_for_it() {
+        // A dark line behind the bubble (a cable, 3 px wide, as dark as the
+        // dome) across the apex: from 2 px above the top to 1 px below it,
+        // so that the top runs along it, dark against dark, and the columns
+        // near the apex show only the line's upper border. The emptiest
+        // frame's top is 15 px lower.
+        let (xa, y0, k) = (80.2, 30.4, 0.01);
+        // The scene blurred: the whole line less its part the dome hides
+        // (the edge taken as straight across the line, the blur linear).
+        let band = |y: f64, a: f64, b: f64| normal_cdf((y - a) / 1.5) - normal_cdf((y - b) / 1.5);
+        let (a, b) = (y0 - 2.0, y0 + 1.0);
+        let line = |x: f64, y: f64, top: f64| {
+            let t = top + k * (x - xa).powi(2);
+            let hidden = if t < b { band(y, t.max(a), b) } else { 0.0 };
+            -140.0 * (band(y, a, b) - hidden)
+        };
+        let img = dome((160, 80), (xa, y0, k), |x, y| line(x, y, y0));
+        let emptiest = dome((160, 80), (xa, y0 + 15.0, k), |x, y| line(x, y, y0 + 15.0));
+        let s = EdgeSettings {
+            half_span_px: 40,
+            half_window_px: 3,
+        };
+        let plain = edge_fit_in(&mut Columns::new(&img, 3), 80.0, 30.0, 2.0 * k, s).unwrap();
+        assert!(
+            y0 - plain.y > 1.0,
+            "without the emptiest frame the edge sits on the line: {plain:?}"
+        );
+        // The apex column's edge is the line's upper border, and so known.
+        let (e, step) = column_edge(&img, 80, y0, 3.0).unwrap();
+        assert!(y0 - e > 1.0 && static_line_on_edge(&img, &emptiest, 80, e, 3.0, step));
+        let extremes = Extremes {
+            fullest: None,
+            emptiest: Some(&emptiest),
+            is_emptiest: false,
+        };
+        let fit = edge_fit_in(
+            &mut Columns::with_extremes(&img, 3, extremes),
+            80.0,
+            30.0,
+            2.0 * k,
+            s,
+        )
+        .unwrap();
+        assert!(
+            (fit.y - y0).abs() < 0.05 && (fit.y - y0).abs() < 4.0 * fit.y_std,
+            "apex row {} +- {} against {y0}",
+            fit.y,
+            fit.y_std
+        );
+        // Without the line, an emptiest frame whose top lies only 1 px
+        // lower shows its own dome under the edge, not a line: no column
+        // is taken for one.
+        let clean = dome((160, 80), (xa, y0, k), |_, _| 0.0);
+        let close = dome((160, 80), (xa, y0 + 1.0, k), |_, _| 0.0);
+        for c in 40..=120 {
+            let t = y0 + k * (c as f64 - xa).powi(2);
+            let (e, step) = column_edge(&clean, c, t, 3.0).unwrap();
+            assert!(
+                !static_line_on_edge(&clean, &close, c, e, 3.0, step),
+                "column {c}"
+            );
+        }
     }
 
     #[test]
