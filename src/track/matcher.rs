@@ -140,9 +140,12 @@ pub struct EdgeFit {
     pub curvature: f64,
     /// Standard error of `curvature`, 1/px.
     pub curvature_std: f64,
-    /// Columns used.
+    /// Columns used by the centroid fit.
     pub columns: usize,
-    /// RMS of the column residuals, px.
+    /// RMS of the centroid fit's column residuals, px. Both are the
+    /// centroids' also where the apex comes from the step model
+    /// (`two_sided`), whose rows are noisier: the guards compare frames
+    /// by them.
     pub rms: f64,
     /// Whether the rows come from the two-sided step model rather than the
     /// centroids: the test of the two found the dome side under the edge
@@ -830,7 +833,15 @@ fn edge_fit_core(
         .flatten()
     {
         Some(TwoSided::Model(fit, kept)) => {
-            (summarise(&fit, &kept, centre, span as f64, true), kept)
+            let r = result?;
+            (
+                EdgeFit {
+                    columns: r.columns,
+                    rms: r.rms,
+                    ..summarise(&fit, &kept, centre, span as f64, true)
+                },
+                kept,
+            )
         }
         Some(TwoSided::Bias(b2)) => {
             let r = result?;
