@@ -547,7 +547,7 @@ impl<'a> Columns<'a> {
 fn static_line_on_edge(img: &Gray, emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     let h = img.height as i64;
     let j0 = (e + 0.5).ceil() as i64;
-    let j1 = ((e + hw + 1.0).ceil() as i64 + SLOPE_ROWS).min(h - 2);
+    let j1 = rows_read_below(e, hw).1.min(h - 2);
     if j0 < 0 || j0 + 2 > j1 || step == 0.0 {
         return false;
     }
@@ -925,9 +925,8 @@ const SPOT_MIN_KEPT: usize = 12;
 /// flank) is subtracted. A dome's shading turns that fast nowhere, nor
 /// does a step down to the clamp (it does not turn back).
 fn spot_below(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
-    let h = img.height as i64;
-    let j0 = (e + 1.5).ceil() as i64;
-    let j1 = ((e + hw + 1.0).ceil() as i64 + SLOPE_ROWS).min(h - 1);
+    let (j0, j1) = rows_read_below(e, hw);
+    let j1 = j1.min(img.height as i64 - 1);
     if j0 >= j1 || step == 0.0 {
         return false;
     }
@@ -950,19 +949,41 @@ fn spot_below(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     rise > lim && fell
 }
 
-/// Whether the dome side under an edge turns back towards the background
-/// within the rows its location reads.
+/// The share of an edge's step by which the dome side under it must turn
+/// back towards the background for the edge to be tested against the step
+/// model ([`turns_back`], [`StepTest::Widen`]).
+const TURN_SHARE: f64 = 0.1;
+
+/// The rows below an edge at row `e` (window half-height `hw`) that its
+/// location reads, beyond its own blur: from 1.5 px below the edge through
+/// the window and the slope rows; not clipped to the image.
+fn rows_read_below(e: f64, hw: f64) -> (i64, i64) {
+    (
+        (e + 1.5).ceil() as i64,
+        (e + hw + 1.0).ceil() as i64 + SLOPE_ROWS,
+    )
+}
+
+/// Whether the dome side under an edge at row `e` of column `c` (step
+/// `step`) turns back towards the background by more than [`TURN_SHARE`]
+/// of the step within the rows below the edge that its location reads
+/// ([`rows_read_below`]; means of neighbouring rows, against the noise). A
+/// broad highlight whose flank rises slowly from the edge does this
+/// without turning away again within those rows, so [`spot_below`] does
+/// not leave the column out; its rise cuts the lower tail of the blurred
+/// step short and lifts the centroid (0.27 px on a drawn dome), which the
+/// minmod slope below the edge misses where the flank turns within the
+/// slope rows. A flat dome side stays within the noise.
 fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
-    let h = img.height as i64;
-    let j0 = (e + 1.5).ceil() as i64;
-    let j1 = ((e + hw + 1.0).ceil() as i64 + SLOPE_ROWS).min(h - 2);
+    let (j0, j1) = rows_read_below(e, hw);
+    let j1 = j1.min(img.height as i64 - 2);
     if j0 >= j1 || step == 0.0 {
         return false;
     }
+    // Values turned so that the dome side lies low and the background high.
     let v = |j: i64| {
-        -step.signum()
-            * 0.5
-            * (f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1)))
+        let pair = f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1));
+        -step.signum() * 0.5 * pair
     };
     let mut low = f64::INFINITY;
     let mut rise = 0.0f64;
@@ -973,8 +994,6 @@ fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     }
     rise > TURN_SHARE * step.abs()
 }
-
-const TURN_SHARE: f64 = 0.1;
 
 /// The mirror test of an even fit about the axis: the apex row fitted on
 /// each side alone (`u < 0`, `u > 0`, each the even parabola, at least 5
@@ -1749,6 +1768,28 @@ mod tests {
         assert_eq!(on_axis.x_vertex, xa);
     }
 
+    /// The edge fit of `img` from `(x0, y0)` with the starting curvature
+    /// given, against the emptiest frame `emptiest` (half-window 3 px).
+    fn fit_against_emptiest(
+        img: &Gray,
+        emptiest: &Gray,
+        (x0, y0, curvature): (f64, f64, f64),
+        s: EdgeSettings,
+    ) -> Option<EdgeFit> {
+        let extremes = Extremes {
+            fullest: None,
+            emptiest: Some(emptiest),
+            is_emptiest: false,
+        };
+        edge_fit_in(
+            &mut Columns::with_extremes(img, 3, extremes),
+            x0,
+            y0,
+            curvature,
+            s,
+        )
+    }
+
     #[test]
     fn a_static_line_above_the_edge_cancels_against_the_emptiest_frame() {
         // A dark line behind the bubble (a cable, 3 px wide) whose lower
@@ -1773,19 +1814,7 @@ mod tests {
             plain.is_none_or(|f| (f.y - y0).abs() > 0.1),
             "without the emptiest frame the line biases the edge: {plain:?}"
         );
-        let extremes = Extremes {
-            fullest: None,
-            emptiest: Some(&emptiest),
-            is_emptiest: false,
-        };
-        let fit = edge_fit_in(
-            &mut Columns::with_extremes(&img, 3, extremes),
-            60.0,
-            30.0,
-            2.0 * k,
-            s,
-        )
-        .unwrap();
+        let fit = fit_against_emptiest(&img, &emptiest, (60.0, 30.0, 2.0 * k), s).unwrap();
         assert!((fit.y - y0).abs() < 0.05, "apex row {} against {y0}", fit.y);
     }
 
@@ -1820,19 +1849,7 @@ mod tests {
         // The apex column's edge is the line's upper border, and so known.
         let (e, step) = column_edge(&img, 80, y0, 3.0).unwrap();
         assert!(y0 - e > 1.0 && static_line_on_edge(&img, &emptiest, 80, e, 3.0, step));
-        let extremes = Extremes {
-            fullest: None,
-            emptiest: Some(&emptiest),
-            is_emptiest: false,
-        };
-        let fit = edge_fit_in(
-            &mut Columns::with_extremes(&img, 3, extremes),
-            80.0,
-            30.0,
-            2.0 * k,
-            s,
-        )
-        .unwrap();
+        let fit = fit_against_emptiest(&img, &emptiest, (80.0, 30.0, 2.0 * k), s).unwrap();
         assert!(
             (fit.y - y0).abs() < 0.05 && (fit.y - y0).abs() < 4.0 * fit.y_std,
             "apex row {} +- {} against {y0}",
