@@ -551,12 +551,16 @@ fn static_line_on_edge(img: &Gray, emptiest: &Gray, c: usize, e: f64, hw: f64, s
     if j0 < 0 || j0 + 2 > j1 || step == 0.0 {
         return false;
     }
-    // Values turned so that the dome side lies low and the background high.
-    let v = |f: &Gray, j: i64| -step.signum() * f64::from(f.at(c, j as usize));
-    let pair = |f: &Gray, j: i64| 0.5 * (v(f, j) + v(f, j + 1));
+    let pair = |f: &Gray, j: i64| 0.5 * (turned(f, c, step, j) + turned(f, c, step, j + 1));
     let under = (pair(img, j0) - pair(emptiest, j0)).abs();
     under <= 0.25 * step.abs()
         && (j0 + 2..j1).any(|j| pair(emptiest, j) - pair(img, j) >= 0.5 * step.abs())
+}
+
+/// Row `j` of column `c` of `img`, turned by the sign of an edge's step
+/// `step` so that the dome side lies low and the background high.
+fn turned(img: &Gray, c: usize, step: f64, j: i64) -> f64 {
+    -step.signum() * f64::from(img.at(c, j as usize))
 }
 
 /// Column `c` of `img` less the same column of `emptiest`, as a profile
@@ -650,10 +654,14 @@ fn line_limit(step: f64) -> f64 {
 /// (pairs of neighbouring rows `j, j + 1` for `j` in `a..b`, clipped to
 /// the image): a difference larger than `lim`.
 fn line_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool {
-    let h = img.height as i64;
-    (a.max(0)..b.min(h - 1)).any(|j| {
-        (f64::from(img.at(c, (j + 1) as usize)) - f64::from(img.at(c, j as usize))).abs() > lim
-    })
+    rows_apart_differ(img, c, (a, b), 1, lim)
+}
+
+/// Whether two rows `gap` apart, both within rows `a..=b` of column `c`
+/// (clipped to the image), differ by more than `lim`.
+fn rows_apart_differ(img: &Gray, c: usize, (a, b): (i64, i64), gap: i64, lim: f64) -> bool {
+    let v = |j: i64| f64::from(img.at(c, j as usize));
+    (a.max(0)..b.min(img.height as i64 - 1) + 1 - gap).any(|j| (v(j + gap) - v(j)).abs() > lim)
 }
 
 /// Whether the emptiest frame shows a line (clutter behind the bubble)
@@ -692,9 +700,7 @@ fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
         (e - ABOVE_FROM_PX).floor() as i64,
     );
     let lim = line_limit(step);
-    let v = |j: i64| f64::from(img.at(c, j as usize));
-    line_in(img, c, a, b, lim)
-        || (a.max(0)..b.min(img.height as i64 - 1) - 1).any(|j| (v(j + 2) - v(j)).abs() > 1.5 * lim)
+    line_in(img, c, a, b, lim) || rows_apart_differ(img, c, (a, b), 2, 1.5 * lim)
 }
 
 /// The first row above an edge at row `e` that [`profile_edge`] reads with
@@ -818,34 +824,36 @@ fn edge_fit_core(
         let candidates = if enough { &unspotted } else { &located };
         // Keep columns whose step has the dome's polarity and about the
         // contrast of most.
-        let Some(pts) = strong_columns(candidates, 5, UPPER_SHARE) else {
+        let Some(strong) = strong_columns(candidates, 5, UPPER_SHARE) else {
             break;
         };
-        // Something on the edge weakened a tenth of its columns or more, or
-        // the dome side turns back under a tenth of those kept (a broad
-        // highlight's flank): then (only, it costs) the rows are tested
-        // against the step model.
-        let turning = pts
-            .iter()
-            .filter(|&&(u, e)| {
-                let step = located.iter().find(|l| l.0 == u).map_or(0.0, |l| l.2);
-                turns_back(cols.img, (u + centre).round() as usize, e, cols.hw, step)
-            })
-            .count();
-        let test = if 10 * (located.len() - pts.len()) >= located.len() {
-            Some(StepTest::Switch)
-        } else if 10 * turning >= pts.len() {
-            Some(StepTest::Widen)
-        } else {
-            None
-        };
+        let pts: Vec<(f64, f64)> = strong.iter().map(|l| (l.0, l.1)).collect();
         let (fit, pts) = robust_parabola(&pts, even)?;
         coef = fit.coef;
         let r = summarise(&fit, &pts, centre, span as f64, false);
-        last = Some((pts, centre, r.x_vertex - centre, test, located));
+        last = Some((pts, centre, r.x_vertex - centre, strong, located));
         result = Some(r);
     }
-    let (pts, centre, u_v, test, located) = last?;
+    let (pts, centre, u_v, strong, located) = last?;
+    // Something on the edge weakened a tenth of its columns or more, or the
+    // dome side turns back under a tenth of the strong ones (a broad
+    // highlight's flank): then (only, it costs) the rows are tested
+    // against the step model.
+    let turning = || {
+        strong
+            .iter()
+            .filter(|&&(u, e, step)| {
+                turns_back(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+            })
+            .count()
+    };
+    let test = if 10 * (located.len() - strong.len()) >= located.len() {
+        Some(StepTest::Switch)
+    } else if 10 * turning() >= strong.len() {
+        Some(StepTest::Widen)
+    } else {
+        None
+    };
     let lined = |&&(u, e, step): &&(f64, f64, f64)| {
         line_above(cols.img, (u + centre).round() as usize, e, cols.hw, step)
     };
@@ -930,8 +938,7 @@ fn spot_below(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     if j0 >= j1 || step == 0.0 {
         return false;
     }
-    // Values turned so that the dome side lies low and the background high.
-    let v = |j: i64| -step.signum() * f64::from(img.at(c, j as usize));
+    let v = |j: i64| turned(img, c, step, j);
     let lim = SPOT_SHARE * step.abs();
     let (mut low, mut rise, mut fell) = (f64::INFINITY, 0.0f64, false);
     let mut peak = f64::NEG_INFINITY;
@@ -980,11 +987,7 @@ fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     if j0 >= j1 || step == 0.0 {
         return false;
     }
-    // Values turned so that the dome side lies low and the background high.
-    let v = |j: i64| {
-        let pair = f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1));
-        -step.signum() * 0.5 * pair
-    };
+    let v = |j: i64| 0.5 * (turned(img, c, step, j) + turned(img, c, step, j + 1));
     let mut low = f64::INFINITY;
     let mut rise = 0.0f64;
     for j in j0..j1 {
@@ -1175,7 +1178,7 @@ fn two_sided_refit(
     Some(TwoSided::Model(fit, kept))
 }
 
-/// The `(column, edge row)` of the located columns whose step has the
+/// The located columns `(column, edge row, step)` whose step has the
 /// dome's polarity (the sign of the summed steps) and at least a quarter of
 /// the median contrast, and at least `upper_share` of the upper quartile's
 /// contrast; `None` when fewer than `min` remain.
@@ -1190,7 +1193,7 @@ fn strong_columns(
     located: &[(f64, f64, f64)],
     min: usize,
     upper_share: f64,
-) -> Option<Vec<(f64, f64)>> {
+) -> Option<Vec<(f64, f64, f64)>> {
     let sign = located.iter().map(|l| l.2).sum::<f64>().signum();
     let mut mags: Vec<f64> = located
         .iter()
@@ -1204,10 +1207,10 @@ fn strong_columns(
     let med = mags[mags.len() / 2];
     let upper = mags[3 * mags.len() / 4];
     let floor = (0.25 * med).max(upper_share * upper);
-    let pts: Vec<(f64, f64)> = located
+    let pts: Vec<(f64, f64, f64)> = located
         .iter()
+        .copied()
         .filter(|l| l.2 * sign > floor)
-        .map(|l| (l.0, l.1))
         .collect();
     (pts.len() >= min).then_some(pts)
 }
@@ -1259,7 +1262,10 @@ pub fn axis_fit_in(
             located.push((c as f64, e, step));
         }
     }
-    let mut pts = strong_columns(&located, 9, 0.0)?;
+    let mut pts: Vec<(f64, f64)> = strong_columns(&located, 9, 0.0)?
+        .iter()
+        .map(|l| (l.0, l.1))
+        .collect();
     let scale = half_span_px.max(1) as f64;
     // Columns far off the even model (a cable or a shelf edge crossing the
     // flanks) are left out as in `robust_parabola`, and the axis found again.
