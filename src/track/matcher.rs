@@ -1060,8 +1060,11 @@ const TAIL_REACHES: usize = 4;
 /// A Hausman test like the step model's ([`two_sided_refit`]): the
 /// parabola is fitted again without the kept columns within a reach
 /// of any left out, for reaches of an eighth, a quarter, three eighths
-/// and half the half-span `span` ([`TAIL_REACHES`]; as long as 8 columns
-/// remain). Without a bias the two fits differ by `D` of variance
+/// and half the half-span `span` ([`TAIL_REACHES`]), as long as half the
+/// kept columns remain (and 8): fits of fewer columns, extrapolated to the
+/// apex, have so large a variance that the largest of the excesses would
+/// be their noise (with 8 columns at the least, a few photos' errors were
+/// widened to 1-2 px, where the error was 0.1 px). Without a bias the two fits differ by `D` of variance
 /// `var D = var(without) - var(all)` (Hausman's identity, the same
 /// residual variance for both), and the largest `D^2 - var D` over the
 /// reaches (not below 0) is returned, to be added to the apex row's
@@ -1094,7 +1097,7 @@ fn tail_bias2(pts: &[(f64, f64)], out: &[f64], span: f64, u_v: f64, even: bool) 
         if far.len() == pts.len() {
             continue;
         }
-        let Some(sub) = parabola(&far, even).filter(|_| far.len() >= 8) else {
+        let Some(sub) = parabola(&far, even).filter(|_| far.len() >= 8.max(pts.len() / 2)) else {
             break;
         };
         let d = at(&sub) - at(&all);
