@@ -891,14 +891,14 @@ fn edge_fit_core(
             .filter(|l| !strong.iter().any(|s| s.0 == l.0))
             .map(|l| l.0)
             .collect();
-        let one_sided = even && one_sided(&kept);
+        let sees_one_side = even && one_sided(&kept);
         tail_bias2(
             &kept,
             &out,
             span as f64,
             r.x_vertex - centre,
             even,
-            one_sided,
+            sees_one_side,
         )
     } else {
         0.0
