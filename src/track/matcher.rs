@@ -1027,29 +1027,29 @@ const MIRROR_MIN_SIDE: usize = 5;
 /// with too few for the mirror test ([`MIRROR_MIN_SIDE`]): the fit then
 /// sees one side only.
 fn one_sided(kept: &[(f64, f64)]) -> bool {
-    let side = |left: bool| {
-        kept.iter()
-            .filter(|p| (p.0 < 0.0) == left && p.0 != 0.0)
-            .count()
-    };
-    side(true).min(side(false)) < MIRROR_MIN_SIDE
+    side(kept, true).count().min(side(kept, false).count()) < MIRROR_MIN_SIDE
+}
+
+/// The columns of `kept` (`u` from the axis) left of the axis (`left`) or
+/// right of it; a column on the axis is on neither side.
+fn side(kept: &[(f64, f64)], left: bool) -> impl Iterator<Item = (f64, f64)> + '_ {
+    kept.iter()
+        .copied()
+        .filter(move |p| (p.0 < 0.0) == left && p.0 != 0.0)
 }
 
 /// The mirror test of an even fit about the axis: the apex row fitted on
 /// each side alone (`u < 0`, `u > 0`, each the even parabola, at least
-/// [`MIRROR_MIN_SIDE`] columns), whose difference `D` a symmetric silhouette makes zero but a
-/// highlight or clutter on one side does not. Returns the squared bias of
+/// [`MIRROR_MIN_SIDE`] columns, [`side`]), whose difference `D` a
+/// symmetric silhouette makes zero but a highlight or clutter on one side
+/// does not. Returns the squared bias of
 /// the joint apex this implies beyond the difference's own variance,
 /// `max(0, (D^2 - var D) / 4)` (half the difference: the joint fit
 /// shares the biased side's columns about equally), 0 when a side has too
 /// few columns.
 fn sides_bias2(kept: &[(f64, f64)]) -> f64 {
-    let side = |left: bool| {
-        let pts: Vec<(f64, f64)> = kept
-            .iter()
-            .copied()
-            .filter(|p| (p.0 < 0.0) == left && p.0 != 0.0)
-            .collect();
+    let apex_of = |left: bool| {
+        let pts: Vec<(f64, f64)> = side(kept, left).collect();
         if pts.len() < MIRROR_MIN_SIDE {
             return None;
         }
@@ -1059,7 +1059,7 @@ fn sides_bias2(kept: &[(f64, f64)]) -> f64 {
             f.cov[0][0] * lag1_inflation(&f.residuals(&pts)).powi(2),
         ))
     };
-    match (side(true), side(false)) {
+    match (apex_of(true), apex_of(false)) {
         (Some((a, va)), Some((b, vb))) => (((a - b).powi(2) - va - vb) / 4.0).max(0.0),
         _ => 0.0,
     }
@@ -1118,15 +1118,7 @@ fn tail_bias2(
     let Some(all) = parabola(pts, even) else {
         return 0.0;
     };
-    let params = if even { 2.0 } else { 3.0 };
-    // A fit's variance at the apex without its own residual variance
-    // (`Parabola::cov` is scaled by it).
-    let unscaled = |f: &Parabola, n: usize| {
-        let s2 = f.rss / (n as f64 - params).max(1.0);
-        f.var_at(u_v) / s2.max(f64::MIN_POSITIVE)
-    };
-    let s2 = all.rss / (pts.len() as f64 - params).max(1.0)
-        * lag1_inflation(&all.residuals(pts)).powi(2);
+    let s2 = all.s2 * lag1_inflation(&all.residuals(pts)).powi(2);
     let at = |f: &Parabola| f.coef[0] + f.coef[1] * u_v + f.coef[2] * u_v * u_v;
     let mut worst = 0.0f64;
     // `var D` at the shortest reach tested.
@@ -1148,7 +1140,7 @@ fn tail_bias2(
             break;
         };
         let d = at(&sub) - at(&all);
-        let var_d = s2 * (unscaled(&sub, far.len()) - unscaled(&all, pts.len())).max(0.0);
+        let var_d = s2 * (sub.unscaled_var_at(u_v) - all.unscaled_var_at(u_v)).max(0.0);
         worst = worst.max(d * d - var_d);
         nearest.get_or_insert(var_d);
     }
@@ -1551,11 +1543,20 @@ struct Parabola {
     /// (X^T X)^-1 scaled by the residual variance.
     cov: [[f64; 3]; 3],
     rss: f64,
+    /// The residual variance, `rss` over the degrees of freedom (at least
+    /// 1).
+    s2: f64,
 }
 
 impl Parabola {
     fn var_at(&self, u: f64) -> f64 {
         quad_form(&self.cov, &[1.0, u, u * u])
+    }
+
+    /// [`Parabola::var_at`] without the residual variance: for comparing
+    /// fits of the same points' subsets under one variance.
+    fn unscaled_var_at(&self, u: f64) -> f64 {
+        self.var_at(u) / self.s2.max(f64::MIN_POSITIVE)
     }
 
     /// `y - fit(u)` of each point.
@@ -1649,6 +1650,7 @@ fn parabola(pts: &[(f64, f64)], even: bool) -> Option<Parabola> {
         coef: [c[0], c[1], c[2]],
         cov,
         rss,
+        s2,
     })
 }
 
