@@ -36,6 +36,7 @@ pub fn annotated_png(
     marks: &Marks,
     max_width_px: usize,
 ) -> Result<Vec<u8>, TrackError> {
+    super::image::opencv_serial().map_err(cv)?;
     let bytes = std::fs::read(path).map_err(|e| TrackError::Unreadable {
         path: path.to_path_buf(),
         reason: e.to_string(),
@@ -162,6 +163,7 @@ pub fn init_png(
     found: &super::init::Found,
     max_width_px: usize,
 ) -> Result<Vec<u8>, TrackError> {
+    super::image::opencv_serial().map_err(cv)?;
     let img = match frames {
         super::init::Frames::Photos(p) => {
             let path = &p[i];

@@ -9,6 +9,24 @@ use opencv::imgcodecs;
 
 use super::TrackError;
 
+/// Sets OpenCV's own thread pool to one thread, once per process, before
+/// this crate's first OpenCV call; every OpenCV entry of the crate passes
+/// here first.
+///
+/// bulge runs its OpenCV calls on several threads of its own (rayon decodes
+/// the photos in parallel, and a program may track several experiments at
+/// once), so OpenCV's pool would only compete with them for the cores. The
+/// setting is made once because it is not safe to make concurrently: with
+/// OpenCV's TBB back-end, `cv::setNumThreads` tears down and rebuilds a
+/// process-wide task arena, and two threads doing so at once, or one doing
+/// so while another runs a parallel loop in it, crash the process.
+pub(crate) fn opencv_serial() -> Result<(), opencv::Error> {
+    static SET: std::sync::OnceLock<Result<(), (i32, String)>> = std::sync::OnceLock::new();
+    SET.get_or_init(|| opencv::core::set_num_threads(1).map_err(|e| (e.code, e.message)))
+        .clone()
+        .map_err(|(code, message)| opencv::Error::new(code, message))
+}
+
 /// An 8-bit grayscale image (or a crop of one), row-major.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gray {
@@ -44,6 +62,7 @@ impl Gray {
 
     /// Borrows the image as an OpenCV `Mat` header (no copy).
     pub(crate) fn as_mat(&self) -> Result<opencv::boxed_ref::BoxedRef<'_, Mat>, opencv::Error> {
+        opencv_serial()?;
         Mat::new_rows_cols_with_data(self.height as i32, self.width as i32, &self.data)
     }
 }
@@ -196,6 +215,7 @@ pub(crate) fn crop_mat(path: &Path, mat: &Mat, roi: [usize; 4]) -> Result<Decode
 
 /// The bare decode (what the benchmark calls "decoding alone").
 pub fn decode_mat(bytes: &[u8]) -> Result<Mat, opencv::Error> {
+    opencv_serial()?;
     imgcodecs::imdecode(&bytes, imgcodecs::IMREAD_GRAYSCALE)
 }
 

@@ -878,6 +878,7 @@ pub fn write_video(
     use opencv::videoio::{self, VideoWriter, VideoWriterTrait, VideoWriterTraitConst};
     use rayon::prelude::*;
     let cv = |e: opencv::Error| TrackError::OpenCv(e.to_string());
+    super::image::opencv_serial().map_err(cv)?;
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())

@@ -382,6 +382,50 @@ fn written_and_tracked(
     (track(&setup, &opts, &|| {}), w.truth)
 }
 
+/// Several experiments tracked at once, each on threads of its own (as a
+/// program tracking several folders does): every run gives exactly what
+/// the experiment gives alone. OpenCV's thread count is a process-wide
+/// setting, made once; made by every run, two runs setting it at the same
+/// moment crashed the process.
+#[test]
+fn experiments_tracked_at_once_give_what_each_gives_alone() {
+    let dirs: Vec<_> = [121u64, 122]
+        .iter()
+        .map(|&seed| {
+            let dir = tempfile::tempdir().unwrap();
+            let s = spec(seed, 1.0, 2.0, image::Encoding::Png);
+            let frames = synth::cap_frames(s.specimen.radius_m, 0.5 * s.specimen.radius_m, 6);
+            synth::write_sequence(dir.path(), &s, &frames).unwrap();
+            dir
+        })
+        .collect();
+    let run = |dir: &Path| {
+        let e = Experiment::read(dir.join("experiment.toml")).unwrap();
+        let setup = setup_from_experiment(&e).unwrap();
+        track(&setup, &Options::default(), &|| {}).unwrap()
+    };
+    let alone: Vec<Tracked> = dirs.iter().map(|d| run(d.path())).collect();
+    assert!(alone.iter().all(|t| t.rows.len() == 6));
+    std::thread::scope(|scope| {
+        let runs: Vec<_> = (0..4)
+            .map(|k| {
+                let dir = dirs[k % 2].path();
+                scope.spawn(move || (k % 2, (0..3).map(|_| run(dir)).collect::<Vec<_>>()))
+            })
+            .collect();
+        for r in runs {
+            let (i, tracked) = r.join().unwrap();
+            for t in tracked {
+                assert_eq!(
+                    t.rows, alone[i].rows,
+                    "experiment {i} tracked beside others"
+                );
+                assert_eq!(t.skipped, alone[i].skipped, "experiment {i}");
+            }
+        }
+    });
+}
+
 /// Clutter and gloss: every frame is either tracked within its stated
 /// uncertainty (4 standard deviations; none silently wrong) or left out
 /// with the reason; over the tracked frames of three seeds the apex row is

@@ -55,6 +55,7 @@ fn open(path: &Path) -> Result<VideoCapture, TrackError> {
         Ok(_) => return Err(unreadable("it is not a file".into())),
         Err(e) => return Err(unreadable(e.to_string())),
     }
+    super::image::opencv_serial().map_err(cv)?;
     let name = path.to_str().ok_or_else(|| {
         unreadable("the path is not valid UTF-8, which OpenCV's video module needs".into())
     })?;
