@@ -60,12 +60,18 @@ fn open(path: &Path) -> Result<VideoCapture, TrackError> {
         unreadable("the path is not valid UTF-8, which OpenCV's video module needs".into())
     })?;
     // The back-ends that fail to open a file log their own exceptions; what
-    // a user needs is the one message below.
-    let level = opencv::core::set_log_level(opencv::core::LogLevel::LOG_LEVEL_SILENT);
-    let cap = VideoCapture::from_file(name, videoio::CAP_ANY);
-    if let Ok(l) = level {
-        let _ = opencv::core::set_log_level(l);
-    }
+    // a user needs is the one message below. The log level is OpenCV's, for
+    // the whole process: one open at a time silences it and puts it back.
+    static QUIET: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let cap = {
+        let _one = QUIET.lock().unwrap_or_else(|e| e.into_inner());
+        let level = opencv::core::set_log_level(opencv::core::LogLevel::LOG_LEVEL_SILENT);
+        let cap = VideoCapture::from_file(name, videoio::CAP_ANY);
+        if let Ok(l) = level {
+            let _ = opencv::core::set_log_level(l);
+        }
+        cap
+    };
     let cap = cap.map_err(cv)?;
     if !cap.is_opened().map_err(cv)? {
         return Err(unreadable(
