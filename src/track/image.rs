@@ -16,10 +16,10 @@ use super::TrackError;
 /// bulge runs its OpenCV calls on several threads of its own (rayon decodes
 /// the photos in parallel, and a program may track several experiments at
 /// once), so OpenCV's pool would only compete with them for the cores. The
-/// setting is made once because it is not safe to make concurrently: with
-/// OpenCV's TBB back-end, `cv::setNumThreads` tears down and rebuilds a
-/// process-wide task arena, and two threads doing so at once, or one doing
-/// so while another runs a parallel loop in it, crash the process.
+/// setting is made once, before any other OpenCV call of the crate, because
+/// it is not safe to make concurrently: with OpenCV's TBB back-end,
+/// `cv::setNumThreads` tears down and rebuilds a process-wide task arena,
+/// and two threads doing so at once crash the process.
 pub(crate) fn opencv_serial() -> Result<(), opencv::Error> {
     static SET: std::sync::OnceLock<Result<(), (i32, String)>> = std::sync::OnceLock::new();
     SET.get_or_init(|| opencv::core::set_num_threads(1).map_err(|e| (e.code, e.message)))
