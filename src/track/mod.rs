@@ -6,7 +6,9 @@
 //! height in metres. Here:
 //!
 //! 1. every photo is decoded to grayscale (in parallel, rayon) and cropped to
-//!    the region `roi_px`;
+//!    the region `roi_px`; OpenCV's own thread pool is set to one thread, for
+//!    the whole process, at this module's first OpenCV call (a program that
+//!    sets OpenCV's thread count itself should do so after it);
 //! 2. the template is matched with OpenCV's `TM_CCOEFF_NORMED`, only in a
 //!    window around the position predicted from the last two frames, widened
 //!    to the whole region when the score is poor;
