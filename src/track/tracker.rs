@@ -28,9 +28,6 @@ pub fn track(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Tracked, TrackError> {
-    // The photos are decoded in parallel by rayon; OpenCV's own thread pool
-    // would only compete with it for the cores.
-    super::image::opencv_serial().map_err(|e| TrackError::OpenCv(e.to_string()))?;
     let n = setup.frames.len();
     let r = setup.roi;
     let roi_req = (r[0] >= 0 && r[1] >= 0 && r[2] > 0 && r[3] > 0)
