@@ -222,18 +222,23 @@ fn region_and_template_are_checked_against_the_image() {
     );
 }
 
+/// The experiment that `synth::write_sequence` wrote into `dir`, tracked
+/// with `opts`.
+fn tracked_in(dir: &Path, opts: &Options) -> Result<Tracked, TrackError> {
+    let e = Experiment::read(dir.join("experiment.toml")).unwrap();
+    track(&setup_from_experiment(&e).unwrap(), opts, &|| {})
+}
+
 /// Writes a cap sequence, tracks it, returns the apex errors.
 fn accuracy(spec: &synth::SequenceSpec, n: usize, refine: Refine) -> synth::ApexErrors {
     let dir = tempfile::tempdir().unwrap();
     let frames = synth::cap_frames(spec.specimen.radius_m, 0.6 * spec.specimen.radius_m, n);
     let w = synth::write_sequence(dir.path(), spec, &frames).unwrap();
-    let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
-    let setup = setup_from_experiment(&e).unwrap();
     let opts = Options {
         refine,
         ..Options::default()
     };
-    let t = track(&setup, &opts, &|| {}).unwrap();
+    let t = tracked_in(dir.path(), &opts).unwrap();
     assert_eq!(t.rows.len(), n);
     if std::env::var_os("BULGE_TRACK_DEBUG").is_some() {
         for (r, tr) in t.rows.iter().zip(&w.truth) {
@@ -373,13 +378,11 @@ fn written_and_tracked(
 ) -> (Result<Tracked, TrackError>, Vec<synth::Truth>) {
     let dir = tempfile::tempdir().unwrap();
     let w = synth::write_sequence(dir.path(), s, frames).unwrap();
-    let e = Experiment::read(dir.path().join("experiment.toml")).unwrap();
-    let setup = setup_from_experiment(&e).unwrap();
     let opts = Options {
         skip_bad_frames: skip,
         ..Options::default()
     };
-    (track(&setup, &opts, &|| {}), w.truth)
+    (tracked_in(dir.path(), &opts), w.truth)
 }
 
 /// Several experiments tracked at once, each on threads of its own (as a
@@ -399,11 +402,7 @@ fn experiments_tracked_at_once_give_what_each_gives_alone() {
             dir
         })
         .collect();
-    let run = |dir: &Path| {
-        let e = Experiment::read(dir.join("experiment.toml")).unwrap();
-        let setup = setup_from_experiment(&e).unwrap();
-        track(&setup, &Options::default(), &|| {}).unwrap()
-    };
+    let run = |dir: &Path| tracked_in(dir, &Options::default()).unwrap();
     let alone: Vec<Tracked> = dirs.iter().map(|d| run(d.path())).collect();
     assert!(alone.iter().all(|t| t.rows.len() == 6));
     std::thread::scope(|scope| {
