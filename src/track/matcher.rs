@@ -1094,7 +1094,7 @@ const TAIL_REACHES: usize = 4;
 /// their noise: with 8 columns at the least, photos 0.01-0.14 px off were
 /// given 0.4-2 px.
 ///
-/// Where the fit sees one side of the axis only (`one_sided`: an even fit
+/// Where the fit sees one side of the axis only (`sees_one_side`: an even fit
 /// whose mirror test cannot be made, [`one_sided`]), the columns beyond
 /// the spot's reach may be too few for this test to tell a bias from
 /// noise, and nothing else tests it: then at least `var D` at the
@@ -1110,7 +1110,7 @@ fn tail_bias2(
     span: f64,
     u_v: f64,
     even: bool,
-    one_sided: bool,
+    sees_one_side: bool,
 ) -> f64 {
     if out.is_empty() {
         return 0.0;
@@ -1145,7 +1145,7 @@ fn tail_bias2(
         nearest.get_or_insert(var_d);
     }
     match nearest {
-        Some(var_d) if one_sided => worst.max(var_d),
+        Some(var_d) if sees_one_side => worst.max(var_d),
         _ => worst,
     }
 }
