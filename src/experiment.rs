@@ -363,6 +363,24 @@ impl CalibrationConfig {
     }
 }
 
+/// `[camera]`: what the camera does to the light before the photo is written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct CameraConfig {
+    /// The tone curve from light to pixel values: `"srgb"` (the default:
+    /// ordinary 8-bit photos), `"linear"` (raw or 16-bit photos), or a gamma
+    /// such as 2.2. Edges are located in linear light.
+    #[serde(default)]
+    pub response: Option<crate::camera::Response>,
+}
+
+impl CameraConfig {
+    /// The tone curve (sRGB when not given).
+    pub fn response(&self) -> crate::camera::Response {
+        self.response.unwrap_or_default()
+    }
+}
+
 /// `[pressure]`: the pressure log, joined per photo (columns
 /// `file,pressure_pa`) or by time (columns `time_s,pressure_pa`, interpolated
 /// linearly at each frame's time).
@@ -403,6 +421,9 @@ pub struct Experiment {
     /// Pressure log (needed by `track`).
     #[serde(default)]
     pub pressure: Option<PressureConfig>,
+    /// The camera (default: an 8-bit camera with the sRGB tone curve).
+    #[serde(default)]
+    pub camera: Option<CameraConfig>,
     /// The clamped opening (default the circle of the specimen's radius).
     #[serde(default)]
     pub window: Window,

@@ -55,6 +55,7 @@
 #![warn(missing_docs)]
 
 pub mod axisym;
+pub mod camera;
 pub mod experiment;
 pub mod fit;
 pub mod io;

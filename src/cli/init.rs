@@ -87,6 +87,13 @@ pub struct Args {
     #[arg(long)]
     pub elevation_deg: Option<f64>,
 
+    /// The camera's tone curve from light to grey levels: `srgb` (ordinary
+    /// 8-bit JPEG or PNG photos), `linear` (raw or linearised photos), or a
+    /// gamma such as 2.2. Edges are located in light; the experiment file
+    /// keeps it as `[camera] response`.
+    #[arg(long, default_value = "srgb", value_parser = parse_response)]
+    pub response: bulge::camera::Response,
+
     /// Where to draw what was found (default: init.png beside the
     /// experiment file).
     #[arg(long)]
@@ -95,6 +102,10 @@ pub struct Args {
     /// Replace an existing experiment file (never one of the inputs).
     #[arg(long)]
     pub force: bool,
+}
+
+fn parse_response(s: &str) -> Result<bulge::camera::Response, String> {
+    s.parse()
 }
 
 /// `path` relative to the folder `base` (both made absolute), with `/`.
@@ -264,6 +275,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         metres_per_pixel: args.metres_per_pixel.or(points
             .map(|(p, d)| d / ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())),
         elevation_deg: args.elevation_deg,
+        response: args.response,
     };
     let found = init::find_in(&frames, args.radius_m, given).map_err(|e: TrackError| {
         if e.is_bad_input() {

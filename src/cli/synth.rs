@@ -133,6 +133,14 @@ pub struct Args {
     #[arg(long)]
     pub clutter: bool,
 
+    /// The camera's tone curve: the scene's light is blurred by the lens,
+    /// scaled by the exposure and the uneven light, then encoded by this
+    /// curve (`srgb`, the default, as an ordinary camera; `linear`, pixel
+    /// values proportional to light; or a gamma such as 2.2). The
+    /// experiment file says it in `[camera] response`.
+    #[arg(long, default_value = "srgb", value_parser = parse_response)]
+    pub response: bulge::camera::Response,
+
     /// Gaussian blur standard deviation, px (default 0).
     #[arg(long, default_value_t = 0.0)]
     pub blur_px: f64,
@@ -185,6 +193,10 @@ pub struct Args {
 }
 
 /// Runs `bulge synth`.
+fn parse_response(s: &str) -> Result<bulge::camera::Response, String> {
+    s.parse()
+}
+
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_folder(&args.out_dir, "OUT_DIR")?;
     let plan = bulge::io::OutputPlan::new().inputs(&args.material);
@@ -411,6 +423,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             uneven_light: args.uneven_light,
             highlight_grey: args.highlight_grey,
             clutter: args.clutter,
+            response: args.response,
         },
         window,
     };

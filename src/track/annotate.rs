@@ -334,6 +334,7 @@ mod tests {
             width: 200,
             height: 100,
             data: vec![128; 200 * 100],
+            tone: crate::track::image::Tone::LINEAR,
         };
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("f.png");

@@ -40,6 +40,8 @@ pub(super) fn match_frames(
             }
         }
     };
+    // Every crop is read through the camera's tone curve (edges in light).
+    let tone = image::Tone::of(setup.response);
     let full = take(setup.reference_frame)?;
     let (width, height) = (full.width, full.height);
     // The reference arrives cropped to `reference_box` (or whole).
@@ -55,7 +57,10 @@ pub(super) fn match_frames(
             full.crop.crop(x - bx, y - by, w, h)
         }
     };
-    let ref_crop = full.crop.crop(roi[0] - bx, roi[1] - by, roi[2], roi[3]);
+    let ref_crop = full
+        .crop
+        .crop(roi[0] - bx, roi[1] - by, roi[2], roi[3])
+        .with_tone(tone);
     // The frames where the bubble is largest (the highest pressure, the
     // last of equals) and smallest (the lowest, the first of equals),
     // decoded once more up front: every other frame's edge is checked
@@ -72,7 +77,7 @@ pub(super) fn match_frames(
         match (&setup.video, k == setup.reference_frame) {
             (None, false) => decode_frame(&setup.frames[k].path, Some(roi))
                 .ok()
-                .map(|d| d.crop),
+                .map(|d| d.crop.with_tone(tone)),
             (None, true) => Some(ref_crop.clone()),
             _ => None,
         }
@@ -170,7 +175,7 @@ pub(super) fn match_frames(
                     ref_height: height,
                 });
             }
-            crop_owned = dec.crop;
+            crop_owned = dec.crop.with_tone(tone);
             &crop_owned
         };
         let t0 = std::time::Instant::now();

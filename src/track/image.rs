@@ -27,6 +27,54 @@ pub(crate) fn opencv_serial() -> Result<(), opencv::Error> {
         .map_err(|(code, message)| opencv::Error::new(code, message))
 }
 
+/// The light of each 8-bit grey level on the same 0-255 scale (the camera's
+/// tone curve inverted, [`crate::camera::Response`]), or none when grey
+/// levels are light already.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Tone(Option<&'static [f32; 256]>);
+
+impl Tone {
+    /// Grey levels are light (a linear camera, or a drawn test image).
+    pub const LINEAR: Tone = Tone(None);
+
+    /// The table of a tone curve (built once per curve and process).
+    pub fn of(r: crate::camera::Response) -> Tone {
+        use crate::camera::Response;
+        static SRGB: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
+        static GAMMAS: std::sync::Mutex<Vec<(u64, &'static [f32; 256])>> =
+            std::sync::Mutex::new(Vec::new());
+        if r.is_linear() {
+            return Tone::LINEAR;
+        }
+        match r {
+            Response::Srgb => Tone(Some(SRGB.get_or_init(|| r.table_8bit()))),
+            _ => {
+                // A process sees a handful of gammas: each table is kept.
+                let key = match r {
+                    Response::Gamma(g) => g.to_bits(),
+                    _ => 0,
+                };
+                let mut g = GAMMAS.lock().unwrap_or_else(|e| e.into_inner());
+                if let Some((_, t)) = g.iter().find(|(k, _)| *k == key) {
+                    return Tone(Some(t));
+                }
+                let t: &'static [f32; 256] = Box::leak(Box::new(r.table_8bit()));
+                g.push((key, t));
+                Tone(Some(t))
+            }
+        }
+    }
+
+    /// The light of grey level `v`, 0-255.
+    #[inline]
+    pub fn light(self, v: u8) -> f64 {
+        match self.0 {
+            None => f64::from(v),
+            Some(t) => f64::from(t[v as usize]),
+        }
+    }
+}
+
 /// An 8-bit grayscale image (or a crop of one), row-major.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Gray {
@@ -36,13 +84,38 @@ pub struct Gray {
     pub height: usize,
     /// `width * height` grey levels, row-major.
     pub data: Vec<u8>,
+    /// The camera's tone curve: edges are located on [`Gray::light`].
+    pub tone: Tone,
 }
 
 impl Gray {
+    /// An image whose grey levels are light ([`Tone::LINEAR`]).
+    pub fn new(width: usize, height: usize, data: Vec<u8>) -> Gray {
+        Gray {
+            width,
+            height,
+            data,
+            tone: Tone::LINEAR,
+        }
+    }
+
     /// A grey level (no bounds check beyond the slice's).
     #[inline]
     pub fn at(&self, x: usize, y: usize) -> u8 {
         self.data[y * self.width + x]
+    }
+
+    /// The light at a pixel, on the 0-255 scale of grey levels (the grey
+    /// level through the inverted tone curve).
+    #[inline]
+    pub fn light(&self, x: usize, y: usize) -> f64 {
+        self.tone.light(self.data[y * self.width + x])
+    }
+
+    /// The same image with grey levels read through `tone`.
+    pub fn with_tone(mut self, tone: Tone) -> Gray {
+        self.tone = tone;
+        self
     }
 
     /// A copy of the rectangle `[x, y, w, h]`, which must lie inside.
@@ -57,6 +130,7 @@ impl Gray {
             width: w,
             height: h,
             data,
+            tone: self.tone,
         }
     }
 
@@ -177,6 +251,7 @@ pub(crate) fn crop_lenient(
                 width: 0,
                 height: 0,
                 data: Vec::new(),
+                tone: Tone::LINEAR,
             },
         }),
     }
@@ -209,6 +284,7 @@ pub(crate) fn crop_mat(path: &Path, mat: &Mat, roi: [usize; 4]) -> Result<Decode
             width: w,
             height: h,
             data,
+            tone: Tone::LINEAR,
         },
     })
 }

@@ -77,6 +77,8 @@ pub struct Given {
     pub metres_per_pixel: Option<f64>,
     /// The camera's elevation above the clamp plane, degrees.
     pub elevation_deg: Option<f64>,
+    /// The camera's tone curve (edges are located in light).
+    pub response: crate::camera::Response,
 }
 
 /// Where the scale came from.
@@ -95,6 +97,8 @@ pub struct Found {
     pub width: usize,
     /// Photo size, px.
     pub height: usize,
+    /// The camera's tone curve the photos were read through.
+    pub response: crate::camera::Response,
     /// The bubble's axis, image column.
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
@@ -145,7 +149,7 @@ impl Plane {
         Plane {
             w: g.width,
             h: g.height,
-            v: g.data.iter().map(|&b| f32::from(b)).collect(),
+            v: g.data.iter().map(|&b| g.tone.light(b) as f32).collect(),
         }
     }
 
@@ -1027,7 +1031,13 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         });
     }
     let (first_path, last_path) = (frames.path(0), frames.path(n - 1));
-    let (first, last) = rayon::join(|| frames.gray(0), || frames.gray(n - 1));
+    // Edges are located in light: every photo is read through the camera's
+    // tone curve.
+    let tone = super::image::Tone::of(given.response);
+    let (first, last) = rayon::join(
+        || frames.gray(0).map(|g| g.with_tone(tone)),
+        || frames.gray(n - 1).map(|g| g.with_tone(tone)),
+    );
     let (first, last) = (first?, last?);
     if (first.width, first.height) != (last.width, last.height) {
         return Err(TrackError::MixedSizes {
@@ -1146,6 +1156,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         lo..hi
     };
     let per_photo: Vec<(Vec<f64>, Vec<f32>)> = frames.map(|i, d| {
+        let d = d.with_tone(tone);
         if (d.width, d.height) != (w, h) {
             return Err(TrackError::MixedSizes {
                 path: frames.path(i).to_path_buf(),
@@ -1157,11 +1168,11 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             });
         }
         let profile = (0..h)
-            .map(|y| band.iter().map(|&x| f64::from(d.at(x, y))).sum::<f64>() / bw as f64)
+            .map(|y| band.iter().map(|&x| d.light(x, y)).sum::<f64>() / bw as f64)
             .collect();
         let rows = d.data[band_rows.start * w..band_rows.end * w]
             .iter()
-            .map(|&v| f32::from(v))
+            .map(|&v| tone.light(v) as f32)
             .collect();
         Ok((profile, rows))
     })?;
@@ -1318,7 +1329,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     let ref_img = match reference_frame {
         0 => first,
         k if k == n - 1 => last,
-        k => frames.gray(k)?,
+        k => frames.gray(k)?.with_tone(tone),
     };
     let guess = apexes_px[reference_frame];
     let mut cols = Columns::new(&ref_img, 3);
@@ -1363,6 +1374,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     Ok(Found {
         width: w,
         height: h,
+        response: given.response,
         axis_x_px,
         clamp_row_px: clamp.row,
         elevation_deg,
@@ -1452,6 +1464,12 @@ impl Found {
             self.reference_frame,
             l.apex_in_template_px[0],
             l.apex_in_template_px[1],
+        ));
+        t.push_str(&format!(
+            "[camera]\n# the tone curve from light to grey levels: edges are located in light\n\
+             # (\"srgb\" for ordinary 8-bit photos, \"linear\" for raw ones, or a gamma)\n\
+             response = {}\n\n",
+            toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string())
         ));
         t.push_str("[calibration]\n");
         match (&src.points, self.scale_from) {

@@ -101,6 +101,7 @@ fn init_is_not_misled_by_clutter_and_gloss() {
                     highlight_grey: 80.0,
                     uneven_light: 0.3,
                     elevation_deg: 0.0,
+                    ..Default::default()
                 },
             );
             (seed, s)
@@ -173,6 +174,7 @@ fn a_highlight_against_the_edge_is_tracked_within_its_uncertainty() {
         highlight_grey: 80.0,
         uneven_light: 0.3,
         elevation_deg: 0.0,
+        ..Default::default()
     };
     let (mut sum2, mut n, mut total, mut two_sided) = (0.0, 0usize, 0usize, 0usize);
     for seed in 251..=253 {
@@ -250,6 +252,7 @@ fn a_rolled_camera_is_measured_or_refused_by_name() {
                     width: g.width,
                     height: g.height,
                     data: out.data_bytes().unwrap().to_vec(),
+                    tone: crate::track::image::Tone::LINEAR,
                 };
                 let path = sub.join(p.file_name().unwrap()).with_extension("png");
                 std::fs::write(&path, image::encode(&r, image::Encoding::Png).unwrap()).unwrap();

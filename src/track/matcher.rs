@@ -74,6 +74,7 @@ pub fn reduce(img: &Gray, f: usize) -> Result<Gray, TrackError> {
         width: w,
         height: h,
         data: vec![0u8; w * h],
+        tone: img.tone,
     };
     if w == 0 || h == 0 {
         return Ok(out);
@@ -177,13 +178,40 @@ pub struct EdgeSettings {
 /// non-zero differences give the exact edge; under symmetric blur the
 /// centred window keeps it unbiased. Returns the row and the step (sum of the
 /// weighted differences, grey levels).
+///
+/// The row is located in light (the grey levels through the inverted tone
+/// curve: a lens blurs light, so only there is the blurred step odd about
+/// the edge); the step is the grey levels' (the tests that read the photo
+/// against it, for lines, spots and clutter, compare grey levels, whose
+/// noise is even across the range).
 fn column_edge(img: &Gray, c: usize, start: f64, hw: f64) -> Option<(f64, f64)> {
-    profile_edge(
+    in_light(
+        img,
+        |j| img.light(c, j as usize),
         |j| f64::from(img.at(c, j as usize)),
-        img.height as i64,
         start,
         hw,
+        true,
     )
+}
+
+/// The edge row of a profile located on its light `light`, with the step
+/// of its grey levels `grey` there ([`column_edge`]).
+fn in_light(
+    img: &Gray,
+    light: impl Fn(i64) -> f64,
+    grey: impl Fn(i64) -> f64,
+    start: f64,
+    hw: f64,
+    slopes: bool,
+) -> Option<(f64, f64)> {
+    let len = img.height as i64;
+    let (e, step) = profile_edge_with(light, len, start, hw, slopes)?;
+    if img.tone == crate::track::image::Tone::LINEAR {
+        return Some((e, step));
+    }
+    let (_, step) = profile_edge_with(grey, len, e, hw, slopes)?;
+    Some((e, step))
 }
 
 /// [`column_edge`] along any profile of `len` samples `px(0..len)`: a
@@ -469,9 +497,10 @@ impl<'a> Columns<'a> {
             (false, _) => Some((e, step)),
             (true, true) => None,
             (true, false) => {
-                let d = profile_edge_with(
+                let d = in_light(
+                    self.img,
                     difference(self.img, f, c),
-                    self.img.height as i64,
+                    grey_difference(self.img, f, c),
                     e,
                     self.hw,
                     false,
@@ -498,7 +527,7 @@ impl<'a> Columns<'a> {
             .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
         {
             Some(f) => step_model_edge(difference(img, f, c), len, e),
-            None => step_model_edge(|j| f64::from(img.at(c, j as usize)), len, e),
+            None => step_model_edge(|j| img.light(c, j as usize), len, e),
         };
         self.model[c] = Some((e, m));
         m
@@ -566,6 +595,11 @@ fn turned(img: &Gray, c: usize, step: f64, j: i64) -> f64 {
 /// Column `c` of `img` less the same column of `emptiest`, as a profile
 /// for [`profile_edge_with`] or [`step_model_edge`]: static clutter cancels.
 fn difference<'i>(img: &'i Gray, emptiest: &'i Gray, c: usize) -> impl Fn(i64) -> f64 + 'i {
+    move |j| img.light(c, j as usize) - emptiest.light(c, j as usize)
+}
+
+/// [`difference`] of the grey levels.
+fn grey_difference<'i>(img: &'i Gray, emptiest: &'i Gray, c: usize) -> impl Fn(i64) -> f64 + 'i {
     move |j| f64::from(img.at(c, j as usize)) - f64::from(emptiest.at(c, j as usize))
 }
 
@@ -1683,6 +1717,7 @@ mod tests {
             width: w,
             height: h,
             data: (0..w * h).map(|i| ((i * 7919) % 251) as u8).collect(),
+            tone: crate::track::image::Tone::LINEAR,
         };
         for f in [2usize, 3] {
             let r = reduce(&img, f).unwrap();
@@ -1814,6 +1849,7 @@ mod tests {
             width: w,
             height: h,
             data,
+            tone: crate::track::image::Tone::LINEAR,
         };
         let fit = edge_fit(
             &img,
@@ -1830,6 +1866,57 @@ mod tests {
             (fit.curvature - 2.0 * k).abs() < 1e-3,
             "curvature {}",
             fit.curvature
+        );
+    }
+
+    /// A camera blurs light and then encodes it with its tone curve: the
+    /// blurred step in light is odd about the edge, so its halfway level
+    /// is on the edge; the encoded step is not. A dome edge (a dark dome,
+    /// grey 72, on a light wall, grey 190, as encoded levels) blurred by a
+    /// Gaussian of 1.5 px in light and written through the sRGB curve is
+    /// found within 0.03 px when read back through the curve, and a fifth
+    /// of a pixel off (towards the dark side) when its grey levels are
+    /// taken for light.
+    #[test]
+    fn an_edge_written_through_the_srgb_curve_is_found_in_light() {
+        use crate::camera::Response;
+        let (w, h) = (90usize, 60usize);
+        let (xa, y0, k) = (45.2, 28.63, 0.003);
+        let srgb = Response::Srgb;
+        let (wall, dome_l) = (srgb.to_linear(190.0 / 255.0), srgb.to_linear(72.0 / 255.0));
+        let mut data = vec![0u8; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let mut cov = 0.0;
+                for sx in 0..8 {
+                    let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 8.0;
+                    let e = y0 + k * (xs - xa).powi(2);
+                    for sy in 0..8 {
+                        let ys = y as f64 - 0.5 + (sy as f64 + 0.5) / 8.0;
+                        cov += normal_cdf((ys - e) / 1.5) / 64.0;
+                    }
+                }
+                let light = wall + (dome_l - wall) * cov;
+                data[y * w + x] = (255.0 * srgb.encode(light)).round() as u8;
+            }
+        }
+        let settings = EdgeSettings {
+            half_span_px: 20,
+            half_window_px: 6,
+        };
+        let img = Gray::new(w, h, data);
+        let as_pixels = edge_fit(&img, 45.0, 29.0, settings).unwrap();
+        let img = img.with_tone(crate::track::image::Tone::of(srgb));
+        let in_light = edge_fit(&img, 45.0, 29.0, settings).unwrap();
+        assert!(
+            (in_light.y - y0).abs() < 0.03,
+            "in light: apex row {} vs {y0}",
+            in_light.y
+        );
+        assert!(
+            as_pixels.y - y0 > 0.15,
+            "grey levels taken for light: apex row {} vs {y0}",
+            as_pixels.y
         );
     }
 
@@ -1861,6 +1948,7 @@ mod tests {
             width: w,
             height: h,
             data,
+            tone: crate::track::image::Tone::LINEAR,
         }
     }
 
@@ -2059,6 +2147,7 @@ mod tests {
                 width: 1,
                 height: 60,
                 data,
+                tone: crate::track::image::Tone::LINEAR,
             }
         };
         let with = column(60.0);
@@ -2087,6 +2176,7 @@ mod tests {
                     .enumerate()
                     .map(|(j, v)| (v + under(j as f64)).round().clamp(0.0, 255.0) as u8)
                     .collect(),
+                tone: crate::track::image::Tone::LINEAR,
             }
         };
         let found = |img: &Gray| {

@@ -260,6 +260,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
         video,
         reference_frame: photos.reference_frame,
         apex_in_template: photos.apex_in_template_px,
+        response: e.camera.as_ref().map(|c| c.response()).unwrap_or_default(),
         calibration: Calibration {
             metres_per_pixel: scale,
             origin,

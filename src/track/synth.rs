@@ -199,6 +199,9 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     let (fix_back, fix_front) = look::fixture_rows(scene, fixture_half);
     let highlight = look::Highlight::new(scene, s);
     let lk = scene.look;
+    let tone = lk.response;
+    let light = |v: f64| 255.0 * tone.to_linear(v.clamp(0.0, 255.0) / 255.0);
+    let encode = |l: f64| 255.0 * tone.encode(l.max(0.0) / 255.0);
     let mut img = vec![0.0f64; w * h];
     for y in 0..h {
         let yf = y as f64;
@@ -222,7 +225,9 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
                 FIXTURE
             };
             let fixture_cov = below * in_fixture;
-            let base = bg * (1.0 - fixture_cov) + fix_level * fixture_cov;
+            // Levels are the encoded values of the scene's light; a pixel
+            // partly covered sums the light of its parts.
+            let base = light(bg) * (1.0 - fixture_cov) + light(fix_level) * fixture_cov;
             // Bubble: matte shading darker towards the rim, a soft highlight
             // below the apex.
             let c = cov[y * w + x];
@@ -234,7 +239,7 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
                 if let Some(hl) = &highlight {
                     shade += hl.at(xf, yf);
                 }
-                base * (1.0 - c) + shade * c
+                base * (1.0 - c) + light(shade) * c
             } else {
                 base
             };
@@ -247,22 +252,27 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     if d.blur_px > 0.0 {
         gaussian_blur(&mut img, w, h, d.blur_px);
     }
+    // The exposure scales the light; the tone curve encodes it. The sensor
+    // noise is added to the encoded values: photon noise, whose deviation
+    // grows as the square root of the light, comes out of the sRGB curve
+    // (a 1/2.4 power) nearly even across grey levels.
     let mut rng = Rng::new(noise_seed);
     let data = img
         .iter()
-        .map(|&v| {
+        .map(|&l| {
             let n = if d.noise_grey > 0.0 {
                 d.noise_grey * rng.normal()
             } else {
                 0.0
             };
-            (v * d.gain + n).round().clamp(0.0, 255.0) as u8
+            (encode(l * d.gain) + n).round().clamp(0.0, 255.0) as u8
         })
         .collect();
     Gray {
         width: w,
         height: h,
         data,
+        tone: super::image::Tone::of(tone),
     }
 }
 
@@ -716,6 +726,7 @@ pub fn experiment_toml(
          [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
+         [camera]\nresponse = {}\n\n\
          [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
          [pressure]\n{pressure}{}",
         s.radius_m,
@@ -724,6 +735,8 @@ pub fn experiment_toml(
         s.prebulge_height_m,
         layout.apex_in_template_px[0],
         layout.apex_in_template_px[1],
+        toml::Value::try_from(spec.look.response)
+            .map_or_else(|_| "\"srgb\"".into(), |v| v.to_string()),
         scene.metres_per_pixel,
         scene.clamp_row_px,
         window_toml(&spec.window),

@@ -41,6 +41,7 @@ fn truncated_files_are_caught_before_decoding() {
         width: 16,
         height: 8,
         data: (0..128).map(|v| v as u8).collect(),
+        tone: crate::track::image::Tone::LINEAR,
     };
     for enc in [image::Encoding::Png, image::Encoding::Jpeg(90)] {
         let bytes = image::encode(&g, enc).unwrap();
@@ -498,6 +499,8 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
         highlight_grey: 80.0,
         uneven_light: 0.3,
         elevation_deg: 0.0,
+        // The scene this case was found on: drawn in grey levels.
+        response: crate::camera::Response::Linear,
     };
     let spec = synth::random_camera(336, &[(640, 480), (1024, 768)], look);
     let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
@@ -530,6 +533,7 @@ fn clutter_on_the_emptiest_photos_top_is_left_out_by_name() {
         highlight_grey: 80.0,
         uneven_light: 0.3,
         elevation_deg: 0.0,
+        ..Default::default()
     };
     // Tracked with `--skip-bad-frames`: at least 3 photos kept, each
     // within 4 stated standard deviations.

@@ -184,10 +184,22 @@ impl Tracker<'_> {
     /// The standard error of the apex column of a located frame, px
     /// (infinite without an edge fit).
     pub(super) fn apex_x_std(&self, l: &Located) -> f64 {
-        match (l.edge, l.axis) {
+        let edge = match (l.edge, l.axis) {
             (Some(e), Some((_, s))) => s.min(e.x_std),
             (Some(e), None) => e.x_std,
-            (None, _) => f64::INFINITY,
+            (None, _) => return f64::INFINITY,
+        };
+        // With the template's column as the apex's (`--refine integer` or
+        // `quadratic`), its own bias is the gap to the edge's column, as
+        // for the row in `apex`: along a flat top the match slides.
+        let t = self.apex_in_t[0];
+        let col = l
+            .axis
+            .map_or(l.edge.map_or(f64::NAN, |e| e.x_vertex), |a| a.0);
+        match self.opts.refine {
+            Refine::Edge => edge,
+            Refine::Quadratic => edge.hypot(l.m.quadratic[0] + t - col),
+            Refine::Integer => edge.hypot(l.m.integer[0] + t - col),
         }
     }
 

@@ -143,6 +143,8 @@ pub struct Setup {
     pub reference_frame: usize,
     /// Apex position inside the template, px (None: its centre).
     pub apex_in_template: Option<[f64; 2]>,
+    /// The camera's tone curve: edges are located in linear light.
+    pub response: crate::camera::Response,
     /// Pixels to metres.
     pub calibration: Calibration,
 }

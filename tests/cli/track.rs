@@ -155,6 +155,7 @@ fn photos_of_mixed_sizes_are_refused() {
         width: 300,
         height: 200,
         data: vec![128; 300 * 200],
+        tone: bulge::track::image::Tone::LINEAR,
     };
     fs::write(
         d.path().join("photos/frame_005.png"),
@@ -242,6 +243,7 @@ fn low_scores_fail_or_are_skipped() {
         width: 320,
         height: 240,
         data: vec![128; 320 * 240],
+        tone: bulge::track::image::Tone::LINEAR,
     };
     fs::write(
         d.path().join("photos/frame_003.png"),

@@ -31,6 +31,11 @@ pub struct Look {
     /// A dark shelf edge and a cable behind the bubble, across the apex's
     /// path.
     pub clutter: bool,
+    /// The camera's tone curve: the scene's grey levels are the encoded
+    /// values of its light; the lens blur, the exposure and the uneven light
+    /// act on the light, which the curve then encodes (default sRGB;
+    /// `Linear` draws in pixel values throughout).
+    pub response: crate::camera::Response,
 }
 
 /// Where the specimen is in the picture. Unset values keep the default

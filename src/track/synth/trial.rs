@@ -65,6 +65,7 @@ pub fn init_and_track(
     let given = Given {
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
+        response: spec.look.response,
     };
     let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
     let toml = found.experiment_toml(
