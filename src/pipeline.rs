@@ -1099,14 +1099,23 @@ pub fn simulate_stage(
                 iterations: q.stats.iterations,
                 residual: q.stats.residual,
                 wall_s: q.wall_s,
-                note: folded.then(|| {
-                    format!(
+                note: if folded {
+                    Some(format!(
                         "{} at {} Pa: the apex fell to {:.3e} m, at or below the clamp plane under a positive pressure (a membrane near its stress-free state has no stiffness); not reported",
                         model.name(),
                         q.pressure_pa,
                         q.height_m
-                    )
-                }),
+                    ))
+                } else if q.stats.relaxed {
+                    Some(format!(
+                        "{} at {} Pa: solved by dynamic relaxation ({} found the dome turned inside out, or no equilibrium, from the last one)",
+                        model.name(),
+                        q.pressure_pa,
+                        settings.solver.name()
+                    ))
+                } else {
+                    None
+                },
             }
         };
         let points = match disc.sweep(pressures, |_, _| tick()) {

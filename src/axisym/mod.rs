@@ -694,12 +694,36 @@ impl<'a> Ctx<'a> {
         }
         let h = s.height();
         let a = self.a;
+        // A solution meets the clamp: the scaled residual `(l2(a) - 1) / (l0 -
+        // 1)` is the clamp's hoop strain as a fraction of the pole's strain
+        // (1 for a flat shot); the root is found to `tol`. One left above a
+        // millionth (a nearly inextensible membrane, where the shooting loses
+        // the root) is no solution; nor is an apex below the reference's
+        // under a pressure (the hoop-compressed equilibria of a slack cap).
+        let residual = s.residual(l0).abs();
+        let h0 = self.mem.reference.height(0.0);
+        let below = pi > 0.0 && h < h0 - 1e-9;
+        if residual.is_nan() || residual > 1e-6 || below {
+            return Err(AxisymError::NoConvergence(format!(
+                "at pole stretch {l0} the profile meets the clamp with a hoop strain {residual:.1e} times the pole's{}: the membrane is nearly inextensible at this pressure (strains of order {:.0e}); a lower modulus or a higher pressure, or the spring and membrane models, which take such a disc",
+                if below {
+                    format!(
+                        " and its apex at {:.4e} m, below the unloaded dome's {:.4e} m",
+                        h * a,
+                        h0 * a
+                    )
+                } else {
+                    String::new()
+                },
+                (l0 - 1.0).abs()
+            )));
+        }
         Ok(Solution {
             pressure_pa: pi * self.t / a,
             pole_stretch: l0,
             height_m: h * a,
             iterations: self.shots.get(),
-            residual: s.residual(l0).abs(),
+            residual,
             profile: Profile {
                 r_m: pts.iter().map(|p| p.x * a).collect(),
                 rho_m: pts.iter().map(|p| p.x * p.l2 * a).collect(),

@@ -574,3 +574,24 @@ fn slack_reference_cap_profiles_are_in_equilibrium() {
     let slack = solve_pressure(&m, &spec, 2000.0, &o).unwrap();
     assert!(slack.height_m > flat.height_m);
 }
+
+/// A slack dome of 0.1 a so stiff at 50 Pa (1 GPa: pole strain 7e-6)
+/// that the shooting cannot resolve the root: the pressure fails by name
+/// instead of returning a profile that misses the clamp with its apex
+/// under the dome (1.14 mm under 3.75 mm, scaled residual 700, had been
+/// returned as a solution). The same dome at 10 MPa is solved, above it.
+#[test]
+fn an_unresolved_stiff_slack_dome_fails_by_name() {
+    let slack = Specimen {
+        prebulge_height_m: 0.1 * A,
+        ..specimen()
+    };
+    let o = Options::default();
+    let stiff = Material::linear(1.0e9, 0.45);
+    assert!(matches!(
+        solve_pressure(&stiff, &slack, 50.0, &o),
+        Err(AxisymError::NoConvergence(_))
+    ));
+    let s = solve_pressure(&Material::linear(1.0e7, 0.45), &slack, 50.0, &o).unwrap();
+    assert!(s.height_m > 0.1 * A && s.residual <= 1e-6, "{s:?}");
+}

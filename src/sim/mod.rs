@@ -111,6 +111,23 @@ pub enum SimError {
         /// Pressure, Pa.
         pressure_pa: f64,
     },
+    /// The equilibrium found has the apex below the reference's under a
+    /// positive pressure (the dome turned inside out), also by dynamic
+    /// relaxation.
+    #[error(
+        "the equilibrium found at {} Pa is the dome turned inside out: its apex is at {} m, below the reference's {} m, and dynamic relaxation from the last equilibrium found no inflated one either; check the law's stiffness at small strain (a modulus near zero there lets the membrane snap through), or start from a lower pressure",
+        crate::io::fmt_short(*.pressure_pa),
+        crate::io::fmt_short(*.apex_m),
+        crate::io::fmt_short(*.reference_m)
+    )]
+    WrongBranch {
+        /// The pressure, Pa.
+        pressure_pa: f64,
+        /// The apex height found, m.
+        apex_m: f64,
+        /// The reference's apex height, m.
+        reference_m: f64,
+    },
     /// No equilibrium found at a pressure, even with load sub-steps.
     #[error(
         "no equilibrium found at {} Pa ({reason}); last equilibrium at {} Pa. A pressure above the membrane's limit point has no nearby equilibrium; otherwise raise the iteration cap or loosen the tolerance",

@@ -878,7 +878,7 @@ impl Predictor for WindowPredictor {
                     1.0 - u - v
                 };
                 if bump > 1e-12 {
-                    *xi = Point3::new(xr.x, xr.y, w0 * bump);
+                    *xi = Point3::new(xr.x, xr.y, (w0 * bump).max(xr.z));
                 }
             }
         } else {
@@ -890,8 +890,9 @@ impl Predictor for WindowPredictor {
     }
 }
 
-/// First guesses for the disc: Hencky's profile at the first pressure, then
-/// the last displacement scaled by `(p1 / p0)^(1/3)` (membrane scaling).
+/// First guesses for the disc: Hencky's profile at the first pressure (or
+/// a slack membrane's reference dome where that stands higher), then the
+/// last displacement scaled by `(p1 / p0)^(1/3)` (membrane scaling).
 pub struct DiscPredictor {
     /// Free radius, m.
     pub radius_m: f64,
@@ -912,8 +913,11 @@ impl Predictor for DiscPredictor {
                     .min(a);
             for (xi, xr) in x.iter_mut().zip(rest) {
                 let r2 = (xr.x * xr.x + xr.y * xr.y) / (a * a);
+                // A slack membrane's reference dome where it stands higher
+                // than Hencky's profile: a guess under the dome is nearer
+                // the dome turned inside out than the inflated one.
                 if r2 < 1.0 - 1e-12 {
-                    *xi = Point3::new(xr.x, xr.y, w0 * (1.0 - r2));
+                    *xi = Point3::new(xr.x, xr.y, (w0 * (1.0 - r2)).max(xr.z));
                 }
             }
         } else {

@@ -122,6 +122,9 @@ pub struct Stats {
     pub residual: f64,
     /// Pressure sub-steps taken (1 when the step went through at once).
     pub substeps: usize,
+    /// Newton found no equilibrium or the wrong one (the dome turned
+    /// inside out), and this one is dynamic relaxation's.
+    pub relaxed: bool,
 }
 
 /// Degrees of freedom after the constraints: per node a start index and an
@@ -399,6 +402,7 @@ pub fn newton_with(
                 iterations: it,
                 residual: rn / load,
                 substeps: 1,
+                relaxed: false,
             });
         }
         ws.assemble(m, x)?;
@@ -460,6 +464,7 @@ pub fn newton_with(
                     iterations: it + 1,
                     residual: rn / load,
                     substeps: 1,
+                    relaxed: false,
                 });
             }
             if let Some(e @ SimError::NonPositiveModulus { .. }) = last_err {
@@ -477,6 +482,7 @@ pub fn newton_with(
             iterations: opts.newton_iterations,
             residual: rn / load,
             substeps: 1,
+            relaxed: false,
         });
     }
     Err(fail(format!(
@@ -538,6 +544,7 @@ pub fn dynamic_relaxation(
                 iterations: step,
                 residual: rel,
                 substeps: 1,
+                relaxed: false,
             });
         }
         let mut ke = 0.0;
@@ -662,6 +669,7 @@ pub fn continuation(
                     iterations: a.iterations + b.iterations,
                     residual: b.residual,
                     substeps: a.substeps + b.substeps,
+                    relaxed: false,
                 })
             }
         }
