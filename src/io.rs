@@ -11,7 +11,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 mod guard;
-mod temp;
+pub(crate) mod temp;
 
 pub use guard::{OutputConflict, OutputPlan};
 #[cfg(feature = "cli")]

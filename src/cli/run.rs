@@ -266,6 +266,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         true => Failure::BadInput(anyhow!("--out: {e}")),
         false => Failure::Failed(e.into()),
     })?;
+    if let Some(h) = dir.taken_over() {
+        eprintln!(
+            "note: {} held the lock file of a run that ended without removing it ({h}); taken over",
+            out.display()
+        );
+    }
     let console = Console::default();
     let result = run_into(&exp, &s, &dir, &console, |_| Ok(vec![]));
     console.clear();

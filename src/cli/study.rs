@@ -529,6 +529,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         true => Failure::BadInput(anyhow!("--out: {e}")),
         false => Failure::Failed(e.into()),
     })?;
+    if let Some(h) = top.taken_over() {
+        eprintln!(
+            "note: {} held the lock file of a study that ended without removing it ({h}); taken over, and the study resumed",
+            out.display()
+        );
+    }
     eprintln!(
         "{} specimens, {} law corrected to each one's heights, into {}",
         members.len(),

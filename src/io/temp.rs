@@ -40,6 +40,19 @@ fn remove_all(list: &mut Vec<PathBuf>) -> usize {
     removed
 }
 
+/// Registers a file that the interrupt handler removes, as a temporary file
+/// is (an output folder's lock file, while its run lasts).
+pub(crate) fn remove_on_signal(path: &Path) {
+    registry().push(path.to_path_buf());
+}
+
+/// Removes `path` and takes it off the list of [`remove_on_signal`].
+pub(crate) fn remove_now(path: &Path) {
+    let mut list = registry();
+    let _ = fs::remove_file(path);
+    list.retain(|p| p != path);
+}
+
 /// The temporary files currently being written, in registration order.
 pub fn temporary_files() -> Vec<PathBuf> {
     registry().clone()

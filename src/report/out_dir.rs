@@ -1,8 +1,9 @@
 //! An output folder that holds one run's files as a set.
 //!
-//! * A lock file (`.bulge-lock`) refuses a second run into the same folder
-//!   while one is writing; it is removed when the run ends (a lock left by a
-//!   killed run names its process and how to clear it).
+//! * A lock (`.bulge-lock`, locked by the operating system while the run
+//!   lasts) refuses a second run into the same folder while one is
+//!   writing; the file is removed when the run ends or is interrupted, and
+//!   one left by a killed run holds no lock: the next run takes it over.
 //! * `manifest.toml` lists the files of the last run and the stage that made
 //!   each. Files of the previous run that the new one did not write (a rerun
 //!   that stopped at an earlier stage, or fewer outputs) are removed, so the
@@ -79,10 +80,21 @@ pub struct ManifestEntry {
 }
 
 /// An output folder locked for one run; the lock goes when this is dropped.
+///
+/// The lock is the operating system's (`flock` on Linux and macOS,
+/// `LockFileEx` on Windows) on the lock file, held while this value lives:
+/// the system releases it when the process ends, however it ends. So a lock
+/// file left behind by a killed run (SIGKILL, a power cut) holds no lock,
+/// and the next run takes it over and says so ([`OutDir::taken_over`]).
+/// The file itself is removed when the run ends, also on Ctrl-C, SIGTERM
+/// and SIGHUP (the interrupt handler of `crate::io`).
 #[derive(Debug)]
 pub struct OutDir {
     dir: PathBuf,
     lock: PathBuf,
+    /// The open lock file, locked.
+    _held: fs::File,
+    taken_over: Option<String>,
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutDirError + '_ {
@@ -101,19 +113,61 @@ impl OutDir {
         }
         fs::create_dir_all(&dir).map_err(io_err(&dir))?;
         let lock = dir.join(LOCK_FILE);
-        match OpenOptions::new().write(true).create_new(true).open(&lock) {
-            Ok(mut f) => {
-                let _ = writeln!(f, "process {}", std::process::id());
-                Ok(OutDir { dir, lock })
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                let holder = fs::read_to_string(&lock)
+        // A run that ends removes its lock file while it still holds the
+        // lock: one who opened the file before that and locks it after holds
+        // a lock on a removed file, so the lock counts only if the file is
+        // still the folder's.
+        for _ in 0..8 {
+            let mut f = OpenOptions::new()
+                .read(true)
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&lock)
+                .map_err(io_err(&lock))?;
+            let holder = || {
+                fs::read_to_string(&lock)
                     .map(|s| s.trim().to_string())
-                    .unwrap_or_else(|_| "unknown process".into());
-                Err(OutDirError::Locked { dir, holder, lock })
+                    .ok()
+                    .filter(|s| !s.is_empty())
+            };
+            match f.try_lock() {
+                Ok(()) => {}
+                Err(fs::TryLockError::WouldBlock) => {
+                    return Err(OutDirError::Locked {
+                        holder: holder().unwrap_or_else(|| "a process starting".into()),
+                        dir,
+                        lock,
+                    });
+                }
+                Err(fs::TryLockError::Error(e)) => return Err(io_err(&lock)(e)),
             }
-            Err(e) => Err(io_err(&lock)(e)),
+            if !same_file(&f, &lock) {
+                continue;
+            }
+            let taken_over = holder();
+            f.set_len(0).map_err(io_err(&lock))?;
+            writeln!(f, "process {}", std::process::id()).map_err(io_err(&lock))?;
+            crate::io::temp::remove_on_signal(&lock);
+            return Ok(OutDir {
+                dir,
+                lock,
+                _held: f,
+                taken_over,
+            });
         }
+        Err(OutDirError::Locked {
+            holder: "runs that start and end as this one starts".into(),
+            dir,
+            lock,
+        })
+    }
+
+    /// What the lock file said when this run took it over from a run that
+    /// had ended without removing it (killed, or the machine stopped):
+    /// `None` when there was no lock file.
+    pub fn taken_over(&self) -> Option<&str> {
+        self.taken_over.as_deref()
     }
 
     /// The folder.
@@ -168,7 +222,27 @@ impl OutDir {
 
 impl Drop for OutDir {
     fn drop(&mut self) {
-        let _ = fs::remove_file(&self.lock);
+        // Removed while still locked (the lock goes with the file handle,
+        // dropped after this).
+        crate::io::temp::remove_now(&self.lock);
+    }
+}
+
+/// Whether the open file `f` is the file at `path` (the same device and
+/// inode; on systems without them, always).
+fn same_file(f: &fs::File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (f.metadata(), fs::metadata(path)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (f, path);
+        true
     }
 }
 
@@ -196,6 +270,26 @@ mod tests {
         assert!(e.to_string().contains(LOCK_FILE), "{e}");
         drop(first);
         assert!(OutDir::lock(d.path()).is_ok());
+    }
+
+    /// A lock file left by a run that was killed (no process holds its
+    /// lock) is taken over, with what it said; the lock is the operating
+    /// system's, held while the run lasts, and the file goes with the run.
+    #[test]
+    fn a_stale_lock_file_is_taken_over() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::write(d.path().join(LOCK_FILE), "process 4194999\n").unwrap();
+        let out = OutDir::lock(d.path()).unwrap();
+        assert_eq!(out.taken_over(), Some("process 4194999"));
+        let text = std::fs::read_to_string(d.path().join(LOCK_FILE)).unwrap();
+        assert_eq!(text.trim(), format!("process {}", std::process::id()));
+        assert!(matches!(
+            OutDir::lock(d.path()),
+            Err(OutDirError::Locked { .. })
+        ));
+        drop(out);
+        assert!(!d.path().join(LOCK_FILE).exists());
+        assert_eq!(OutDir::lock(d.path()).unwrap().taken_over(), None);
     }
 
     /// A rerun that stops at an earlier stage leaves no file of the previous

@@ -364,16 +364,50 @@ fn a_locked_or_file_out_folder_is_refused() {
     synth(dir.path(), 2);
     let out = dir.path().join("out");
     fs::create_dir_all(&out).unwrap();
+    // Another run holds the folder: its lock file, locked (the operating
+    // system's lock, as a running bulge holds it).
     fs::write(out.join(".bulge-lock"), "process 1\n").unwrap();
+    let held = fs::File::open(out.join(".bulge-lock")).unwrap();
+    held.try_lock().unwrap();
     bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"])
         .bad_input(&["in use by another bulge run", ".bulge-lock"]);
     assert!(!out.join("heights.csv").exists());
+    drop(held);
     fs::write(dir.path().join("afile"), "").unwrap();
     bulge_in(
         dir.path(),
         &["run", "exp/experiment.toml", "--out", "afile"],
     )
     .bad_input(&["not a folder"]);
+}
+
+/// A run killed outright (SIGKILL: no handler runs) leaves its lock file;
+/// it holds no lock, so the next run takes it over, says so, and completes.
+#[test]
+fn a_killed_runs_lock_is_taken_over_by_the_next_run() {
+    let dir = tempdir();
+    synth(dir.path(), 4);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bulge"))
+        .current_dir(dir.path())
+        .args(["run", "exp/experiment.toml", "--out", "out"])
+        .stderr(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.path().join("out").join(".bulge-lock");
+    while !lock.exists() && child.try_wait().unwrap().is_none() {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let _ = child.kill();
+    child.wait().unwrap();
+    if !lock.exists() {
+        // The run ended before the kill: leave a lock file as a killed one would.
+        fs::write(&lock, "process 4194999\n").unwrap();
+    }
+    let out = bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
+    assert!(out.stderr.contains("taken over"), "{}", out.stderr);
+    assert!(dir.path().join("out/report.html").exists());
+    assert!(!lock.exists());
 }
 
 /// A rerun into the same folder replaces the previous run's outputs as a
