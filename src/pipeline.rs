@@ -242,7 +242,15 @@ pub struct RunOptions {
     pub min_score: Option<f64>,
     /// Leave frames below `min_score` out instead of failing the track stage.
     pub skip_bad_frames: Option<bool>,
+    /// The largest `samples` taken (default [`MAX_SAMPLES`]).
+    pub max_samples: Option<usize>,
 }
+
+/// The most Monte Carlo samples of the corrected parameters taken unless
+/// raised (`max_samples`): each sample corrects the law to the heights once
+/// (0.1-0.5 s on 16 heights), so 10 000 already take about half an hour on
+/// two cores, and 1000 give the intervals to a few per cent.
+pub const MAX_SAMPLES: usize = 10_000;
 
 impl RunOptions {
     /// These options, falling back to `base` for what they leave out.
@@ -265,6 +273,7 @@ impl RunOptions {
             solver: self.solver.or(base.solver),
             min_score: self.min_score.or(base.min_score),
             skip_bad_frames: self.skip_bad_frames.or(base.skip_bad_frames),
+            max_samples: self.max_samples.or(base.max_samples),
         }
     }
 
@@ -300,6 +309,15 @@ impl RunOptions {
         s.refine = self.refine.unwrap_or(true);
         s.weighted = self.weighted.unwrap_or(false);
         s.samples = self.samples.unwrap_or(0);
+        let max = self.max_samples.unwrap_or(MAX_SAMPLES);
+        if s.samples > max {
+            return bad(format!(
+                "samples = {}: each sample corrects the law to the heights once (0.1-0.5 s each), so {} would take about {} hours on two cores; take at most {max} (1000 give the intervals to a few per cent), or raise the bound with --max-samples (max_samples in [run])",
+                s.samples,
+                s.samples,
+                (s.samples as f64 * 0.3 / 2.0 / 3600.0).ceil()
+            ));
+        }
         if s.models.is_empty() && !s.axisym {
             return bad(
                 "nothing to simulate: give at least one model or keep the axisymmetric reference"

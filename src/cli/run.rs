@@ -156,6 +156,12 @@ pub struct RunFlags {
     /// Leave frames below --min-score out instead of failing the track stage.
     #[arg(long)]
     pub skip_bad_frames: bool,
+
+    /// The largest --samples taken (default 10000: each sample is one
+    /// correction of the law, 0.1-0.5 s). `max_samples = N` in [run] does
+    /// the same.
+    #[arg(long, value_name = "N")]
+    pub max_samples: Option<usize>,
 }
 
 impl RunFlags {
@@ -179,6 +185,7 @@ impl RunFlags {
             solver: self.solver,
             min_score: self.min_score,
             skip_bad_frames: self.skip_bad_frames.then_some(true),
+            max_samples: self.max_samples,
         }
     }
 }

@@ -58,6 +58,12 @@ fn resource_limits_are_named_before_the_work() {
     )
     .bad_input(&["--samples"]);
     assert!(!d.join("material.toml").exists());
+    // Each sample of `bulge run --samples` is a correction of the law.
+    let demo = crate::util::repo().join("data/demo/experiment.toml");
+    let demo = demo.to_str().unwrap();
+    bulge_in(d, &["run", demo, "--out", "o", "--samples", "1000000"])
+        .bad_input(&["samples = 1000000", "--max-samples"]);
+    assert!(!d.join("o").exists());
 }
 
 /// A pressure too small for double precision to resolve on the membrane is
