@@ -244,6 +244,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
     };
     let (mut frames, video) = list_frames(e, photos)?;
     join_pressures(e, pressure, &mut frames)?;
+    check_pressures(e, pressure, &frames)?;
     if photos.reference_frame >= frames.len() {
         return Err(cfg(format!(
             "[photos] reference_frame = {} but there are only {} photos (frames 0..{})",
@@ -359,6 +360,36 @@ fn list_frames(
             Ok((frames, None))
         }
     }
+}
+
+/// A bulge test's pressure is a gauge pressure, above the atmosphere: a
+/// photo at a negative one (suction) shows no inflated bubble, and is the
+/// log's fault, named before any photo is judged. (A log's readings between
+/// the photos may dip below zero with the gauge's offset at rest; only the
+/// photos' pressures count.)
+fn check_pressures(
+    e: &Experiment,
+    pressure: &PressureConfig,
+    frames: &[Frame],
+) -> Result<(), TrackError> {
+    let Some(f) = frames
+        .iter()
+        .find(|f| !(f.pressure_pa.is_finite() && f.pressure_pa >= 0.0))
+    else {
+        return Ok(());
+    };
+    Err(TrackError::Config {
+        path: e.resolve(&pressure.csv),
+        message: format!(
+            "photo {} gets a pressure of {} Pa from this log{}: a bubble is inflated by a positive gauge pressure (above the atmosphere); if the gauge reads an offset at rest, subtract it from the log, and leave out photos taken under suction",
+            f.file,
+            crate::io::fmt_short(f.pressure_pa),
+            match f.time_s {
+                Some(t) => format!(" (at the photo's time, {} s)", crate::io::fmt_short(t)),
+                None => String::new(),
+            }
+        ),
+    })
 }
 
 /// Sets each frame's pressure from `[pressure] csv`: by file name (columns

@@ -349,6 +349,25 @@ fn tracking_nonsense_set_up_is_refused() {
     assert!(!d.join("h.csv").exists());
 }
 
+/// A photo at a negative pressure is the pressure log's fault: named with
+/// the log, the photo and the value before any photo is judged, also with
+/// `--skip-bad-frames` (which would otherwise leave out good photos).
+#[test]
+fn a_negative_pressure_is_the_logs_fault() {
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| t.to_string());
+    let log = fs::read_to_string(d.join("pressure.csv")).unwrap();
+    let log = log.replacen("frame_001.jpg,406.25", "frame_001.jpg,-312.7", 1);
+    fs::write(d.join("pressure.csv"), log).unwrap();
+    for extra in [&[][..], &["--skip-bad-frames"][..]] {
+        let mut args = vec!["track", "experiment.toml", "-o", "h.csv"];
+        args.extend_from_slice(extra);
+        bulge_in(d, &args).bad_input(&["pressure.csv", "frame_001.jpg", "-312.7 Pa", "positive"]);
+        assert!(!d.join("h.csv").exists());
+    }
+}
+
 /// Damaged photos and a missing folder are named for what they are: an
 /// empty file is empty (not an OpenCV assertion), a folder that does not
 /// exist is a folder to fix (not a file to replace).
