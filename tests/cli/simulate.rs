@@ -100,6 +100,74 @@ fn experiment_material_and_pressures_route() {
     }
 }
 
+/// `--experiment` honours every key that shapes the membrane: its
+/// `[window]` is simulated (an ellipse of 2:1 is lower than the circle of
+/// its long semi-axis), and a dome height still to be found
+/// (`prebulge_height_m = "fit"`) is refused by name, not taken as 0.
+#[test]
+fn an_experiments_window_and_dome_are_honoured_or_refused() {
+    let dir = tempdir();
+    let d = dir.path();
+    let spec = "[specimen]\nradius_m = 0.0375\nthickness_m = 0.00035\npoisson = 0.45\n";
+    fs::write(d.join("circle.toml"), spec).unwrap();
+    let window = "\n[window]\nshape = \"ellipse\"\nsemi_axes_m = [0.0375, 0.01875]\n";
+    fs::write(d.join("ellipse.toml"), format!("{spec}{window}")).unwrap();
+    fs::write(
+        d.join("fit.toml"),
+        spec.replace(
+            "poisson = 0.45\n",
+            "poisson = 0.45\nprebulge_height_m = \"fit\"\n",
+        ),
+    )
+    .unwrap();
+    fs::write(
+        d.join("material.toml"),
+        "model = \"neo-hookean\"\nc1_pa = 2.0e5\npoisson = 0.45\n",
+    )
+    .unwrap();
+    let height = |exp: &str, out: &str| -> f64 {
+        bulge_in(
+            d,
+            &[
+                "simulate",
+                "--experiment",
+                exp,
+                "--material",
+                "material.toml",
+                "--pressures",
+                "2000",
+                "--nodes",
+                "300",
+                "-o",
+                out,
+            ],
+        )
+        .ok();
+        rows(&d.join(out))[1][1].parse().unwrap()
+    };
+    let (circle, ellipse) = (
+        height("circle.toml", "c.csv"),
+        height("ellipse.toml", "e.csv"),
+    );
+    assert!(
+        ellipse < 0.8 * circle,
+        "ellipse {ellipse} m, circle {circle} m"
+    );
+    bulge_in(
+        d,
+        &[
+            "simulate",
+            "--experiment",
+            "fit.toml",
+            "--material",
+            "material.toml",
+            "--pressures",
+            "2000",
+        ],
+    )
+    .bad_input(&["prebulge_height_m = \"fit\"", "needs the number"]);
+}
+
 #[test]
 fn bad_inputs_are_refused_with_exit_2_and_no_output() {
     let dir = tempdir();

@@ -27,7 +27,7 @@ pub(super) fn run_axisym(
     } = scene.kind
     else {
         return Err(Failure::BadInput(anyhow!(
-            "--model axisym solves the clamped disc only; this scene is a {}",
+            "--model axisym solves the clamped circular disc only; this scene is the {} ([window] or the scene's kind): simulate it with --model tp or membrane",
             scene.kind.name()
         )));
     };

@@ -50,7 +50,15 @@ fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
                 "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"
             ));
         }
-        Scene::from_specimen(&e.specimen, m, Vec::new())
+        // Every key of the experiment that shapes the membrane is honoured
+        // or refused: a dome height still to be found has no value here.
+        if e.prebulge_fit {
+            return Err(anyhow!(
+                "{}: prebulge_height_m = \"fit\" is found from the heights by bulge run (its notes and material.toml give the value); bulge simulate needs the number: write it in [specimen], e.g. prebulge_height_m = 0.00375",
+                exp.display()
+            ));
+        }
+        Scene::from_window(&e.specimen, &e.window, m, Vec::new())
     } else {
         return Err(anyhow!(
             "give a scene file (bulge simulate scene.toml) or --experiment FILE --material FILE --pressures P1,P2,..."
