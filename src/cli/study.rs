@@ -336,6 +336,18 @@ fn members_of(args: &Args) -> Result<Read, Failure> {
                 e.path.display()
             )));
         }
+        // One experiment listed twice would count one specimen twice in the
+        // mean, its interval and the pooled fit.
+        let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => a == b,
+        };
+        if let Some((m, first)) = members[..i].iter().find(|(_, f)| same(&f.path, &e.path)) {
+            return Err(bad(format!(
+                "the specimens `{m}` and `{n}` are one experiment file ({}): each specimen is counted once in the mean, its interval and the pooled fit; list it once",
+                first.path.display()
+            )));
+        }
         if let Some((_, first)) = members[..i].iter().find(|(m, _)| m == n) {
             return Err(bad(format!(
                 "two specimens are named `{n}` ({} and {}): give each a distinct `name` in the study file (or keep each experiment in a folder of its own name)",

@@ -270,6 +270,14 @@ fn experiment_files_directly_and_bad_study_files() {
     .unwrap();
     bulge_in(d, &["study", "twice.toml", "--out", "o"])
         .bad_input(&["two specimens are named `a`", "distinct `name`"]);
+    // one experiment under two names would count one specimen twice
+    fs::write(
+        d.join("same.toml"),
+        "[[specimens]]\nexperiment = \"s1/experiment.toml\"\nname = \"a\"\n[[specimens]]\nexperiment = \"./s1/../s1/experiment.toml\"\nname = \"b\"\n",
+    )
+    .unwrap();
+    bulge_in(d, &["study", "same.toml", "--out", "o"])
+        .bad_input(&["`a` and `b` are one experiment file", "list it once"]);
     bulge_in(d, &["study", "s1/experiment.toml", "--out", "o"])
         .bad_input(&["two specimens or more"]);
     // the study's output folder may not hold its inputs
