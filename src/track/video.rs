@@ -104,6 +104,42 @@ pub fn probe(path: &Path) -> Result<VideoInfo, TrackError> {
     let stamped = msec.len() > 1
         && msec.iter().all(|m| m.is_finite())
         && msec.windows(2).all(|w| w[1] > w[0]);
+    // A frame that cannot be decoded is skipped by the back-end: every
+    // later frame would take the index, and so the time and the pressure,
+    // of the one before it. The container's time stamps show the hole (an
+    // interval of more than one and a half frames), and its header the
+    // count of frames it holds.
+    if stamped && msec.len() > 2 {
+        let mut gaps: Vec<f64> = msec.windows(2).map(|w| w[1] - w[0]).collect();
+        gaps.sort_by(f64::total_cmp);
+        let typical = gaps[gaps.len() / 2];
+        if let Some(k) = msec.windows(2).position(|w| w[1] - w[0] > 1.5 * typical) {
+            return Err(TrackError::Video {
+                path: path.to_path_buf(),
+                reason: format!(
+                    "a frame cannot be decoded after {} (at {} s): the next frame readable is at {} s, {:.1} frame intervals later; every later frame would take the time of the frame before it. Repair or re-encode the video (e.g. with ffmpeg), or cut it before the damage",
+                    frame_name(k),
+                    fmt_short(msec[k] / 1e3),
+                    fmt_short(msec[k + 1] / 1e3),
+                    (msec[k + 1] - msec[k]) / typical
+                ),
+            });
+        }
+    }
+    let stated = cap
+        .get(videoio::CAP_PROP_FRAME_COUNT)
+        .ok()
+        .filter(|c| c.is_finite() && *c >= 1.0)
+        .map(|c| c.round() as usize);
+    if let Some(n) = stated.filter(|&n| n > msec.len()) {
+        return Err(TrackError::Video {
+            path: path.to_path_buf(),
+            reason: format!(
+                "its header says {n} frames, but only {} can be read: the file is cut short or a frame is damaged; copy it again, or re-encode it (e.g. with ffmpeg) to keep the frames that can be read",
+                msec.len()
+            ),
+        });
+    }
     let times_s = if stamped {
         Some(msec.iter().map(|m| m / 1e3).collect())
     } else {

@@ -375,3 +375,33 @@ fn synth_refuses_a_video_without_a_log() {
     .bad_input(&[".avi", ".mp4"]);
     assert!(!d.path().join("out").exists());
 }
+
+/// A video with a frame damaged in its middle: the back-end stops (or skips
+/// it), so the frames after it would be lost or would each take the time
+/// and pressure of the frame before. It is refused with the count its
+/// header gives and the count that can be read, and nothing is written.
+#[test]
+fn a_damaged_video_is_refused_with_both_counts() {
+    let dir = tempdir();
+    let d = dir.path();
+    experiment(d);
+    let avi = d.join("x/test.avi");
+    let mut bytes = fs::read(&avi).unwrap();
+    // The JPEG frames' start markers; the middle one's data overwritten.
+    let starts: Vec<usize> = bytes
+        .windows(3)
+        .enumerate()
+        .filter(|(_, w)| *w == [0xFF, 0xD8, 0xFF])
+        .map(|(i, _)| i)
+        .collect();
+    assert_eq!(starts.len(), FRAMES);
+    let k = starts[FRAMES / 2];
+    bytes[k..k + 600].fill(0x55);
+    fs::write(&avi, bytes).unwrap();
+    bulge_in(d, &["track", "x/experiment_video.toml", "-o", "h.csv"]).bad_input(&[
+        "test.avi",
+        &format!("its header says {FRAMES} frames"),
+        "can be read",
+    ]);
+    assert!(!d.join("h.csv").exists());
+}
