@@ -32,7 +32,7 @@
 //!   and stays near the row extrapolated from the frames before;
 //! - **the fit's residuals are the image's noise**: the residual RMS against
 //!   that of the frames before, a chi-square bound for the columns' degrees
-//!   of freedom; the apex row's standard error against the largest before;
+//!   of freedom (from the first frame after the reference on);
 //! - **the columns**: the robust fit keeps a majority of the columns the
 //!   frames before kept (its breakdown point).
 
@@ -79,8 +79,6 @@ struct Accepted {
     apex: [f64; 2],
     /// Standard error of the apex column, px.
     x_std: f64,
-    /// Standard error of the apex row, px.
-    y_std: f64,
     /// The edge fit's residual RMS (px), curvature and its standard error
     /// (1/px), and columns.
     edge: Option<(f64, f64, f64, usize)>,
@@ -244,19 +242,6 @@ impl Guard {
         if let Some(e) = edge {
             self.check_curvature(y, e)?;
         }
-        // The edge fit's own apex error: see docs/track.md.
-        let worst = self
-            .history
-            .iter()
-            .map(|h| h.y_std)
-            .filter(|s| s.is_finite())
-            .fold(f64::NAN, f64::max);
-        if worst.is_finite() && std.is_finite() && std > 8.0 * worst && std - worst > 0.1 {
-            return Err(format!(
-                "the apex row's standard error jumped to {:.2} px from at most {:.2} px in the frames before: the edge's columns no longer follow one parabola (something on the top edge, or a blurred or shaken photo); open the photo to check",
-                std, worst
-            ));
-        }
         let noise = 3.0 * std + 0.5;
         if let Some(&Accepted {
             p: p1, apex: a1, ..
@@ -364,7 +349,7 @@ impl Guard {
             .iter()
             .filter_map(|h| h.edge.map(|e| e.3))
             .collect();
-        if cols.len() >= 2 {
+        if !cols.is_empty() {
             cols.sort_unstable();
             let typical = cols[cols.len() / 2];
             if 2 * e.columns < typical {
@@ -383,7 +368,7 @@ impl Guard {
             .filter_map(|h| h.edge.map(|e| (e.0, e.3)))
             .take(3)
             .collect();
-        if recent.len() >= 2 {
+        if !recent.is_empty() {
             let mut rms: Vec<f64> = recent.iter().map(|r| r.0).collect();
             rms.sort_by(f64::total_cmp);
             let typical = rms[rms.len() / 2];
@@ -433,7 +418,6 @@ impl Guard {
             p,
             apex,
             x_std: stds[0],
-            y_std: stds[1],
             edge: edge.map(|e| (e.rms, e.curvature, e.curvature_std, e.columns)),
         });
     }
