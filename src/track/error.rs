@@ -170,7 +170,7 @@ pub enum TrackError {
     /// The apex found in a frame is not plausible, even when searched again
     /// near the position predicted from the frames before.
     #[error(
-        "{}: frame {frame}: {why}; nothing behind the bubble may cross its top edge (move the clutter or the camera), or pass --skip-bad-frames to leave such frames out",
+        "{}: frame {frame}: {why}; or pass --skip-bad-frames to leave such frames out",
         path.display()
     )]
     Implausible {

@@ -35,6 +35,7 @@ pub mod video;
 mod decode;
 mod error;
 mod exif_time;
+mod guards;
 mod setup;
 mod tracker;
 mod types;

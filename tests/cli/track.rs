@@ -508,3 +508,118 @@ fn help_documents_every_flag_with_its_default() {
         );
     }
 }
+
+/// The limit pressure of `bulge synth`'s default disc (a = 37.5 mm,
+/// t = 0.35 mm) of `material`, from the exact axisymmetric solver; for a
+/// law whose pressure rises monotonically (Mooney-Rivlin with C2/C1 above
+/// about 0.1 on a clamped disc), the pressure where it rises slowest in the
+/// pole stretch (`dp/dl0` least over l0 1.1-4 in steps of 0.05): the point
+/// that becomes the limit point as C2/C1 falls.
+fn limit_pressure(material: &bulge::material::Material) -> f64 {
+    use bulge::axisym::{Options, limit_point, solve_pole_stretch};
+    let specimen = bulge::experiment::Specimen {
+        radius_m: 0.0375,
+        thickness_m: 3.5e-4,
+        poisson: 0.45,
+        prebulge_height_m: 0.0,
+    };
+    let o = Options::default();
+    if let Some(top) = limit_point(material, &specimen, &o).expect("solver") {
+        return top.pressure_pa;
+    }
+    let p = |l0: f64| {
+        solve_pole_stretch(material, &specimen, l0, &o)
+            .expect("solver")
+            .pressure_pa
+    };
+    let (mut best, mut best_slope) = (0.0, f64::INFINITY);
+    for k in 0..58 {
+        let l0 = 1.1 + 0.05 * k as f64;
+        let (p0, p1) = (p(l0), p(l0 + 0.05));
+        if p1 - p0 < best_slope {
+            best_slope = p1 - p0;
+            best = 0.5 * (p0 + p1);
+        }
+    }
+    best
+}
+
+/// Clean photos in equal pressure steps up to `fraction` of the limit
+/// pressure of the material in `material_toml`, at `size`: every photo is
+/// tracked (the curvature of the pole against the cap through the rim
+/// changes with the height, by up to a fifth between coarse steps near the
+/// limit, which the guards must allow).
+fn clean_steps_to_near_the_limit_are_all_tracked(
+    material_toml: &str,
+    material: bulge::material::Material,
+    frames: usize,
+    fraction: f64,
+    size: (u32, u32),
+    seed: u64,
+) {
+    let d = tempdir();
+    fs::write(d.path().join("material.toml"), material_toml).unwrap();
+    let p_max = format!("{}", fraction * limit_pressure(&material));
+    let (w, h) = (size.0.to_string(), size.1.to_string());
+    let frames_s = frames.to_string();
+    let seed_s = seed.to_string();
+    bulge_in(
+        d.path(),
+        &[
+            "synth",
+            "out",
+            "--material",
+            "material.toml",
+            "--frames",
+            &frames_s,
+            "--pressure-max-pa",
+            &p_max,
+            "--width",
+            &w,
+            "--height",
+            &h,
+            "--seed",
+            &seed_s,
+        ],
+    )
+    .ok();
+    let run = bulge_in(
+        &d.path().join("out"),
+        &["track", "experiment.toml", "-o", "heights.csv"],
+    );
+    assert!(
+        run.status == 0
+            && run
+                .stdout
+                .contains(&format!("tracked {frames} of {frames} photos")),
+        "{size:?}: {}\n{}",
+        run.stdout,
+        run.stderr
+    );
+}
+
+#[test]
+fn a_mooney_rivlin_bubble_to_nine_tenths_of_its_limit_pressure_is_tracked() {
+    let toml = "model = \"mooney-rivlin\"\npoisson = 0.45\nc1_pa = 220000.0\nc2_pa = 30000.0\n";
+    let m = || bulge::material::Material {
+        model: bulge::material::Model::MooneyRivlin {
+            c1_pa: 2.2e5,
+            c2_pa: 3.0e4,
+        },
+        poisson: 0.5,
+        fit: None,
+    };
+    clean_steps_to_near_the_limit_are_all_tracked(toml, m(), 10, 0.9, (640, 520), 211);
+    clean_steps_to_near_the_limit_are_all_tracked(toml, m(), 10, 0.9, (1280, 1040), 212);
+}
+
+#[test]
+fn a_neo_hookean_bubble_in_six_steps_to_its_limit_pressure_is_tracked() {
+    let toml = "model = \"neo-hookean\"\npoisson = 0.45\nc1_pa = 200000.0\n";
+    let m = bulge::material::Material {
+        model: bulge::material::Model::NeoHookean { c1_pa: 2.0e5 },
+        poisson: 0.5,
+        fit: None,
+    };
+    clean_steps_to_near_the_limit_are_all_tracked(toml, m, 6, 0.97, (640, 480), 213);
+}
