@@ -21,6 +21,7 @@ use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
 mod look;
+pub mod sweep;
 pub mod trial;
 pub use look::{Framing, Look, Psf, vignette};
 
