@@ -23,6 +23,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use bulge::track::synth::sweep::{self, FACTORS, Photo};
 use rayon::prelude::*;
 
+/// A sequence's seed, whether dirty, its factor levels and its photos.
+type Outcome = (u64, bool, Vec<(&'static str, String)>, Vec<Photo>);
+
 #[derive(Default)]
 struct Tally {
     sequences: usize,
@@ -99,7 +102,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(rayon::current_num_threads())
         .build()?;
-    let results: Vec<(u64, bool, Vec<(&'static str, String)>, Vec<Photo>)> = pool.install(|| {
+    let results: Vec<Outcome> = pool.install(|| {
         seeds
             .par_iter()
             .map(|&(seed, dirty)| {
@@ -121,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 };
                 let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if k % 10 == 0 || k == total {
+                if k.is_multiple_of(10) || k == total {
                     eprintln!("{k} of {total} sequences");
                 }
                 out
