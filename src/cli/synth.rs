@@ -141,6 +141,53 @@ pub struct Args {
     #[arg(long, default_value = "srgb", value_parser = parse_response)]
     pub response: bulge::camera::Response,
 
+    /// Grey level of the clamp ring's visible top face (default: 58, a
+    /// dull face a little lighter than the ring's side at 38): e.g. 230
+    /// for a machined metal ring lit from above, 20 for a face darker than
+    /// its side. Drawn as light before the tone curve.
+    #[arg(long, default_value_t = 0.0, hide_default_value = true)]
+    pub ring_face_grey: f64,
+
+    /// Grey level of the bubble at its centre (default: 72, a dark
+    /// membrane before a light wall): e.g. 215 with --background-grey 50
+    /// for translucent latex lit in front of a dark wall.
+    #[arg(long, default_value_t = 0.0, hide_default_value = true)]
+    pub bubble_grey: f64,
+
+    /// Mean grey level of the background wall (default: 190, light).
+    #[arg(long, default_value_t = 0.0, hide_default_value = true)]
+    pub background_grey: f64,
+
+    /// Light from one side: the light is multiplied by 1 + S x, with x
+    /// going from -1 to 1 across the disc's columns (held beyond it), so
+    /// the dome and the background behind it are brighter on one side of
+    /// the apex (default 0; e.g. 0.3; negative: lit from the left).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub side_light: f64,
+
+    /// Defocus: the light is spread over a uniform disc of this radius, px
+    /// (the pillbox point-spread function of a defocused lens), after the
+    /// Gaussian blur (default 0: in focus).
+    #[arg(long, default_value_t = 0.0)]
+    pub defocus_px: f64,
+
+    /// Motion blur: the light is spread along a line of this length, px
+    /// (the camera or the specimen moving steadily during the exposure)
+    /// (default 0: none).
+    #[arg(long, default_value_t = 0.0)]
+    pub motion_px: f64,
+
+    /// Direction of the motion blur, degrees from the image's x axis
+    /// towards its y axis, down (default 0: horizontal).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub motion_deg: f64,
+
+    /// Vignetting: the lens's cos^4 fall-off of the light away from the
+    /// picture's centre, given as the share of the light the corners lose
+    /// (default 0: none; e.g. 0.3, corners at 70 % of the centre's light).
+    #[arg(long, default_value_t = 0.0)]
+    pub vignetting: f64,
+
     /// Gaussian blur standard deviation, px (default 0).
     #[arg(long, default_value_t = 0.0)]
     pub blur_px: f64,
@@ -260,6 +307,53 @@ pub fn run(args: Args) -> Result<(), Failure> {
         return Err(bad(format!(
             "--highlight-grey {}: give the highlight's peak, 0 to 255 grey levels",
             args.highlight_grey
+        )));
+    }
+    for (name, v, what) in [
+        (
+            "--ring-face-grey",
+            args.ring_face_grey,
+            "the ring face's grey level",
+        ),
+        ("--bubble-grey", args.bubble_grey, "the bubble's grey level"),
+        (
+            "--background-grey",
+            args.background_grey,
+            "the background's grey level",
+        ),
+    ] {
+        if !(v.is_finite() && (0.0..=255.0).contains(&v)) {
+            return Err(bad(format!(
+                "{name} {v}: give {what}, 1 to 255 (0 keeps the default)"
+            )));
+        }
+    }
+    if !(args.side_light.is_finite() && args.side_light.abs() <= 0.9) {
+        return Err(bad(format!(
+            "--side-light {}: give the relative change of the light across the disc, -0.9 to 0.9",
+            args.side_light
+        )));
+    }
+    for (name, v) in [
+        ("--defocus-px", args.defocus_px),
+        ("--motion-px", args.motion_px),
+    ] {
+        if !(v.is_finite() && v >= 0.0 && v <= blur_cap) {
+            return Err(bad(format!(
+                "{name} {v}: give a spread of 0 to a tenth of the picture ({blur_cap} px); a few px is a strong blur"
+            )));
+        }
+    }
+    if !args.motion_deg.is_finite() {
+        return Err(bad(format!(
+            "--motion-deg {}: give the motion's direction in degrees",
+            args.motion_deg
+        )));
+    }
+    if !(args.vignetting.is_finite() && (0.0..=0.9).contains(&args.vignetting)) {
+        return Err(bad(format!(
+            "--vignetting {}: give the share of the light the corners lose, 0 to 0.9",
+            args.vignetting
         )));
     }
     if let Some(m) = args.metres_per_pixel
@@ -424,6 +518,14 @@ pub fn run(args: Args) -> Result<(), Failure> {
             highlight_grey: args.highlight_grey,
             clutter: args.clutter,
             response: args.response,
+            ring_face_grey: args.ring_face_grey,
+            bubble_grey: args.bubble_grey,
+            background_grey: args.background_grey,
+            side_light: args.side_light,
+            defocus_px: args.defocus_px,
+            motion_px: args.motion_px,
+            motion_deg: args.motion_deg,
+            vignetting: args.vignetting,
         },
         window,
     };

@@ -21,8 +21,9 @@ use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
 mod look;
+pub mod sweep;
 pub mod trial;
-pub use look::{Framing, Look};
+pub use look::{Framing, Look, Psf, vignette};
 
 /// A meridian profile, pole first: `rho_m` is the current radial position and
 /// `z_m` the height above the clamp plane; the last point is on the rim
@@ -202,13 +203,17 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     let tone = lk.response;
     let light = |v: f64| 255.0 * tone.to_linear(v.clamp(0.0, 255.0) / 255.0);
     let encode = |l: f64| 255.0 * tone.encode(l.max(0.0) / 255.0);
+    let level = |v: f64, default: f64| if v > 0.0 { v } else { default };
+    let background = level(lk.background_grey, BACKGROUND);
+    let bubble = level(lk.bubble_grey, BUBBLE);
+    let face = level(lk.ring_face_grey, FLANGE);
     let mut img = vec![0.0f64; w * h];
     for y in 0..h {
         let yf = y as f64;
         for x in 0..w {
             let xf = x as f64;
             // Background: smooth gradient, plane waves, fixed grain.
-            let mut bg = BACKGROUND + 12.0 * (xf / w as f64 - 0.5) - 8.0 * (yf / h as f64 - 0.5);
+            let mut bg = background + 12.0 * (xf / w as f64 - 0.5) - 8.0 * (yf / h as f64 - 0.5);
             for t in &tables {
                 bg += t.0[x] * t.3[y] + t.1[x] * t.2[y];
             }
@@ -220,7 +225,7 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
             let below = ((yf + 0.5) - fix_back[x]).clamp(0.0, 1.0);
             let in_fixture = ((fixture_half + 0.5) - (xf - scene.axis_x_px).abs()).clamp(0.0, 1.0);
             let fix_level = if yf - fix_front[x] < flange_rows {
-                FLANGE
+                face
             } else {
                 FIXTURE
             };
@@ -235,7 +240,7 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
                 let u = (xf - apex[0]) / a_px;
                 let hy = (yf - (apex[1] + 0.45 * h_px.max(0.1 * a_px))) / (0.35 * a_px);
                 let mut shade =
-                    BUBBLE * (1.0 - 0.3 * u * u) + 14.0 * (-(u * u / 0.18 + hy * hy)).exp();
+                    bubble * (1.0 - 0.3 * u * u) + 14.0 * (-(u * u / 0.18 + hy * hy)).exp();
                 if let Some(hl) = &highlight {
                     shade += hl.at(xf, yf);
                 }
@@ -246,11 +251,27 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
             if lk.uneven_light != 0.0 {
                 v *= scene.extras.light(xf, yf);
             }
+            // Light from one side: brighter across the dome's columns on
+            // one side of the axis, and behind it.
+            if lk.side_light != 0.0 {
+                v *= 1.0 + lk.side_light * ((xf - scene.axis_x_px) / a_px).clamp(-1.0, 1.0);
+            }
+            if lk.vignetting > 0.0 {
+                v *= vignette(lk.vignetting, w, h, xf, yf);
+            }
             img[y * w + x] = v;
         }
     }
+    // The lens and the motion spread the light: the Gaussian of the lens's
+    // aberrations, then a defocus disc, then a motion streak.
     if d.blur_px > 0.0 {
         gaussian_blur(&mut img, w, h, d.blur_px);
+    }
+    if lk.defocus_px > 0.0 {
+        Psf::pillbox(lk.defocus_px).apply(&mut img, w, h);
+    }
+    if lk.motion_px > 0.0 {
+        Psf::line(lk.motion_px, lk.motion_deg).apply(&mut img, w, h);
     }
     // The exposure scales the light; the tone curve encodes it. The sensor
     // noise is added to the encoded values: photon noise, whose deviation

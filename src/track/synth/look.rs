@@ -36,6 +36,40 @@ pub struct Look {
     /// act on the light, which the curve then encodes (default sRGB;
     /// `Linear` draws in pixel values throughout).
     pub response: crate::camera::Response,
+    /// Grey level of the clamp ring's visible top face, the encoded value
+    /// of its light (0: the default 58, a dull face a little lighter than
+    /// the ring's side at 38; e.g. 230 for a machined metal ring lit from
+    /// above, 20 for a face darker than its side).
+    pub ring_face_grey: f64,
+    /// Grey level of the bubble at its centre (0: the default 72, a dark
+    /// membrane; e.g. 215 for translucent latex lit in front of a dark
+    /// wall, with `background_grey`).
+    pub bubble_grey: f64,
+    /// Mean grey level of the background (0: the default 190, a light
+    /// wall; e.g. 50 for a dark wall).
+    pub background_grey: f64,
+    /// Light from one side: the light is multiplied by
+    /// `1 + side_light * clamp((x - axis) / a, -1, 1)` (`a` the disc's
+    /// radius in px), so the dome is brighter on one side of its apex and
+    /// the background behind it too (0: lit evenly; negative: from the
+    /// left).
+    pub side_light: f64,
+    /// Defocus: a pillbox point-spread function (a uniform disc, the image
+    /// of a point through a defocused circular aperture) of this radius,
+    /// px, applied to the light after the Gaussian blur (0: in focus).
+    pub defocus_px: f64,
+    /// Linear motion blur: a line point-spread function of this length, px
+    /// (the camera or the specimen moving during the exposure at a steady
+    /// speed), applied to the light (0: none).
+    pub motion_px: f64,
+    /// Direction of the motion blur, degrees from the image's x axis
+    /// towards its y axis (down).
+    pub motion_deg: f64,
+    /// Vignetting: the light falls off towards the corners as
+    /// `cos^4(theta)` of the angle of view from the optical axis (the
+    /// picture's centre) of a lens whose focal length makes the corners
+    /// receive `1 - vignetting` of the centre's light (0: none; e.g. 0.3).
+    pub vignetting: f64,
 }
 
 /// Where the specimen is in the picture. Unset values keep the default
@@ -352,4 +386,317 @@ pub(super) fn outline_px(scene: &Scene, s: &Silhouette) -> Vec<(f64, f64)> {
     }
     top.extend(bottom.into_iter().rev());
     top
+}
+
+/// The vignetting factor `cos^4(theta)` at pixel `(x, y)` of a `w` x `h`
+/// picture whose corner pixels receive `1 - v` of the light of the optical
+/// centre `((w - 1) / 2, (h - 1) / 2)`: with `tan(theta) = r / f`,
+/// `cos^4(theta) = (1 + r^2 / f^2)^-2`, and `f` chosen so that the factor is
+/// `1 - v` at the corner pixels' centres.
+pub fn vignette(v: f64, w: usize, h: usize, x: f64, y: f64) -> f64 {
+    if v <= 0.0 {
+        return 1.0;
+    }
+    let (cx, cy) = (0.5 * (w as f64 - 1.0), 0.5 * (h as f64 - 1.0));
+    let rc2 = cx * cx + cy * cy;
+    // (1 + rc^2 / f^2)^-2 = 1 - v
+    let inv_f2 = ((1.0 - v.min(0.99)).powf(-0.5) - 1.0) / rc2.max(1e-12);
+    let r2 = (x - cx).powi(2) + (y - cy).powi(2);
+    (1.0 + r2 * inv_f2).powi(-2)
+}
+
+/// A point-spread function on a square grid of `2 r + 1` pixels a side,
+/// centred on the middle pixel, summing to 1.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Psf {
+    /// Half width, px.
+    pub r: usize,
+    /// Weights, row by row.
+    pub k: Vec<f64>,
+}
+
+impl Psf {
+    /// The defocus disc of radius `radius_px`: each weight is the area of
+    /// the pixel inside the disc (sampled on a 16 x 16 grid per pixel),
+    /// then all divided by their sum (close to `pi r^2`).
+    pub fn pillbox(radius_px: f64) -> Psf {
+        let (k, r) = Self::pillbox_areas(radius_px);
+        Psf::normalised(r, k)
+    }
+
+    /// The areas of the pixels inside a disc of radius `radius_px` centred
+    /// on a pixel's centre, and the grid's half width.
+    pub fn pillbox_areas(radius_px: f64) -> (Vec<f64>, usize) {
+        let r = (radius_px + 0.5).ceil() as usize;
+        let n = 2 * r + 1;
+        const S: usize = 16;
+        let rr = radius_px * radius_px;
+        let mut k = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                let mut inside = 0usize;
+                for sj in 0..S {
+                    let y = j as f64 - r as f64 - 0.5 + (sj as f64 + 0.5) / S as f64;
+                    for si in 0..S {
+                        let x = i as f64 - r as f64 - 0.5 + (si as f64 + 0.5) / S as f64;
+                        inside += usize::from(x * x + y * y <= rr);
+                    }
+                }
+                k[j * n + i] = inside as f64 / (S * S) as f64;
+            }
+        }
+        (k, r)
+    }
+
+    /// A line of length `length_px` through the middle pixel's centre at
+    /// `angle_deg` from the x axis towards y: the middles of its pieces
+    /// 1/8 px long, each spread over its four nearest pixels (bilinear
+    /// weights).
+    pub fn line(length_px: f64, angle_deg: f64) -> Psf {
+        let r = (0.5 * length_px).ceil() as usize + 1;
+        let n = 2 * r + 1;
+        let (s, c) = angle_deg.to_radians().sin_cos();
+        let m = (8.0 * length_px).ceil().max(1.0) as usize;
+        let mut k = vec![0.0; n * n];
+        for q in 0..m {
+            let t = length_px * ((q as f64 + 0.5) / m as f64 - 0.5);
+            let (x, y) = (t * c + r as f64, t * s + r as f64);
+            let (x0, y0) = (x.floor(), y.floor());
+            let (fx, fy) = (x - x0, y - y0);
+            let (x0, y0) = (x0 as usize, y0 as usize);
+            for (dy, wy) in [(0, 1.0 - fy), (1, fy)] {
+                for (dx, wx) in [(0, 1.0 - fx), (1, fx)] {
+                    let (xi, yi) = ((x0 + dx).min(n - 1), (y0 + dy).min(n - 1));
+                    k[yi * n + xi] += wx * wy;
+                }
+            }
+        }
+        Psf::normalised(r, k)
+    }
+
+    fn normalised(r: usize, mut k: Vec<f64>) -> Psf {
+        let sum: f64 = k.iter().sum();
+        for v in &mut k {
+            *v /= sum;
+        }
+        Psf { r, k }
+    }
+
+    /// Convolves `img` (`w` x `h`, row by row) with the spread, borders
+    /// replicated.
+    pub fn apply(&self, img: &mut [f64], w: usize, h: usize) {
+        let r = self.r as isize;
+        let n = 2 * self.r + 1;
+        let taps: Vec<(isize, isize, f64)> = (0..n * n)
+            .filter(|&i| self.k[i] != 0.0)
+            .map(|i| ((i % n) as isize - r, (i / n) as isize - r, self.k[i]))
+            .collect();
+        let src = img.to_vec();
+        let (wi, hi) = (w as isize, h as isize);
+        for y in 0..hi {
+            for x in 0..wi {
+                let mut acc = 0.0;
+                // The image of a point at (x + dx, y + dy) spreads to
+                // (x, y) with the weight at (-dx, -dy).
+                for &(dx, dy, kv) in &taps {
+                    let xs = (x - dx).clamp(0, wi - 1);
+                    let ys = (y - dy).clamp(0, hi - 1);
+                    acc += kv * src[(ys * wi + xs) as usize];
+                }
+                img[(y * wi + x) as usize] = acc;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Degradation, Scene, Silhouette, render};
+    use super::*;
+    use crate::camera::Response;
+
+    /// A level, linear-response 320 x 240 scene of a cap 10 mm high.
+    fn linear_scene(look: Look) -> (Scene, Silhouette) {
+        let s = Silhouette::spherical_cap(0.0375, 0.01, 200);
+        let look = Look {
+            response: Response::Linear,
+            ..look
+        };
+        let sc = Scene::framed(
+            320,
+            240,
+            0.0375,
+            7,
+            &Framing::default(),
+            look,
+            [0.01, 0.0375],
+        )
+        .unwrap();
+        (sc, s)
+    }
+
+    const SHARP: Degradation = Degradation {
+        blur_px: 0.0,
+        noise_grey: 0.0,
+        gain: 1.0,
+    };
+
+    /// The disc's area is `pi r^2` (the pixels' areas inside it sum to
+    /// it), and spreading a point keeps its light.
+    #[test]
+    fn the_pillbox_covers_the_disc_area_and_keeps_the_light() {
+        for r in [0.7, 1.5, 2.5, 4.0] {
+            let (k, _) = Psf::pillbox_areas(r);
+            let area: f64 = k.iter().sum();
+            let exact = std::f64::consts::PI * r * r;
+            assert!(
+                (area / exact - 1.0).abs() < 0.01,
+                "r {r}: {area} vs {exact}"
+            );
+            let psf = Psf::pillbox(r);
+            let (w, h) = (31, 29);
+            let mut img = vec![0.0; w * h];
+            img[14 * w + 15] = 100.0;
+            psf.apply(&mut img, w, h);
+            let total: f64 = img.iter().sum();
+            assert!((total - 100.0).abs() < 1e-9, "r {r}: {total}");
+            // Symmetric: as far left as right.
+            for d in 1..=psf.r {
+                let (l, rr) = (img[14 * w + 15 - d], img[14 * w + 15 + d]);
+                assert!((l - rr).abs() < 1e-12);
+            }
+        }
+    }
+
+    /// A uniform image stays uniform under every spread (the weights sum
+    /// to 1; the borders are replicated).
+    #[test]
+    fn spreads_keep_a_uniform_image() {
+        let (w, h) = (20, 15);
+        for psf in [Psf::pillbox(2.0), Psf::line(5.0, 30.0)] {
+            let mut img = vec![42.0; w * h];
+            psf.apply(&mut img, w, h);
+            assert!(img.iter().all(|v| (v - 42.0).abs() < 1e-9));
+        }
+    }
+
+    /// A line of length `L` spreads light uniformly along it: its mean is
+    /// the centre, its variance along it `L^2 / 12` (a uniform
+    /// distribution; `L^2 / 12 (1 - 1/m^2)` for the middles of its `m`
+    /// pieces) plus at most 1/4 px^2 of bilinear splatting, and none across
+    /// it.
+    #[test]
+    fn the_motion_line_has_the_variance_of_a_uniform_segment() {
+        let l = 8.0;
+        for (deg, along_x) in [(0.0, true), (90.0, false)] {
+            let psf = Psf::line(l, deg);
+            let n = 2 * psf.r + 1;
+            let (mut mx, mut my, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+            for (i, &k) in psf.k.iter().enumerate() {
+                let x = (i % n) as f64 - psf.r as f64;
+                let y = (i / n) as f64 - psf.r as f64;
+                mx += k * x;
+                my += k * y;
+                vx += k * x * x;
+                vy += k * y * y;
+            }
+            assert!(mx.abs() < 1e-9 && my.abs() < 1e-9);
+            let (va, vc) = if along_x { (vx, vy) } else { (vy, vx) };
+            let u = l * l / 12.0;
+            let m = 8.0 * l;
+            assert!(
+                va >= u * (1.0 - 1.0 / (m * m)) - 1e-12 && va <= u + 0.25,
+                "{deg} deg: variance {va} vs {u}"
+            );
+            assert!(vc < 1e-9, "{deg} deg: across {vc}");
+        }
+    }
+
+    /// The cos^4 law is 1 at the optical centre, `1 - v` at the corners,
+    /// and `cos^4(atan(r / f))` between them.
+    #[test]
+    fn vignetting_is_one_at_the_centre_and_falls_to_the_corners() {
+        let (w, h, v) = (641, 481, 0.3);
+        assert_eq!(vignette(v, w, h, 320.0, 240.0), 1.0);
+        for (x, y) in [(0.0, 0.0), (640.0, 0.0), (0.0, 480.0), (640.0, 480.0)] {
+            assert!((vignette(v, w, h, x, y) - 0.7).abs() < 1e-12);
+        }
+        // The focal length, px, from the corner's angle of view.
+        let rc = (320.0f64 * 320.0 + 240.0 * 240.0).sqrt();
+        let f = rc / 0.7f64.powf(0.25).acos().tan();
+        let theta = (100.0f64 / f).atan();
+        assert!((vignette(v, w, h, 420.0, 240.0) - theta.cos().powi(4)).abs() < 1e-12);
+        assert_eq!(vignette(0.0, w, h, 0.0, 0.0), 1.0);
+    }
+
+    /// The ring's top face has the grey level given (lighter than the
+    /// background here), the ring's side keeps its level.
+    #[test]
+    fn the_lighter_ring_face_rows_have_the_face_level() {
+        let (sc, s) = linear_scene(Look {
+            ring_face_grey: 230.0,
+            ..Look::default()
+        });
+        let img = render(&sc, &s, &SHARP, 1);
+        let a_px = sc.radius_m / sc.metres_per_pixel;
+        let x = (sc.axis_x_px + 1.1 * a_px).round() as usize;
+        let y_face = sc.clamp_row_px.ceil() as usize + 1;
+        assert_eq!(img.data[y_face * sc.width + x], 230);
+        let y_side = sc.height - 2;
+        assert_eq!(img.data[y_side * sc.width + x], 38);
+    }
+
+    /// A light bubble on a dark wall: the dome's centre has the bubble's
+    /// level, brighter than the wall above the apex.
+    #[test]
+    fn a_light_bubble_on_a_dark_wall() {
+        let (sc, s) = linear_scene(Look {
+            bubble_grey: 215.0,
+            background_grey: 50.0,
+            ..Look::default()
+        });
+        let img = render(&sc, &s, &SHARP, 1);
+        let [ax, ay] = sc.apex_px(&s);
+        let x = ax.round() as usize;
+        let inside = img.data[(ay + 8.0) as usize * sc.width + x];
+        let above = img.data[(ay - 8.0) as usize * sc.width + x];
+        assert!(
+            inside >= 215 && above <= 70,
+            "inside {inside}, above {above}"
+        );
+    }
+
+    /// Light from one side scales the dome's light at `u = +-0.5 a` from
+    /// the axis by `1 +- 0.5 S`; the shading is symmetric about the axis,
+    /// so their ratio is `(1 + 0.5 S) / (1 - 0.5 S)`.
+    #[test]
+    fn side_light_shades_the_dome_across_its_columns() {
+        let side = 0.4;
+        let (sc, s) = linear_scene(Look {
+            side_light: side,
+            ..Look::default()
+        });
+        let img = render(&sc, &s, &SHARP, 1);
+        // The axis on a pixel centre so that +-0.5 a are mirror columns.
+        let a_px = sc.radius_m / sc.metres_per_pixel;
+        let y = (sc.clamp_row_px - 3.0).round() as usize;
+        let mut ratios = Vec::new();
+        for d in [0.3, 0.5, 0.7] {
+            let xr = sc.axis_x_px + d * a_px;
+            let xl = sc.axis_x_px - d * a_px;
+            // Linear interpolation between the columns either side.
+            let at = |x: f64| {
+                let x0 = x.floor();
+                let f = x - x0;
+                let x0 = x0 as usize;
+                let p = |x: usize| f64::from(img.data[y * sc.width + x]);
+                p(x0) * (1.0 - f) + p(x0 + 1) * f
+            };
+            ratios.push((d, at(xr) / at(xl)));
+        }
+        for (d, r) in ratios {
+            let want = (1.0 + side * d) / (1.0 - side * d);
+            assert!((r / want - 1.0).abs() < 0.03, "u {d}: {r} vs {want}");
+        }
+    }
 }
