@@ -28,6 +28,7 @@
 pub mod annotate;
 pub mod image;
 pub mod init;
+pub mod lens;
 pub(crate) mod matcher;
 pub mod synth;
 pub mod video;

@@ -242,6 +242,10 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             radius_m: e.specimen.radius_m,
         }),
     };
+    let lens = match &e.camera {
+        Some(c) => super::lens::Lens::from_config(c).map_err(cfg)?,
+        None => None,
+    };
     let (mut frames, video) = list_frames(e, photos)?;
     join_pressures(e, pressure, &mut frames)?;
     if photos.reference_frame >= frames.len() {
@@ -267,6 +271,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             elevation,
             opening_radius_m: e.specimen.radius_m,
         },
+        lens,
     })
 }
 

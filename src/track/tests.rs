@@ -501,6 +501,7 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
         elevation_deg: 0.0,
         // The scene this case was found on: drawn in grey levels.
         response: crate::camera::Response::Linear,
+        lens: None,
     };
     let spec = synth::random_camera(336, &[(640, 480), (1024, 768)], look);
     let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();

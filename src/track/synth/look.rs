@@ -36,6 +36,11 @@ pub struct Look {
     /// act on the light, which the curve then encodes (default sRGB;
     /// `Linear` draws in pixel values throughout).
     pub response: crate::camera::Response,
+    /// A lens with distortion (`None`: a pinhole camera): the photo's pixels
+    /// take the ideal image's light at their undistorted positions
+    /// ([`super::lens::distort_light`]); positions in `truth.csv` stay the
+    /// ideal image's.
+    pub lens: Option<crate::track::lens::Lens>,
 }
 
 /// Where the specimen is in the picture. Unset values keep the default
