@@ -26,6 +26,7 @@
 //! right, y down (OpenCV's convention).
 
 pub mod annotate;
+pub mod calibrate;
 pub mod image;
 pub mod init;
 pub mod lens;
