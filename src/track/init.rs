@@ -79,6 +79,10 @@ pub struct Given {
     pub elevation_deg: Option<f64>,
     /// The camera's tone curve (edges are located in light).
     pub response: crate::camera::Response,
+    /// The lens (`bulge calibrate`): the clamp row, the axis and the scale
+    /// are given in the undistorted image (the region and the template stay
+    /// the photo's), and the experiment file gets the lens.
+    pub lens: Option<super::lens::Lens>,
 }
 
 /// Where the scale came from.
@@ -99,6 +103,8 @@ pub struct Found {
     pub height: usize,
     /// The camera's tone curve the photos were read through.
     pub response: crate::camera::Response,
+    /// The lens given (copied into the experiment file's `[camera]`).
+    pub lens: Option<super::lens::Lens>,
     /// The bubble's axis, image column.
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
@@ -1371,12 +1377,30 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             .filter_map(|(x, c)| c.map(|(t, _)| [x as f64, t as f64 - 0.5]))
             .collect(),
     ];
+    // Through the lens (when calibrated): the clamp row, the axis and the
+    // scale in the undistorted image.
+    let (mut axis_x_px, mut clamp_row_px, mut radius_px, mut metres_per_pixel) =
+        (axis_x_px, clamp.row, radius_px, metres_per_pixel);
+    let (ax, row, a) = super::lens::undistort_opening(
+        given.lens.as_ref(),
+        axis_x_px.value,
+        clamp_row_px.value,
+        radius_px.map(|a| a.value),
+    );
+    (axis_x_px.value, clamp_row_px.value) = (ax, row);
+    if let (Some(r), Some(a)) = (radius_px.as_mut(), a) {
+        let k = a / r.value;
+        (r.value, r.std) = (a, r.std * k);
+        (metres_per_pixel.value, metres_per_pixel.std) =
+            (metres_per_pixel.value / k, metres_per_pixel.std / k);
+    }
     Ok(Found {
         width: w,
         height: h,
         response: given.response,
+        lens: given.lens,
         axis_x_px,
-        clamp_row_px: clamp.row,
+        clamp_row_px,
         elevation_deg,
         roll_deg,
         clamp_half_width_px: clamp.half_width_px,
@@ -1468,8 +1492,9 @@ impl Found {
         t.push_str(&format!(
             "[camera]\n# the tone curve from light to grey levels: edges are located in light\n\
              # (\"srgb\" for ordinary 8-bit photos, \"linear\" for raw ones, or a gamma)\n\
-             response = {}\n\n",
-            toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string())
+             response = {}\n{}\n",
+            toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string()),
+            super::lens::lens_keys_toml(self.lens.as_ref()),
         ));
         t.push_str("[calibration]\n");
         match (&src.points, self.scale_from) {

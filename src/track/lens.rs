@@ -229,6 +229,9 @@ impl Lens {
     }
 }
 
+/// What tracking says without a lens calibration.
+pub const UNCALIBRATED_NOTE: &str = "note: no lens calibration in [camera]: the photos are taken as a distortion-free (pinhole) camera's; a lens's radial distortion (0.5-1 % at the photo's edge is common) changes the heights by up to about as much (`bulge calibrate` measures it; docs/track.md)";
+
 /// The tracker's final coordinates through the lens: the apex (photo
 /// coordinates) undistorted, with the tilt term of its edge's curvature
 /// when the edge was fitted (the top no further aside than half the fit's
@@ -262,6 +265,47 @@ pub(super) fn undistort_tracked(
         }
         None => (l.undistort(apex), None),
     }
+}
+
+/// `bulge init`'s final values through the lens: the axis column and the
+/// clamp row at the axis (the fits' values there, photo px) undistorted,
+/// and the opening's radius from its two ends on the clamp row. The fits
+/// themselves run on the photo's points: over the few pixels between a
+/// fitted value and the points near it the map is smooth, so the fitted
+/// point's image is the image's fitted point to first order (as for the
+/// tracker's apex). Without a lens, unchanged.
+pub(super) fn undistort_opening(
+    lens: Option<&Lens>,
+    axis_x: f64,
+    clamp_row: f64,
+    radius_px: Option<f64>,
+) -> (f64, f64, Option<f64>) {
+    let Some(l) = lens else {
+        return (axis_x, clamp_row, radius_px);
+    };
+    let u = l.undistort([axis_x, clamp_row]);
+    let a = radius_px.map(|a| {
+        let (left, right) = (
+            l.undistort([axis_x - a, clamp_row]),
+            l.undistort([axis_x + a, clamp_row]),
+        );
+        0.5 * (right[0] - left[0])
+    });
+    (u[0], u[1], a)
+}
+
+/// The lens keys of `[camera]` as `bulge init` writes them (empty without a
+/// lens): clamp_row_px, the axis and the scale are then the undistorted
+/// image's.
+pub(super) fn lens_keys_toml(lens: Option<&Lens>) -> String {
+    let Some(l) = lens else {
+        return String::new();
+    };
+    let body = toml::to_string(&l.to_config(None)).unwrap_or_default();
+    format!(
+        "# the lens (bulge calibrate): the tracker undistorts the apex, and clamp_row_px and the\n\
+         # scale below are in the undistorted image's pixels (roi_px and the template in the photo's)\n{body}"
+    )
 }
 
 /// The photo size against the calibration's: an error naming both and the
