@@ -267,31 +267,77 @@ pub(super) fn undistort_tracked(
     }
 }
 
-/// `bulge init`'s final values through the lens: the axis column and the
-/// clamp row at the axis (the fits' values there, photo px) undistorted,
-/// and the opening's radius from its two ends on the clamp row. The fits
-/// themselves run on the photo's points: over the few pixels between a
-/// fitted value and the points near it the map is smooth, so the fitted
-/// point's image is the image's fitted point to first order (as for the
-/// tracker's apex). Without a lens, unchanged.
+/// `bulge init`'s axis and opening through the lens: the axis column (at
+/// the clamp row `row_u`, already the undistorted image's) undistorted, and
+/// the opening's radius from its two ends on the clamp row. The sides' fit
+/// runs on the photo's points over a few tens of rows near the opening's
+/// ends, where the map is smooth: the fitted ends' images are the image's
+/// fitted ends to first order (as for the tracker's apex). Without a lens,
+/// unchanged.
 pub(super) fn undistort_opening(
     lens: Option<&Lens>,
     axis_x: f64,
-    clamp_row: f64,
+    row_u: f64,
     radius_px: Option<f64>,
-) -> (f64, f64, Option<f64>) {
+) -> (f64, Option<f64>) {
     let Some(l) = lens else {
-        return (axis_x, clamp_row, radius_px);
+        return (axis_x, radius_px);
     };
-    let u = l.undistort([axis_x, clamp_row]);
+    let row = photo_row(l, axis_x, row_u);
+    let u = l.undistort([axis_x, row]);
     let a = radius_px.map(|a| {
-        let (left, right) = (
-            l.undistort([axis_x - a, clamp_row]),
-            l.undistort([axis_x + a, clamp_row]),
-        );
+        let left = l.undistort([axis_x - a, photo_row(l, axis_x - a, row_u)]);
+        let right = l.undistort([axis_x + a, photo_row(l, axis_x + a, row_u)]);
         0.5 * (right[0] - left[0])
     });
-    (u[0], u[1], a)
+    (u[0], a)
+}
+
+/// The photo row at column `x` of the undistorted image's row `row_u`
+/// (a few Newton steps: the lens moves rows by a few px at most).
+fn photo_row(l: &Lens, x: f64, row_u: f64) -> f64 {
+    let mut y = row_u;
+    for _ in 0..20 {
+        let d = l.undistort([x, y])[1] - row_u;
+        y -= d;
+        if d.abs() < 1e-9 {
+            break;
+        }
+    }
+    y
+}
+
+/// The clamp's edge points `(column offset from the axis x0, row, step)` and
+/// its ends (photo columns) through the lens: offsets from the axis's image,
+/// undistorted rows; the ends as `x0` plus their offset in the undistorted
+/// image. Without a lens, unchanged.
+#[allow(clippy::type_complexity)]
+pub(super) fn undistort_clamp(
+    lens: Option<&Lens>,
+    x0: f64,
+    pts: Vec<(f64, f64, f64)>,
+    ends: [Option<f64>; 2],
+    row: f64,
+) -> (Vec<(f64, f64, f64)>, [Option<f64>; 2]) {
+    let Some(l) = lens else {
+        return (pts, ends);
+    };
+    let axis = l.undistort([x0, row])[0];
+    let pts = pts
+        .into_iter()
+        .map(|(d, e, s)| {
+            let u = l.undistort([x0 + d, e]);
+            (u[0] - axis, u[1], s)
+        })
+        .collect();
+    let ends = ends.map(|e| e.map(|e| x0 + l.undistort([e, row])[0] - axis));
+    (pts, ends)
+}
+
+/// The clamp's row in the photo at the axis `x0`, for the search of the
+/// sides, which reads the photo's rows (`row_u` without a lens).
+pub(super) fn clamp_row_in_photo(lens: Option<&Lens>, x0: f64, row_u: f64) -> f64 {
+    lens.map_or(row_u, |l| photo_row(l, x0, row_u))
 }
 
 /// The lens keys of `[camera]` as `bulge init` writes them (empty without a
