@@ -65,6 +65,7 @@ fn calibrate_recovers_the_lens_and_writes_a_camera_table() {
         r.stderr
     );
     let text = std::fs::read_to_string(d.path().join("camera.toml")).unwrap();
+    eprintln!("{}{}{text}", r.stdout, r.stderr);
     #[derive(serde::Deserialize)]
     struct File {
         camera: bulge::experiment::CameraConfig,
