@@ -372,12 +372,60 @@ pub struct CameraConfig {
     /// such as 2.2. Edges are located in linear light.
     #[serde(default)]
     pub response: Option<crate::camera::Response>,
+    /// Focal lengths `[fx, fy]`, px, from `bulge calibrate` (with
+    /// `principal_point_px` and `distortion`: the tracker and `bulge init`
+    /// undistort the points they measure, and heights are in the
+    /// undistorted pinhole image's pixels).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_px: Option<[f64; 2]>,
+    /// Principal point `[cx, cy]`, px (image coordinates of the photos).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point_px: Option<[f64; 2]>,
+    /// Distortion coefficients `[k1, k2, p1, p2, k3]` (OpenCV's order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distortion: Option<[f64; 5]>,
+    /// The photo size the calibration was made at, `[width, height]` px:
+    /// photos of another size are refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub image_size_px: Option<[usize; 2]>,
+    /// The calibration's RMS reprojection error, px (for the record).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reprojection_rms_px: Option<f64>,
 }
 
 impl CameraConfig {
     /// The tone curve (sRGB when not given).
     pub fn response(&self) -> crate::camera::Response {
         self.response.unwrap_or_default()
+    }
+
+    /// Whether a lens calibration is given (any of its keys).
+    pub fn has_lens(&self) -> bool {
+        self.focal_px.is_some() || self.principal_point_px.is_some() || self.distortion.is_some()
+    }
+
+    /// The lens calibration's keys checked: `Ok(None)` without one, an error
+    /// naming the missing or bad key and the fix.
+    #[allow(clippy::type_complexity)]
+    pub fn lens_keys(&self) -> Result<Option<([f64; 2], [f64; 2], [f64; 5])>, String> {
+        if !self.has_lens() {
+            return Ok(None);
+        }
+        let (Some(f), Some(c), Some(d)) = (self.focal_px, self.principal_point_px, self.distortion)
+        else {
+            return Err("[camera] gives part of a lens calibration: focal_px, principal_point_px and distortion go together; paste the whole [camera] table written by `bulge calibrate`".into());
+        };
+        if !(f[0].is_finite() && f[1].is_finite() && f[0] > 0.0 && f[1] > 0.0) {
+            return Err(format!(
+                "[camera] focal_px = {f:?}: the focal lengths must be positive, px; calibrate again with `bulge calibrate`"
+            ));
+        }
+        if !(c.iter().chain(d.iter()).all(|v| v.is_finite())) {
+            return Err(format!(
+                "[camera] principal_point_px = {c:?} or distortion = {d:?} is not finite; calibrate again with `bulge calibrate`"
+            ));
+        }
+        Ok(Some((f, c, d)))
     }
 }
 

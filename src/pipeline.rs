@@ -423,7 +423,10 @@ impl Tracking {
                 tw as f64,
                 th as f64,
             ],
-            apex_px: [r.apex_x_px, r.apex_y_px],
+            // The apex is the undistorted image's: drawn where the photo shows it.
+            apex_px: self.setup.lens.map_or([r.apex_x_px, r.apex_y_px], |l| {
+                l.distort([r.apex_x_px, r.apex_y_px])
+            }),
         }
     }
 
@@ -1657,6 +1660,9 @@ pub fn run_observed(
             Stage::Track,
             format!("skipped frame {} ({}): {}", sk.frame, sk.file, sk.reason),
         );
+    }
+    if tracking.setup.lens.is_none() {
+        note(Stage::Track, crate::track::lens::UNCALIBRATED_NOTE.into());
     }
     finish(
         Stage::Track,

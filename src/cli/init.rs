@@ -94,6 +94,12 @@ pub struct Args {
     #[arg(long, default_value = "srgb", value_parser = parse_response)]
     pub response: bulge::camera::Response,
 
+    /// The lens, a `[camera]` table written by `bulge calibrate`: the
+    /// clamp row, the axis and the scale are measured in the undistorted
+    /// image, and the table is copied into the experiment file.
+    #[arg(long)]
+    pub camera: Option<PathBuf>,
+
     /// Where to draw what was found (default: init.png beside the
     /// experiment file).
     #[arg(long)]
@@ -271,11 +277,16 @@ pub fn run(args: Args) -> Result<(), Failure> {
             args.output.display()
         )));
     }
+    let lens = match &args.camera {
+        Some(p) => Some(read_lens(p)?),
+        None => None,
+    };
     let given = Given {
         metres_per_pixel: args.metres_per_pixel.or(points
             .map(|(p, d)| d / ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())),
         elevation_deg: args.elevation_deg,
         response: args.response,
+        lens,
     };
     let found = init::find_in(&frames, args.radius_m, given).map_err(|e: TrackError| {
         if e.is_bad_input() {
@@ -348,4 +359,25 @@ pub fn run(args: Args) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The lens of a `[camera]` table written by `bulge calibrate`.
+fn read_lens(p: &Path) -> Result<bulge::track::lens::Lens, Failure> {
+    #[derive(serde::Deserialize)]
+    struct File {
+        camera: Option<bulge::experiment::CameraConfig>,
+    }
+    let bad = |m: String| Failure::BadInput(anyhow!("{}: {m}", p.display()));
+    let text = std::fs::read_to_string(p).map_err(|e| {
+        bad(format!(
+            "cannot read it ({e}); give the file `bulge calibrate` wrote"
+        ))
+    })?;
+    let f: File = toml::from_str(&text).map_err(|e| bad(format!("not a [camera] table: {e}")))?;
+    let c = f
+        .camera
+        .ok_or_else(|| bad("no [camera] table: give the file `bulge calibrate` wrote".into()))?;
+    bulge::track::lens::Lens::from_config(&c)
+        .map_err(bad)?
+        .ok_or_else(|| bad("the [camera] table has no lens (focal_px, principal_point_px, distortion): give the file `bulge calibrate` wrote".into()))
 }

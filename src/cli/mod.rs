@@ -7,6 +7,7 @@
 //! failed (a solver that diverged, an I/O failure while writing).
 
 pub mod bench;
+pub mod calibrate;
 mod checks;
 pub mod fit;
 pub mod init;
@@ -46,6 +47,8 @@ pub enum Command {
     Init(init::Args),
     /// Photos -> apex height per photo (OpenCV template matching, sub-pixel).
     Track(track::Args),
+    /// Chessboard photos -> the lens: focal lengths, principal point, distortion ([camera]).
+    Calibrate(calibrate::Args),
     /// Write a synthetic experiment with known truth (photos, pressures, truth).
     Synth(synth::Args),
     /// Apex heights -> stress and strain (spherical-cap formulas).
@@ -122,6 +125,7 @@ pub fn dispatch(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Init(a) => init::run(a),
         Command::Track(a) => track::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Stress(a) => stress::run(a),
         Command::Fit(a) => fit::run(a),

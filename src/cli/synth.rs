@@ -188,6 +188,27 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0)]
     pub vignetting: f64,
 
+    /// Radial distortion of the lens, k1 (OpenCV's model; e.g. -0.1 for a
+    /// barrel distortion of about 1 % at the photo's edge with the default
+    /// focal length): the photos are drawn through it, and experiment.toml
+    /// gives the lens in `[camera]`. Off by default (a pinhole camera).
+    #[arg(long, allow_hyphen_values = true)]
+    pub lens_k1: Option<f64>,
+
+    /// Radial distortion of the lens, k2 (with --lens-k1).
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        default_value_t = 0.0,
+        requires = "lens_k1"
+    )]
+    pub lens_k2: f64,
+
+    /// Focal length of the lens with --lens-k1, px (default: the photo's
+    /// width; the principal point is the photo's centre).
+    #[arg(long, requires = "lens_k1")]
+    pub focal_px: Option<f64>,
+
     /// Gaussian blur standard deviation, px (default 0).
     #[arg(long, default_value_t = 0.0)]
     pub blur_px: f64,
@@ -526,6 +547,19 @@ pub fn run(args: Args) -> Result<(), Failure> {
             motion_px: args.motion_px,
             motion_deg: args.motion_deg,
             vignetting: args.vignetting,
+            lens: args.lens_k1.map(|k1| {
+                let f = args.focal_px.unwrap_or(args.width as f64);
+                let (cx, cy) = (
+                    (args.width as f64 - 1.0) / 2.0,
+                    (args.height as f64 - 1.0) / 2.0,
+                );
+                bulge::track::lens::Lens {
+                    k1,
+                    k2: args.lens_k2,
+                    image_size_px: Some([args.width, args.height]),
+                    ..bulge::track::lens::Lens::pinhole(f, f, cx, cy)
+                }
+            }),
         },
         window,
     };

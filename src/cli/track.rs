@@ -113,6 +113,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
     for s in &tracked.skipped {
         eprintln!("skipped frame {} ({}): {}", s.frame, s.file, s.reason);
     }
+    if setup.lens.is_none() {
+        eprintln!("{}", track::lens::UNCALIBRATED_NOTE);
+    }
     let secs = start.elapsed().as_secs_f64();
     let n = tracked.rows.len();
     let (hmin, hmax) = tracked

@@ -50,6 +50,7 @@ pub(super) fn match_frames(
         Some(b) => [b[0], b[1]],
         None => [0, 0],
     };
+    super::lens::check_size(setup.lens.as_ref(), &setup.experiment, width, height)?;
     let roi = check_rect(&reference.path, setup.roi, width, height)?;
     let templ: Gray = match &setup.template {
         TemplateSource::File(p) => image::read_gray(p, None)?.crop,
@@ -291,7 +292,10 @@ pub(super) fn match_frames(
             x_vertex: e.x_vertex + off_x,
             ..e
         });
-        (shift(apex), std, shift(int), shift(quad), edge)
+        // Through the lens (when calibrated): heights in the undistorted
+        // image's pixels.
+        let (apex, edge) = super::lens::undistort_tracked(setup.lens.as_ref(), shift(apex), edge);
+        (apex, std, shift(int), shift(quad), edge)
     };
     let mpp = setup.calibration.metres_per_pixel;
     let (origin_row, origin_std, offset_m) = match setup.calibration.origin {

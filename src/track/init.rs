@@ -79,6 +79,10 @@ pub struct Given {
     pub elevation_deg: Option<f64>,
     /// The camera's tone curve (edges are located in light).
     pub response: crate::camera::Response,
+    /// The lens (`bulge calibrate`): the clamp row, the axis and the scale
+    /// are given in the undistorted image (the region and the template stay
+    /// the photo's), and the experiment file gets the lens.
+    pub lens: Option<super::lens::Lens>,
 }
 
 /// Where the scale came from.
@@ -99,6 +103,8 @@ pub struct Found {
     pub height: usize,
     /// The camera's tone curve the photos were read through.
     pub response: crate::camera::Response,
+    /// The lens given (copied into the experiment file's `[camera]`).
+    pub lens: Option<super::lens::Lens>,
     /// The bubble's axis, image column.
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
@@ -507,6 +513,7 @@ fn follow_side(img: &Plane, x: f64, r0: usize, dir: f64) -> Option<(f64, f64)> {
 }
 
 /// The clamp's top edge beside the bubble (step 3).
+#[derive(Clone)]
 struct Clamp {
     row: Estimate,
     sin_e: Option<Estimate>,
@@ -524,6 +531,7 @@ fn find_clamp(
     [y_low, base]: [f64; 2],
     noise: f64,
     given_sin_e: Option<f64>,
+    lens: Option<&super::lens::Lens>,
 ) -> Result<Clamp, TrackError> {
     let (w, h) = (img.w as i64, img.h as i64);
     let lo_row = ((y_low - 0.3 * a0 - 4.0).floor() as i64).max(8);
@@ -650,6 +658,10 @@ fn find_clamp(
             }
         }
     }
+    // Through the lens (when calibrated): the edge's points and the clamp's
+    // ends in the undistorted image, as offsets from the axis's image (a
+    // straight edge stays straight there; the photo's is bent by the lens).
+    let (pts, ends) = super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
     // Both ends centred on the axis, or one end and the axis.
     let half = match ends {
         [Some(l), Some(r)] if ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0 => Some((r - l) / 2.0),
@@ -1232,7 +1244,15 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     mean.v[band_rows.start * w..band_rows.end * w].copy_from_slice(&clamp_rows);
     let y_low = bottom as f64;
     let given_sin = given.elevation_deg.map(|e| e.to_radians().sin());
-    let clamp = find_clamp(&mean, x0, a0, [y_low, base], sw.noise, given_sin)?;
+    let clamp = find_clamp(
+        &mean,
+        x0,
+        a0,
+        [y_low, base],
+        sw.noise,
+        given_sin,
+        given.lens.as_ref(),
+    )?;
     let roll_deg = Estimate {
         value: clamp.slope.value.atan().to_degrees(),
         std: (clamp.slope.std / (1.0 + clamp.slope.value.powi(2))).to_degrees(),
@@ -1279,7 +1299,11 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             Vec::new(),
         ),
         None => {
-            let (a, sides) = find_radius(&pl, x0, a0, &clamp, sin_e)?;
+            // The sides are read in the photo's rows.
+            let mut in_photo = clamp.clone();
+            in_photo.row.value =
+                super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
+            let (a, sides) = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
             let mpp = radius_m / a.value;
             (
                 Some(a),
@@ -1371,12 +1395,30 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             .filter_map(|(x, c)| c.map(|(t, _)| [x as f64, t as f64 - 0.5]))
             .collect(),
     ];
+    // Through the lens (when calibrated): the axis and the scale in the
+    // undistorted image (the clamp row is already).
+    let (mut axis_x_px, clamp_row_px, mut radius_px, mut metres_per_pixel) =
+        (axis_x_px, clamp.row, radius_px, metres_per_pixel);
+    let (ax, a) = super::lens::undistort_opening(
+        given.lens.as_ref(),
+        axis_x_px.value,
+        clamp_row_px.value,
+        radius_px.map(|a| a.value),
+    );
+    axis_x_px.value = ax;
+    if let (Some(r), Some(a)) = (radius_px.as_mut(), a) {
+        let k = a / r.value;
+        (r.value, r.std) = (a, r.std * k);
+        (metres_per_pixel.value, metres_per_pixel.std) =
+            (metres_per_pixel.value / k, metres_per_pixel.std / k);
+    }
     Ok(Found {
         width: w,
         height: h,
         response: given.response,
+        lens: given.lens,
         axis_x_px,
-        clamp_row_px: clamp.row,
+        clamp_row_px,
         elevation_deg,
         roll_deg,
         clamp_half_width_px: clamp.half_width_px,
@@ -1468,8 +1510,9 @@ impl Found {
         t.push_str(&format!(
             "[camera]\n# the tone curve from light to grey levels: edges are located in light\n\
              # (\"srgb\" for ordinary 8-bit photos, \"linear\" for raw ones, or a gamma)\n\
-             response = {}\n\n",
-            toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string())
+             response = {}\n{}\n",
+            toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string()),
+            super::lens::lens_keys_toml(self.lens.as_ref()),
         ));
         t.push_str("[calibration]\n");
         match (&src.points, self.scale_from) {

@@ -26,8 +26,10 @@
 //! right, y down (OpenCV's convention).
 
 pub mod annotate;
+pub mod calibrate;
 pub mod image;
 pub mod init;
+pub mod lens;
 pub(crate) mod matcher;
 pub mod synth;
 pub mod video;

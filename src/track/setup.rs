@@ -242,6 +242,10 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             radius_m: e.specimen.radius_m,
         }),
     };
+    let lens = match &e.camera {
+        Some(c) => super::lens::Lens::from_config(c).map_err(cfg)?,
+        None => None,
+    };
     let (mut frames, video) = list_frames(e, photos)?;
     join_pressures(e, pressure, &mut frames)?;
     check_pressures(e, pressure, &frames)?;
@@ -268,6 +272,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             elevation,
             opening_radius_m: e.specimen.radius_m,
         },
+        lens,
     })
 }
 

@@ -20,6 +20,7 @@ use super::image::{Encoding, Gray};
 use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
+pub mod lens;
 mod look;
 pub mod sweep;
 pub mod trial;
@@ -272,6 +273,10 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     }
     if lk.motion_px > 0.0 {
         Psf::line(lk.motion_px, lk.motion_deg).apply(&mut img, w, h);
+    }
+    // The lens's distortion moves the light (a map of the image).
+    if let Some(l) = &lk.lens {
+        img = lens::distort_light(&img, w, h, l);
     }
     // The exposure scales the light; the tone curve encodes it. The sensor
     // noise is added to the encoded values: photon noise, whose deviation
@@ -747,7 +752,7 @@ pub fn experiment_toml(
          [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
-         [camera]\nresponse = {}\n\n\
+         [camera]\nresponse = {}\n{}\n\
          [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
          [pressure]\n{pressure}{}",
         s.radius_m,
@@ -758,10 +763,24 @@ pub fn experiment_toml(
         layout.apex_in_template_px[1],
         toml::Value::try_from(spec.look.response)
             .map_or_else(|_| "\"srgb\"".into(), |v| v.to_string()),
+        spec.look.lens.map_or_else(String::new, |l| lens_toml(&l)),
         scene.metres_per_pixel,
         scene.clamp_row_px,
         window_toml(&spec.window),
     )
+}
+
+/// The lens keys of `[camera]` (the lens the photos were drawn through).
+fn lens_toml(l: &super::lens::Lens) -> String {
+    let c = l.to_config(None);
+    let mut t = toml::to_string(&c).unwrap_or_default();
+    if !t.is_empty() {
+        t.insert_str(
+            0,
+            "# the lens the photos were drawn through (as `bulge calibrate` writes it)\n",
+        );
+    }
+    t
 }
 
 /// The `[window]` table of a non-circular window (empty for the circle).
@@ -872,7 +891,13 @@ pub fn write_sequence(
     let p = out.join("truth.csv");
     tcsv.write(&p).map_err(|e| write_err(&p, e))?;
 
-    let apexes: Vec<[f64; 2]> = truth.iter().map(|t| [t.apex_x_px, t.apex_y_px]).collect();
+    // The region and the template where the photos show the apex (through
+    // the lens, when there is one).
+    let apexes: Vec<[f64; 2]> = truth
+        .iter()
+        .map(|t| [t.apex_x_px, t.apex_y_px])
+        .map(|p| spec.look.lens.map_or(p, |l| l.distort(p)))
+        .collect();
     let layout = Layout::around(
         &apexes,
         0,

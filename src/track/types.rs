@@ -147,6 +147,10 @@ pub struct Setup {
     pub response: crate::camera::Response,
     /// Pixels to metres.
     pub calibration: Calibration,
+    /// The lens (`[camera]` from `bulge calibrate`): the apex is undistorted,
+    /// and heights are in the undistorted image's pixels. `None`: the
+    /// photos are taken as a pinhole camera's.
+    pub lens: Option<super::lens::Lens>,
 }
 
 /// How the apex position is refined.

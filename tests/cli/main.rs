@@ -4,6 +4,7 @@
 mod util;
 
 mod bench;
+mod calibrate;
 mod dynamics;
 mod fit;
 mod init;

@@ -70,6 +70,11 @@ pub struct Look {
     /// picture's centre) of a lens whose focal length makes the corners
     /// receive `1 - vignetting` of the centre's light (0: none; e.g. 0.3).
     pub vignetting: f64,
+    /// A lens with distortion (`None`: a pinhole camera): the photo's pixels
+    /// take the ideal image's light at their undistorted positions
+    /// ([`super::lens::distort_light`]); positions in `truth.csv` stay the
+    /// ideal image's.
+    pub lens: Option<crate::track::lens::Lens>,
 }
 
 /// Where the specimen is in the picture. Unset values keep the default

@@ -66,6 +66,7 @@ pub fn init_and_track(
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
         response: spec.look.response,
+        lens: spec.look.lens,
     };
     let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
     let toml = found.experiment_toml(
