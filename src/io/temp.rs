@@ -42,11 +42,13 @@ fn remove_all(list: &mut Vec<PathBuf>) -> usize {
 
 /// Registers a file that the interrupt handler removes, as a temporary file
 /// is (an output folder's lock file, while its run lasts).
+#[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) fn remove_on_signal(path: &Path) {
     registry().push(path.to_path_buf());
 }
 
-/// Removes `path` and takes it off the list of [`remove_on_signal`].
+/// Removes `path` and takes it off the list of `remove_on_signal`.
+#[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) fn remove_now(path: &Path) {
     let mut list = registry();
     let _ = fs::remove_file(path);
