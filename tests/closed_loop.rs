@@ -13,7 +13,7 @@ mod tests {
     /// (Mooney-Rivlin), 8 noisy 320x240 photos. The full study is
     /// `examples/closed_loop.rs` (docs/run.md). Bounds: the tracked heights
     /// within 0.5 % of the truth; TP MSS within 2 % of the true heights at
-    /// every pressure (the target) and closer to the truth than Van
+    /// every pressure (the target) and closer to the truth than Van
     /// Gelder; without the correction of the law to the heights, the
     /// spherical-cap method's own bias puts TP MSS more than 1 % off.
     #[test]

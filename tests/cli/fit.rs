@@ -116,7 +116,7 @@ fn treloar_ogden3_beats_published_parameters() {
 }
 
 /// Neo-Hookean and Mooney-Rivlin through the binary against the independent
-/// numpy/scipy fits, to 3 significant digits (the criterion).
+/// numpy/scipy fits, to 3 significant digits.
 #[test]
 fn treloar_linear_models_match_independent_fit() {
     let r = reference();

@@ -69,7 +69,7 @@ fn tracks_a_synthetic_sequence_to_sub_pixel_heights() {
         let y: f64 = r[4].parse().unwrap();
         let h: f64 = r[6].parse().unwrap();
         let std: f64 = r[7].parse().unwrap();
-        // Bound: 0.2 px, twice the noisy bound (a single frame, not an RMS).
+        // Bound: 0.2 px, twice the noisy RMS bound (a single frame, not an RMS).
         assert!(
             (y - t.apex_y_px).abs() < 0.2,
             "{}: row {y} vs {}",
