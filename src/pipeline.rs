@@ -1134,6 +1134,14 @@ pub fn simulate_stage(
                         q.pressure_pa,
                         settings.solver.name()
                     ))
+                } else if q.stats.residual > opts.tolerance {
+                    Some(format!(
+                        "{} at {} Pa: the residual stopped at {:.2e} of the load, above the tolerance {:e}, at the round-off floor of double precision here; the height carries a relative error of about that size",
+                        model.name(),
+                        q.pressure_pa,
+                        q.stats.residual,
+                        opts.tolerance
+                    ))
                 } else {
                     None
                 },

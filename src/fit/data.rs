@@ -258,6 +258,15 @@ pub fn load(t: &Table, opts: &LoadOptions) -> Result<Loaded, InputError> {
                 format!("stretch {l} is not positive: a stretch is deformed/undeformed length, > 0 (1 at rest); fix or drop the row"),
             ));
         }
+        // An inflated membrane is stretched: equibiaxial compression of a
+        // membrane buckles it, so a stretch below 1 is another test's data.
+        if l < 1.0 {
+            return Err(t.error_at(
+                r,
+                "stretch",
+                format!("stretch {l} is below 1: that is compression, and an inflated membrane is only stretched (equibiaxial compression buckles a membrane); drop the compression rows, or give uniaxial compression at stretch l as equibiaxial tension at stretch 1/sqrt(l) (incompressible)"),
+            ));
+        }
     }
     increasing(t, &stretch, "stretch")?;
     if t.column_index("secant_modulus_pa").is_some() {
@@ -580,11 +589,18 @@ mod tests {
         assert!(e.contains("r.csv, line 4") && e.contains("repeats"), "{e}");
         let t = Table::parse(
             Path::new("r.csv"),
-            b"stretch,nominal_stress_pa\n1,0\n0.9,2\n",
+            b"stretch,nominal_stress_pa\n1.2,0\n1.1,2\n",
         )
         .unwrap();
         let e = load(&t, &opts()).unwrap_err().to_string();
         assert!(e.contains("line 3") && e.contains("smaller"), "{e}");
+        let t = Table::parse(
+            Path::new("r.csv"),
+            b"stretch,nominal_stress_pa\n1,0\n0.9,2\n",
+        )
+        .unwrap();
+        let e = load(&t, &opts()).unwrap_err().to_string();
+        assert!(e.contains("line 3") && e.contains("compression"), "{e}");
         let t = Table::parse(
             Path::new("r.csv"),
             b"stretch,nominal_stress_pa\n-1,0\n0.9,2\n",

@@ -267,7 +267,29 @@ pub enum PointError {
         /// The value, m.
         value: f64,
     },
+    /// A height that no membrane on this opening can reach: the cap's
+    /// stretch above [`MAX_STRETCH`].
+    #[error(
+        "height_m = {height_m:e} over radius_m = {radius_m:e} gives the cap a stretch of {stretch:.3e}, above {max}: no membrane survives that (rubbers break below a stretch of about 8 in equibiaxial tension); check that radius_m is the opening's radius in metres and height_m is in metres",
+        max = MAX_STRETCH
+    )]
+    BeyondAnyMembrane {
+        /// The height, m.
+        height_m: f64,
+        /// The opening's radius, m.
+        radius_m: f64,
+        /// The stretch of the spherical cap.
+        stretch: f64,
+    },
 }
+
+/// The largest cap stretch the stress stage accepts. Natural rubber, the
+/// most extensible of the membranes bulge tests, breaks in equibiaxial
+/// tension at stretches of about 4.5-8 (Treloar's equibiaxial data reach
+/// 4.9: L. R. G. Treloar, "Stress-strain data for vulcanised rubber under
+/// various types of deformation", Trans. Faraday Soc. 40 (1944) 59-70,
+/// doi:10.1039/TF9444000059); a stretch of 10 is a unit or radius mistake.
+pub const MAX_STRETCH: f64 = 10.0;
 
 impl PointError {
     /// The input column that holds the bad value.
@@ -277,7 +299,7 @@ impl PointError {
             PointError::NegativePressure { .. } | PointError::FlatUnderPressure { .. } => {
                 "pressure_pa"
             }
-            PointError::BelowPrebulge { .. } => "height_m",
+            PointError::BelowPrebulge { .. } | PointError::BeyondAnyMembrane { .. } => "height_m",
             PointError::NegativeHeightStd { .. } => "height_std_m",
         }
     }

@@ -354,6 +354,40 @@ impl NewtonWorkspace {
     }
 }
 
+/// The residual's round-off floor at `x`: how far the reduced residual `r`
+/// moves when every coordinate is changed by its last bit (each by
+/// `eps |x_i|`, with signs that do not cancel). A residual within a few
+/// times this is as small as double precision can make it there.
+fn roundoff_floor(
+    m: &Membrane,
+    x: &[Point3<f64>],
+    r: &[f64],
+    ws: &mut NewtonWorkspace,
+) -> Result<f64, SimError> {
+    let mut xp = x.to_vec();
+    for (i, p) in xp.iter_mut().enumerate() {
+        for k in 0..3 {
+            // a fixed pattern of signs (a cheap hash of the index)
+            let sign = if (i * 3 + k).wrapping_mul(0x9E37_79B9) & 0x100 == 0 {
+                1.0
+            } else {
+                -1.0
+            };
+            p[k] += sign * f64::EPSILON * p[k].abs();
+        }
+    }
+    let mut f = vec![Vector3::zeros(); x.len()];
+    ws.forces(m, &xp, &mut f)?;
+    let mut rp = vec![0.0; r.len()];
+    ws.dofs.reduce(&f, &mut rp);
+    Ok(rp
+        .iter()
+        .zip(r)
+        .map(|(a, b)| (a - b) * (a - b))
+        .sum::<f64>()
+        .sqrt())
+}
+
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
@@ -452,6 +486,16 @@ pub fn newton_with(
             // differences of nearly equal lengths); the state is converged.
             let dmax = d.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             if last_err.is_none() && dmax <= 1e-8 * m.min_rest_edge() {
+                // ... when the residual is there: within ten times what
+                // a change of the coordinates' last bits moves it by
+                let floor = roundoff_floor(m, x, &r, ws)?;
+                if rn > 10.0 * floor {
+                    return Err(fail(format!(
+                        "the line search stalled at relative residual {:.3e}, above the tolerance and above the round-off floor here ({:.3e}): the tangent does not lead down; try --solver dr",
+                        rn / load,
+                        floor / load
+                    )));
+                }
                 // ... unless the load itself is below that floor: then
                 // nothing was solved (a pressure too small to resolve)
                 if rn > 1e-3 * load {

@@ -835,6 +835,24 @@ pub fn write_sequence(
             ),
         });
     }
+    // A bubble too small to measure is refused rather than drawn: the
+    // tracker's template is at least 32 px wide (so the opening must be as
+    // wide), and at its best the apex is found to about 0.03 px, so a
+    // tallest bubble under 3 px could not give heights to 1 %.
+    let (a_px, h_px) = (
+        spec.specimen.radius_m / scene.metres_per_pixel,
+        hmax / scene.metres_per_pixel,
+    );
+    if 2.0 * a_px < 32.0 || h_px < 3.0 {
+        return Err(TrackError::Config {
+            path: out.to_path_buf(),
+            message: format!(
+                "the opening is {:.1} px wide and the tallest bubble {h_px:.2} px tall at {:.3e} m per px: the tracker needs an opening of at least 32 px and a bubble of at least 3 px; give a finer --metres-per-pixel or a higher --pressure-max-pa",
+                2.0 * a_px,
+                scene.metres_per_pixel
+            ),
+        });
+    }
     let n = frames.len();
     let digits = n.to_string().len().max(3);
     let ext = spec.encoding.extension();

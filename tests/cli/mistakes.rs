@@ -443,3 +443,61 @@ fn file_messages_speak_of_keys_and_separators() {
     ]);
     assert!(!d.join("s.csv").exists());
 }
+
+/// Values that used to pass silently: a radius that makes the heights
+/// impossible, compression rows given as bulge data, a bubble too small to
+/// measure, and a solve that stopped above its tolerance at the round-off
+/// floor (written, with a warning saying so).
+#[test]
+fn impossible_values_are_named_not_computed() {
+    let dir = tempdir();
+    let d = dir.path();
+    fs::write(d.join("h.csv"), "pressure_pa,height_m\n1000,0.005\n").unwrap();
+    let args = [
+        "stress",
+        "h.csv",
+        "--radius-m",
+        "1e-300",
+        "--thickness-m",
+        "0.00035",
+        "--poisson",
+        "0.45",
+        "-o",
+        "out.csv",
+    ];
+    bulge_in(d, &args).bad_input(&["radius_m = 1e-300", "stretch", "radius in metres"]);
+    assert!(!d.join("out.csv").exists());
+
+    fs::write(
+        d.join("c.csv"),
+        "stretch,nominal_stress_pa\n0.8,-1e5\n0.9,-4e4\n1.1,3e4\n1.3,8e4\n",
+    )
+    .unwrap();
+    bulge_in(d, &["fit", "c.csv", "-o", "m.toml"]).bad_input(&[
+        "c.csv",
+        "line 2",
+        "stretch 0.8 is below 1",
+        "compression",
+    ]);
+    assert!(!d.join("m.toml").exists());
+
+    bulge_in(d, &["synth", "s", "--metres-per-pixel", "0.01"])
+        .bad_input(&["px wide", "at least 32 px", "--metres-per-pixel"]);
+    assert!(!d.join("s").exists());
+
+    let scene = crate::util::repo().join("data/scenes/ellipse-2to1.toml");
+    let text = fs::read_to_string(scene)
+        .unwrap()
+        .replace("[0.0375, 0.01875]", "[1e-9, 0.5e-9]");
+    fs::write(d.join("tiny.toml"), text).unwrap();
+    let r = bulge_in(
+        d,
+        &["simulate", "tiny.toml", "--model", "membrane", "-o", "t.csv"],
+    )
+    .ok();
+    assert!(
+        r.stderr.contains("above --tolerance") && r.stderr.contains("round-off floor"),
+        "{}",
+        r.stderr
+    );
+}

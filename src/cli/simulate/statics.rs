@@ -101,8 +101,12 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
                 .map_err(|e| anyhow!("{e}"))
                 .bad_input()?;
             let (m, sv) = (model.name(), solver.name());
+            let mut at_floor: Vec<(f64, f64)> = Vec::new();
             let swept = s.sweep(&pressures, |s, q| {
                 pb.inc(1);
+                if q.stats.residual > opts.tolerance {
+                    at_floor.push((q.pressure_pa, q.stats.residual));
+                }
                 // Newton found the dome turned inside out, or none, on a
                 // slack dome: the equilibrium is dynamic relaxation's.
                 let sv = if q.stats.relaxed { "dr" } else { sv };
@@ -136,6 +140,17 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
                     vtks.push((dir.join(name), vtk::polydata(&mesh, x, &stretch, &title)));
                 }
             });
+            if !at_floor.is_empty() {
+                let worst = at_floor.iter().fold(0.0_f64, |a, r| a.max(r.1));
+                let ps: Vec<String> = at_floor.iter().map(|r| r.0.to_string()).collect();
+                pb.suspend(|| {
+                    eprintln!(
+                        "warning ({m} / {sv}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above --tolerance {:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
+                        ps.join(", "),
+                        opts.tolerance
+                    )
+                });
+            }
             if let Err((_, stop)) = swept {
                 let p = stop.pressure_pa;
                 if let e @ SimError::NonPositiveModulus { .. } = &stop.error {
