@@ -922,6 +922,37 @@ fn find_radius(
     ))
 }
 
+/// Refuses a series in which the bubble shrinks. On the axis, the rows
+/// between the two photos' apexes show the wall in the photo with the
+/// smaller bubble and the bubble in the other: if the first photo's light
+/// there is the wall's (the rows above both apexes) the bubble grew; if the
+/// last photo's is, it shrank (a deflation, or photos in reverse order),
+/// and every apex init would place is the wrong photo's.
+fn shrinking_check(
+    first: &[f64],
+    last: &[f64],
+    wall_rows: &std::ops::Range<usize>,
+    band: std::ops::RangeInclusive<usize>,
+    names: [&Path; 2],
+) -> Result<(), TrackError> {
+    let median = |v: &mut Vec<f64>| quantile(v, 0.5);
+    let wall = median(&mut first[wall_rows.clone()].to_vec());
+    let off = |p: &[f64]| median(&mut band.clone().map(|r| (p[r] - wall).abs()).collect());
+    let (off_first, off_last) = (off(first), off(last));
+    // the wall's own spread above the apexes: the noise of this comparison
+    let spread = median(&mut wall_rows.clone().map(|r| (first[r] - wall).abs()).collect());
+    if off_first > 3.0 * off_last && off_first - off_last > 6.0 * spread.max(1e-3 * wall) {
+        return Err(TrackError::Config {
+            path: names[1].to_path_buf(),
+            message: format!(
+                "above the bubble's top this last photo shows the wall where the first ({}) shows the bubble: the bubble shrinks in this series (a deflation, or photos in reverse order); give the photos in the order of rising pressure (name them so, or use a glob that sorts them so)",
+                names[0].display()
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// Template size for a bubble of free radius `a_px` in a photo `width` px
 /// wide: 30 % of `a` wide, at most a tenth of the width, at least 32 px,
 /// even, half as tall.
@@ -1208,6 +1239,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         p.iter().map(|v| v * g).collect()
     };
     let (nf, nl) = (norm(p_first), norm(p_last));
+    shrinking_check(&nf, &nl, &bg_rows, y_top..=y_bot, [first_path, last_path])?;
     let r0 = y_top.saturating_sub(3);
     let r1 = (y_bot + 3).min(h - 1);
     let dens: Vec<f64> = (r0..=r1).map(|r| nl[r] - nf[r]).collect();

@@ -81,7 +81,8 @@ fn init_then_track_the_demo() {
     bulge_in(dir.path(), &over).bad_input(&["never overwritten"]);
 }
 
-/// A folder whose photos do not change is refused, naming the keys.
+/// A folder whose photos do not change is refused, naming the keys; one
+/// whose bubble shrinks is refused, naming the order as the cause.
 #[test]
 fn init_refuses_photos_without_a_growing_bubble() {
     let dir = tempdir();
@@ -116,6 +117,35 @@ fn init_refuses_photos_without_a_growing_bubble() {
         ],
     )
     .bad_input(&["nowhere", "no such folder or video"]);
+    // The demo's photos in reverse order: a bubble that shrinks.
+    let demo = repo().join("data/demo/photos");
+    let mut names: Vec<_> = fs::read_dir(&demo)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    names.sort();
+    let rev = dir.path().join("reversed");
+    fs::create_dir_all(&rev).unwrap();
+    for (k, p) in names.iter().rev().enumerate() {
+        fs::copy(p, rev.join(format!("img{k:03}.jpg"))).unwrap();
+    }
+    bulge_in(
+        dir.path(),
+        &[
+            "init",
+            "reversed",
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+        ],
+    )
+    .bad_input(&[
+        "img000.jpg",
+        "the bubble shrinks",
+        "order of rising pressure",
+    ]);
+    assert!(!dir.path().join("experiment.toml").exists());
 }
 
 /// A video as the source: `[photos] video` written, and the heights

@@ -481,8 +481,11 @@ fn impossible_values_are_named_not_computed() {
     ]);
     assert!(!d.join("m.toml").exists());
 
-    bulge_in(d, &["synth", "s", "--metres-per-pixel", "0.01"])
-        .bad_input(&["px wide", "at least 32 px", "--metres-per-pixel"]);
+    bulge_in(d, &["synth", "s", "--metres-per-pixel", "0.01"]).bad_input(&[
+        "px wide",
+        "at least 32 px",
+        "--metres-per-pixel",
+    ]);
     assert!(!d.join("s").exists());
 
     let scene = crate::util::repo().join("data/scenes/ellipse-2to1.toml");
@@ -492,7 +495,14 @@ fn impossible_values_are_named_not_computed() {
     fs::write(d.join("tiny.toml"), text).unwrap();
     let r = bulge_in(
         d,
-        &["simulate", "tiny.toml", "--model", "membrane", "-o", "t.csv"],
+        &[
+            "simulate",
+            "tiny.toml",
+            "--model",
+            "membrane",
+            "-o",
+            "t.csv",
+        ],
     )
     .ok();
     assert!(
