@@ -286,11 +286,24 @@ impl RunOptions {
         for table in ["simulate", "run"] {
             if let Some(v) = exp.other.get(table) {
                 let f: RunOptions = v.clone().try_into().map_err(|e: toml::de::Error| {
-                    PipelineError::Input(format!(
-                        "{}: [{table}]: {}",
-                        exp.path.display(),
-                        e.message()
-                    ))
+                    // said in the file's words, with its line, when the
+                    // file can be read again
+                    #[derive(serde::Deserialize)]
+                    #[allow(dead_code)]
+                    struct Tables {
+                        simulate: Option<RunOptions>,
+                        run: Option<RunOptions>,
+                        #[serde(flatten)]
+                        rest: toml::Table,
+                    }
+                    let located = std::fs::read_to_string(&exp.path).ok().and_then(|text| {
+                        toml::from_str::<Tables>(&text)
+                            .err()
+                            .map(|e| crate::io::toml_error(&exp.path, &text, &e).to_string())
+                    });
+                    PipelineError::Input(located.unwrap_or_else(|| {
+                        format!("{}: [{table}]: {}", exp.path.display(), e.message())
+                    }))
                 })?;
                 out = f.or(out);
             }

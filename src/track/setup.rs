@@ -381,7 +381,7 @@ fn check_pressures(
         .iter()
         .find(|f| !(f.pressure_pa.is_finite() && f.pressure_pa >= 0.0))
     else {
-        return Ok(());
+        return check_rising(e, pressure, frames);
     };
     Err(TrackError::Config {
         path: e.resolve(&pressure.csv),
@@ -395,6 +395,43 @@ fn check_pressures(
             }
         ),
     })
+}
+
+/// The tracker follows an inflation: each photo's bubble is at least as
+/// tall as the last one's, so a pressure that falls in the photos' order is
+/// the log's (or the order's) fault, said before any photo is judged. A
+/// gauge's noise may dip: only a fall of more than 5 % of the series'
+/// pressure span below an earlier photo's is refused.
+fn check_rising(
+    e: &Experiment,
+    pressure: &PressureConfig,
+    frames: &[Frame],
+) -> Result<(), TrackError> {
+    let (lo, hi) = frames.iter().fold((f64::INFINITY, 0.0_f64), |(l, h), f| {
+        (l.min(f.pressure_pa), h.max(f.pressure_pa))
+    });
+    let allowed = 0.05 * (hi - lo);
+    let mut top: Option<&Frame> = None;
+    for f in frames {
+        if let Some(t) = top
+            && f.pressure_pa < t.pressure_pa - allowed
+        {
+            return Err(TrackError::Config {
+                path: e.resolve(&pressure.csv),
+                message: format!(
+                    "photo {} gets {} Pa from this log, below the {} Pa of the earlier photo {}: the pressure falls in the photos' order, and bulge follows an inflation; put the photos in the order they were taken at rising pressure, check the log's column or its time offset, or leave out the deflation's photos",
+                    f.file,
+                    crate::io::fmt_short(f.pressure_pa),
+                    crate::io::fmt_short(t.pressure_pa),
+                    t.file
+                ),
+            });
+        }
+        if top.is_none_or(|t| f.pressure_pa > t.pressure_pa) {
+            top = Some(f);
+        }
+    }
+    Ok(())
 }
 
 /// Sets each frame's pressure from `[pressure] csv`: by file name (columns
@@ -454,6 +491,33 @@ fn join_pressures(
                 ))
             })?;
             f.time_s = Some(t - *t0.get_or_insert(t));
+        }
+        // Each photo's pressure is the log's at its time: two photos at one
+        // time (EXIF gives the second; sub-seconds only when the camera
+        // writes them) or out of order could not be told apart.
+        for w in frames.windows(2) {
+            let (a, b) = (w[0].time_s.unwrap_or(0.0), w[1].time_s.unwrap_or(0.0));
+            if b <= a {
+                return Err(cfg(format!(
+                    "{} is a pressure log by time, but the camera's clock (EXIF DateTimeOriginal) puts photo {} at {} s, {} photo {} ({} s): each photo's pressure is read at its time, so these two would get {}; give `interval_s` (the time between photos, s) in [photos], or join by file name (columns file,pressure_pa){}",
+                    csv.display(),
+                    w[1].file,
+                    fmt(b),
+                    if b == a { "the same time as" } else { "before" },
+                    w[0].file,
+                    fmt(a),
+                    if b == a {
+                        "one pressure"
+                    } else {
+                        "pressures in the wrong order"
+                    },
+                    if b == a {
+                        " (the camera writes times to the second without sub-seconds)"
+                    } else {
+                        ", or name the photos in the order taken"
+                    }
+                )));
+            }
         }
     }
     let times: Vec<f64> = frames

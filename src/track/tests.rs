@@ -191,6 +191,25 @@ fn photo_times_and_the_keys_of_each_source() {
     assert_eq!(times, [Some(0.0), Some(0.25), Some(0.5)]);
     let p: Vec<f64> = s.frames.iter().map(|f| f.pressure_pa).collect();
     assert_eq!(p, [1000.0, 1250.0, 1500.0]);
+    // Photos stamped to the same second with no sub-seconds cannot be told
+    // apart on the log: refused, naming both photos.
+    for k in 2..=3 {
+        let path = d.path().join(format!("photos/frame_00{k}.jpg"));
+        let bytes = std::fs::read(&path).unwrap();
+        let g = image::decode_gray(&path, &bytes, None).unwrap();
+        let jpeg = image::encode(&g.crop, image::Encoding::Jpeg(95)).unwrap();
+        let stamped = super::exif_time::tests::with_exif(&jpeg, "2026:11:23 10:00:00", None);
+        std::fs::write(&path, stamped).unwrap();
+    }
+    let e = setup_from_experiment(&Experiment::read(&exp).unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("frame_003.jpg")
+            && e.contains("the same time as")
+            && e.contains("frame_002.jpg"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -368,6 +368,31 @@ fn a_negative_pressure_is_the_logs_fault() {
     }
 }
 
+/// A pressure log that falls in the photos' order (here the demo's log with
+/// its pressures reversed) is the log's fault, said before any photo is
+/// judged: `--skip-bad-frames` leaves out no good photo for it.
+#[test]
+fn a_falling_pressure_log_is_the_logs_fault() {
+    let dir = tempdir();
+    let d = dir.path();
+    demo_copy(d, |t| t.to_string());
+    let log = fs::read_to_string(d.join("pressure.csv")).unwrap();
+    let mut lines = log.lines();
+    let header = lines.next().unwrap();
+    let rows: Vec<(&str, &str)> = lines.map(|l| l.split_once(',').unwrap()).collect();
+    let mut out = format!("{header}\n");
+    for (k, (file, _)) in rows.iter().enumerate() {
+        out.push_str(&format!("{file},{}\n", rows[rows.len() - 1 - k].1));
+    }
+    fs::write(d.join("pressure.csv"), out).unwrap();
+    for extra in [&[][..], &["--skip-bad-frames"][..]] {
+        let mut args = vec!["track", "experiment.toml", "-o", "h.csv"];
+        args.extend_from_slice(extra);
+        bulge_in(d, &args).bad_input(&["pressure.csv", "frame_002.jpg", "falls", "frame_001.jpg"]);
+        assert!(!d.join("h.csv").exists());
+    }
+}
+
 /// Damaged photos and a missing folder are named for what they are: an
 /// empty file is empty (not an OpenCV assertion), a folder that does not
 /// exist is a folder to fix (not a file to replace).
@@ -422,6 +447,13 @@ fn file_messages_speak_of_keys_and_separators() {
     demo_copy(d, |t| replace_line(t, "roi_px", "roi_px = [1, 2, 3]"));
     bulge_in(d, &["track", "experiment.toml", "-o", "h.csv"])
         .bad_input(&["`roi_px` in [photos] must be a list of 4 values, not 3"]);
+
+    demo_copy(d, |t| format!("{t}\n[run]\nsamples = -1\n"));
+    let r = bulge_in(d, &["run", "experiment.toml", "--out", "o"]).bad_input(&[
+        "experiment.toml, line",
+        "`samples` in [run] must be a whole number",
+    ]);
+    assert!(!r.stderr.contains("usize"), "{}", r.stderr);
 
     demo_copy(d, |t| t.to_string());
     fs::write(d.join("h.csv"), "pressure_pa;height_m\n100;0,001\n").unwrap();
