@@ -38,7 +38,7 @@ pub fn check_point(spec: &Specimen, pt: &Point) -> Result<(), PointError> {
         });
     }
     let stretch = super::cap::stretch(spec.radius_m, spec.prebulge_height_m, pt.height_m);
-    if !(stretch <= super::MAX_STRETCH) {
+    if stretch.is_nan() || stretch > super::MAX_STRETCH {
         return Err(PointError::BeyondAnyMembrane {
             height_m: pt.height_m,
             radius_m: spec.radius_m,
