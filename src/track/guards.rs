@@ -309,7 +309,11 @@ impl Guard {
             // With no frame before (the reference frame), nothing else tests
             // the edge: the dome must be shown, 2 standard errors inside.
             let low = if self.history.is_empty() { 2.0 } else { SIGMAS };
-            if visible && (r < lo - low * rs || r > hi + SIGMAS * rs) {
+            // An edge that curves visibly where the cap through the rim
+            // would be nearly straight (an opening much wider than the
+            // photos show: radius_m wrong) is tested too.
+            let curves = 0.5 * k * self.span * self.span >= 1.0;
+            if (visible && r < lo - low * rs) || ((visible || curves) && r > hi + SIGMAS * rs) {
                 return Err(format!(
                     "the edge's curvature {k:.2e} +- {ks:.2e} 1/px is {r:.2} times that of the spherical cap through the rim {h:.1} px high on an opening of radius {a:.1} px ({cap:.2e} 1/px), while an inflated membrane's pole is {lo}-{hi} times it: the edge found is not the bubble's top, or clamp_row_px or radius_m is wrong"
                 ));
