@@ -31,6 +31,7 @@ pub mod image;
 pub mod init;
 pub mod lens;
 pub(crate) mod matcher;
+pub mod persp;
 pub mod synth;
 pub mod video;
 
