@@ -213,6 +213,40 @@ impl Pinhole {
     }
 }
 
+impl Pinhole {
+    /// The apex height of a membrane of free radius `a_m` from its
+    /// silhouette's top at `row` (standard deviation `row_std`), m, with its
+    /// standard deviation: the pole's radius is
+    /// [`super::POLE_FLATTENING`] times the spherical cap's through the rim,
+    /// with [`super::POLE_FLATTENING_REL_STD`]; the row's deviation and the
+    /// radius's are carried through by central differences. `None` when no
+    /// dome up to `1.5 a` has its top at that row.
+    pub fn membrane_height(&self, row: f64, row_std: f64, a_m: f64) -> Option<(f64, f64)> {
+        use super::{POLE_FLATTENING, POLE_FLATTENING_REL_STD};
+        let solve = |row: f64, k: f64| {
+            self.height_from_top_row(row, a_m, 1.5 * a_m, |h| k * cap_radius(a_m, h))
+        };
+        let h = solve(row, POLE_FLATTENING)?;
+        let dv = 0.05;
+        let per_px = match (
+            solve(row - dv, POLE_FLATTENING),
+            solve(row + dv, POLE_FLATTENING),
+        ) {
+            (Some(up), Some(down)) => (up - down) / (2.0 * dv),
+            _ => 0.0,
+        };
+        let dk = POLE_FLATTENING * POLE_FLATTENING_REL_STD;
+        let per_k = match (
+            solve(row, POLE_FLATTENING + dk),
+            solve(row, POLE_FLATTENING - dk),
+        ) {
+            (Some(p), Some(m)) => 0.5 * (p - m),
+            _ => 0.0,
+        };
+        Some((h, (per_px * row_std).hypot(per_k)))
+    }
+}
+
 /// The pole's radius of curvature of the spherical cap of base radius `a`
 /// and height `h`: `(a^2 + h^2) / (2 h)`.
 pub fn cap_radius(a: f64, h: f64) -> f64 {
@@ -224,7 +258,13 @@ mod tests {
     use super::*;
 
     fn cam(d: f64, up_deg: f64, aim: f64) -> Pinhole {
-        Pinhole::aimed(d, d * up_deg.to_radians().tan(), aim, 3000.0, [640.0, 480.0])
+        Pinhole::aimed(
+            d,
+            d * up_deg.to_radians().tan(),
+            aim,
+            3000.0,
+            [640.0, 480.0],
+        )
     }
 
     /// The closed-form top against the highest image point of 20001 points
@@ -232,7 +272,12 @@ mod tests {
     #[test]
     fn the_top_is_the_highest_projected_point_of_the_pole_sphere() {
         let a = 0.0375;
-        for (d, up, aim) in [(0.25, 0.0, 0.02), (0.45, 4.0, 0.0), (1.0, 5.0, 0.01), (0.3, 3.0, 0.03)] {
+        for (d, up, aim) in [
+            (0.25, 0.0, 0.02),
+            (0.45, 4.0, 0.0),
+            (1.0, 5.0, 0.01),
+            (0.3, 3.0, 0.03),
+        ] {
             let c = cam(d, up, aim);
             for h in [0.005, 0.015, 0.03] {
                 let r = cap_radius(a, h);
@@ -257,7 +302,10 @@ mod tests {
                     best = best.min(c.project([0.0, -r * t.sin(), h - r + r * t.cos()])[1]);
                 }
                 let closed = c.top_row(h, r);
-                assert!((closed - best).abs() < 1e-6, "D {d} up {up} h {h}: {closed} vs {best}");
+                assert!(
+                    (closed - best).abs() < 1e-6,
+                    "D {d} up {up} h {h}: {closed} vs {best}"
+                );
                 // and it is above (a smaller row than) the pole's own image
                 assert!(closed < c.project([0.0, 0.0, h])[1]);
             }
@@ -271,7 +319,9 @@ mod tests {
             let c = cam(d, up, aim);
             for h in [0.003, 0.01, 0.02, 0.04] {
                 let row = c.top_row(h, cap_radius(a, h));
-                let back = c.height_from_top_row(row, a, 2.0 * a, |h| cap_radius(a, h)).unwrap();
+                let back = c
+                    .height_from_top_row(row, a, 2.0 * a, |h| cap_radius(a, h))
+                    .unwrap();
                 assert!((back - h).abs() < 1e-12, "{back} vs {h}");
             }
         }
@@ -307,7 +357,10 @@ mod tests {
             let v0 = c.project([0.0, 0.0, 0.0])[1];
             let e = (c.height_m / c.distance_m).atan();
             let back = Pinhole::from_view(d, e, v0, c.centre_scale(), None, c.principal_px);
-            assert!((back.focal_px - c.focal_px).abs() < 1e-6 * c.focal_px, "{back:?}");
+            assert!(
+                (back.focal_px - c.focal_px).abs() < 1e-6 * c.focal_px,
+                "{back:?}"
+            );
             assert!((back.pitch_rad - c.pitch_rad).abs() < 1e-9);
             assert!((back.height_m - c.height_m).abs() < 1e-12);
         }

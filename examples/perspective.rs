@@ -1,0 +1,106 @@
+//! What a pinhole camera at a finite distance does to the heights read
+//! from the silhouette's top and to a scale read from the opening, on the
+//! exact neo-Hookean bubbles of `bulge synth`'s default experiment
+//! (a = 37.5 mm, t = 0.35 mm, C1 = 0.2 MPa, 12 photos at 308-3700 Pa), and
+//! how well the pinhole model of `bulge::track::persp` (the pole's sphere
+//! with 1.06 times the cap's radius) reads them back. The silhouette's top
+//! is found by projecting 20001 points of each exact meridian (both sides
+//! of the pole, in the plane through the camera and the axis). The focal
+//! length gives 2a = 448 px at the ring's centre.
+//!
+//! `cargo run --release --example perspective`
+
+use bulge::axisym::{Options, solve_pressure};
+use bulge::experiment::Specimen;
+use bulge::material::{Material, Model};
+use bulge::track::persp::{Pinhole, cap_radius};
+use bulge::track::{Elevation, POLE_FLATTENING};
+
+fn main() {
+    let a = 0.0375;
+    let specimen = Specimen {
+        radius_m: a,
+        thickness_m: 0.00035,
+        poisson: 0.45,
+        prebulge_height_m: 0.0,
+    };
+    let material = Material {
+        model: Model::NeoHookean { c1_pa: 0.2e6 },
+        poisson: 0.45,
+        fit: None,
+    };
+    let opts = Options {
+        n_profile: 20001,
+        ..Options::default()
+    };
+    let n = 12;
+    let domes: Vec<_> = (1..=n)
+        .map(|k| solve_pressure(&material, &specimen, 3700.0 * k as f64 / n as f64, &opts).unwrap())
+        .collect();
+    let h_max = domes.last().unwrap().height_m;
+    let mpp_target = 2.0 * a / 448.0;
+    println!(
+        "| D, m | camera above the ring's centre, deg | top above the pole's image, px (first photo) | read as today, % (first / last photo) | opening's scale factor - 1, % | pinhole model, largest error, % |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for d in [0.25, 0.35, 0.45, 0.7, 1.0] {
+        for up_deg in [None, Some(2.0), Some(4.0), Some(5.0)] {
+            // level: the camera at the largest bubble's mid-height, aimed
+            // level; raised: `up_deg` above the ring's centre, aimed at that
+            // mid-height.
+            let height = up_deg.map_or(0.5 * h_max, |u: f64| d * u.to_radians().tan());
+            let slant = d.hypot(height);
+            let cam = Pinhole::aimed(d, height, 0.5 * h_max, slant / mpp_target, [640.0, 480.0]);
+            let v0 = cam.project([0.0, 0.0, 0.0])[1];
+            let mpp = cam.centre_scale();
+            let e = (height / d).atan();
+            let mut first = None;
+            let mut last = 0.0;
+            let mut worst: f64 = 0.0;
+            for s in &domes {
+                let p = &s.profile;
+                let top = p
+                    .rho_m
+                    .iter()
+                    .zip(&p.z_m)
+                    .flat_map(|(&r, &z)| {
+                        [cam.project([0.0, -r, z])[1], cam.project([0.0, r, z])[1]]
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                let h = s.height_m;
+                let t_px = v0 - top;
+                // today's reading: row * scale, or the orthographic elevation
+                // correction with the angle at which the ring's centre is seen
+                let read = if height == 0.5 * h_max && up_deg.is_none() && e.abs() < 1e-3 {
+                    t_px * mpp
+                } else {
+                    Elevation {
+                        radians: e,
+                        radius_m: a,
+                    }
+                    .height_px(t_px, None, a / mpp)
+                    .0 * mpp
+                };
+                let today = 100.0 * (read / h - 1.0);
+                if first.is_none() {
+                    let pole = cam.project([0.0, 0.0, h])[1];
+                    first = Some((pole - top, today));
+                }
+                last = today;
+                let back = cam
+                    .height_from_top_row(top, a, 2.0 * a, |h| POLE_FLATTENING * cap_radius(a, h))
+                    .unwrap();
+                worst = worst.max((100.0 * (back / h - 1.0)).abs());
+            }
+            let (dpx, f_today) = first.unwrap();
+            println!(
+                "| {d} | {} | {dpx:.2} | {f_today:+.2} / {last:+.2} | {:+.3} | {worst:.3} |",
+                up_deg.map_or(
+                    format!("level at mid-height ({:.2})", e.to_degrees()),
+                    |u| format!("{u}")
+                ),
+                100.0 * (cam.opening_scale_factor(a) - 1.0),
+            );
+        }
+    }
+}
