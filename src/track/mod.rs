@@ -51,4 +51,6 @@ pub use types::*;
 #[cfg(test)]
 mod init_tests;
 #[cfg(test)]
+mod persp_tests;
+#[cfg(test)]
 mod tests;
