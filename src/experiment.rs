@@ -391,6 +391,14 @@ pub struct CameraConfig {
     /// The calibration's RMS reprojection error, px (for the record).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reprojection_rms_px: Option<f64>,
+    /// Horizontal distance from the bubble's axis to the camera's centre
+    /// (the lens's entrance pupil), m: the camera is a pinhole at that
+    /// distance, `[calibration] elevation_deg` the angle at which it looks
+    /// down at the clamp ring's centre, and the apex height is read from the
+    /// silhouette's top through the ray tangent to the dome
+    /// (docs/theory.md, section 10). Absent: an orthographic camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance_m: Option<f64>,
 }
 
 impl CameraConfig {

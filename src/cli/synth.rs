@@ -117,6 +117,15 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0)]
     pub elevation_deg: f64,
 
+    /// A pinhole camera this far from the bubble's axis, m (default: an
+    /// orthographic camera), looking down at the clamp ring's centre at
+    /// --elevation-deg, its focal length the one that gives the scale there:
+    /// the silhouette's top is the grazing ray (truth.csv's apex_y_px), the
+    /// ring's top face an ellipse-like conic; the experiment file gets
+    /// `[camera] distance_m`.
+    #[arg(long)]
+    pub camera_distance_m: Option<f64>,
+
     /// Uneven light: the relative change of the illumination across the
     /// frame (default 0; e.g. 0.3), a tilted plane and a fall-off.
     #[arg(long, default_value_t = 0.0)]
@@ -311,6 +320,14 @@ pub fn run(args: Args) -> Result<(), Failure> {
         if !(v.is_finite() && v >= 0.0) {
             return Err(bad(format!("{name} {v} must be zero or positive")));
         }
+    }
+    if let Some(d) = args.camera_distance_m
+        && !(d.is_finite() && d > 2.0 * args.radius_m)
+    {
+        return Err(bad(format!(
+            "--camera-distance-m {d}: give the distance from the bubble's axis to the camera, m, more than the opening's diameter {}",
+            2.0 * args.radius_m
+        )));
     }
     if !(args.elevation_deg.is_finite() && (0.0..=30.0).contains(&args.elevation_deg)) {
         return Err(bad(format!(
@@ -547,6 +564,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             motion_px: args.motion_px,
             motion_deg: args.motion_deg,
             vignetting: args.vignetting,
+            camera_distance_m: args.camera_distance_m.unwrap_or(0.0),
             lens: args.lens_k1.map(|k1| {
                 let f = args.focal_px.unwrap_or(args.width as f64);
                 let (cx, cy) = (

@@ -326,6 +326,19 @@ pub(super) fn match_frames(
         }
     };
     let cos_e = setup.calibration.elevation.map_or(1.0, |e| e.radians.cos());
+    // A pinhole camera at a known distance: heights through the ray tangent
+    // to the dome. The principal point is the lens's (or the picture's
+    // centre); the focal length is the one that gives the scale at the
+    // ring's centre from that distance (the heights then share the scale's
+    // error, as an orthographic camera's do).
+    let pinhole = setup.calibration.camera_distance_m.map(|d| {
+        let e = setup.calibration.elevation.map_or(0.0, |e| e.radians);
+        let principal = match &setup.lens {
+            Some(l) => [l.cx, l.cy],
+            None => [(width as f64 - 1.0) / 2.0, (height as f64 - 1.0) / 2.0],
+        };
+        super::persp::Pinhole::from_view(d, e, origin_row, mpp, None, principal)
+    });
     let mut rows = Vec::with_capacity(n);
     for (i, l) in located.iter().enumerate() {
         let Some(l) = l else { continue };
@@ -338,8 +351,26 @@ pub(super) fn match_frames(
         } else {
             std.hypot(origin_std)
         };
-        let (h_px, h_extra) = elevated(origin_row - apex[1], edge.as_ref());
-        let h_std_px = (std_total / cos_e).hypot(h_extra);
+        let (height_m, height_std_m) = match &pinhole {
+            None => {
+                let (h_px, h_extra) = elevated(origin_row - apex[1], edge.as_ref());
+                let h_std_px = (std_total / cos_e).hypot(h_extra);
+                (h_px * mpp + offset_m, h_std_px * mpp)
+            }
+            Some(p) => p
+                .membrane_height(apex[1], std_total, setup.calibration.opening_radius_m)
+                .ok_or_else(|| TrackError::Config {
+                    path: setup.experiment.clone(),
+                    message: format!(
+                        "the apex of frame {i} ({}) at row {:.2} is not the top of a dome up to 1.5 times the opening's radius seen by a camera {} m from the axis looking down at the clamp ring's centre (row {}) at {:.2} degrees: check [camera] distance_m, [calibration] elevation_deg and clamp_row_px",
+                        f.file,
+                        apex[1],
+                        fmt_short(p.distance_m),
+                        fmt_short(origin_row),
+                        (p.height_m / p.distance_m).atan().to_degrees()
+                    ),
+                })?,
+        };
         rows.push(FrameResult {
             frame: i,
             file: f.file.clone(),
@@ -347,8 +378,8 @@ pub(super) fn match_frames(
             apex_x_px: apex[0],
             apex_y_px: apex[1],
             score: l.m.score,
-            height_m: h_px * mpp + offset_m,
-            height_std_m: h_std_px * mpp,
+            height_m,
+            height_std_m,
             apex_y_std_px: std,
             apex_integer_px: int,
             apex_quadratic_px: quad,

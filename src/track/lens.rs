@@ -106,6 +106,7 @@ impl Lens {
             distortion: Some([self.k1, self.k2, self.p1, self.p2, self.k3]),
             image_size_px: self.image_size_px,
             reprojection_rms_px,
+            distance_m: None,
         }
     }
 

@@ -31,6 +31,7 @@ pub mod image;
 pub mod init;
 pub mod lens;
 pub(crate) mod matcher;
+pub mod persp;
 pub mod synth;
 pub mod video;
 
@@ -49,5 +50,7 @@ pub use types::*;
 
 #[cfg(test)]
 mod init_tests;
+#[cfg(test)]
+mod persp_tests;
 #[cfg(test)]
 mod tests;

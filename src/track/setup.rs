@@ -242,6 +242,21 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             radius_m: e.specimen.radius_m,
         }),
     };
+    let camera_distance_m = match e.camera.as_ref().and_then(|c| c.distance_m) {
+        None => None,
+        Some(d) if !(d.is_finite() && d > 2.0 * e.specimen.radius_m) => {
+            return Err(cfg(format!(
+                "[camera] distance_m = {d}: give the horizontal distance from the bubble's axis to the camera's lens, m, more than the opening's diameter {}",
+                2.0 * e.specimen.radius_m
+            )));
+        }
+        Some(_) if !matches!(origin, HeightOrigin::ClampRow(_)) => {
+            return Err(cfg(
+                "[camera] distance_m needs [calibration] clamp_row_px (the row of the clamp ring's centre): heights are read through the rays from the camera to the clamp plane and the bubble's top".into(),
+            ));
+        }
+        Some(d) => Some(d),
+    };
     let lens = match &e.camera {
         Some(c) => super::lens::Lens::from_config(c).map_err(cfg)?,
         None => None,
@@ -271,6 +286,7 @@ pub fn setup_from_experiment(e: &Experiment) -> Result<Setup, TrackError> {
             origin,
             elevation,
             opening_radius_m: e.specimen.radius_m,
+            camera_distance_m,
         },
         lens,
     })

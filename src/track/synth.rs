@@ -22,6 +22,7 @@ use crate::io::{CsvOut, fmt_num};
 
 pub mod lens;
 mod look;
+pub mod pinhole;
 pub mod sweep;
 pub mod trial;
 pub use look::{Framing, Look, Psf, vignette};
@@ -136,7 +137,14 @@ impl Scene {
     /// Apex position of a silhouette in image coordinates, px.
     /// With the camera raised by an elevation angle `e`, the pole's
     /// projection: `h cos e` above the clamp ring's centre.
+    /// With a pinhole camera, the silhouette's top (the grazing ray).
     pub fn apex_px(&self, s: &Silhouette) -> [f64; 2] {
+        if let Some(p) = self.pinhole() {
+            return [
+                self.axis_x_px,
+                pinhole::top_row(&p, s, self.metres_per_pixel),
+            ];
+        }
         let up = if self.look.elevation_deg == 0.0 {
             s.height_m()
         } else {
@@ -194,11 +202,18 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
         })
         .collect();
     let mut grain = Rng::new(scene.grain_seed);
-    let fixture_half = 1.25 * a_px;
+    let mut fixture_half = 1.25 * a_px;
     let flange_rows = (0.025 * h as f64).max(2.0);
     // The fixture's top face, per column: its back and front edges (the
     // clamp row itself for a level camera).
-    let (fix_back, fix_front) = look::fixture_rows(scene, fixture_half);
+    let (fix_back, fix_front) = match scene.pinhole() {
+        Some(p) => {
+            let (b, f, half) = pinhole::fixture_rows(scene, &p);
+            fixture_half = half;
+            (b, f)
+        }
+        None => look::fixture_rows(scene, fixture_half),
+    };
     let highlight = look::Highlight::new(scene, s);
     let lk = scene.look;
     let tone = lk.response;
@@ -304,6 +319,13 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
 
 /// Exact area coverage of the bubble's side silhouette, per pixel, in [0, 1].
 pub fn coverage(scene: &Scene, s: &Silhouette) -> Vec<f64> {
+    if let Some(p) = scene.pinhole() {
+        return rasterise(
+            scene.width,
+            scene.height,
+            &pinhole::outline_px(scene, &p, s),
+        );
+    }
     if scene.look.elevation_deg != 0.0 {
         return rasterise(scene.width, scene.height, &look::outline_px(scene, s));
     }
@@ -752,7 +774,7 @@ pub fn experiment_toml(
          [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
          template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
          apex_in_template_px = [{:?}, {:?}]\n\n\
-         [camera]\nresponse = {}\n{}\n\
+         [camera]\nresponse = {}\n{}{}\n\
          [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
          [pressure]\n{pressure}{}",
         s.radius_m,
@@ -764,6 +786,14 @@ pub fn experiment_toml(
         toml::Value::try_from(spec.look.response)
             .map_or_else(|_| "\"srgb\"".into(), |v| v.to_string()),
         spec.look.lens.map_or_else(String::new, |l| lens_toml(&l)),
+        if spec.look.camera_distance_m > 0.0 {
+            format!(
+                "# a pinhole camera this far from the axis, m (elevation_deg: the angle it looks down at the ring's centre)\ndistance_m = {:?}\n",
+                spec.look.camera_distance_m
+            )
+        } else {
+            String::new()
+        },
         scene.metres_per_pixel,
         scene.clamp_row_px,
         window_toml(&spec.window),

@@ -46,6 +46,10 @@ pub struct Calibration {
     /// Free radius of the specimen, m: the dome's opening, against which
     /// the curvature of the top edge found is checked.
     pub opening_radius_m: f64,
+    /// Horizontal distance from the axis to the camera's centre, m
+    /// (`[camera] distance_m`): a pinhole camera, see [`super::persp`].
+    /// `None`: orthographic.
+    pub camera_distance_m: Option<f64>,
 }
 
 /// A camera raised above the clamp plane (see [`Elevation::height_px`]).

@@ -75,6 +75,10 @@ pub struct Look {
     /// ([`super::lens::distort_light`]); positions in `truth.csv` stay the
     /// ideal image's.
     pub lens: Option<crate::track::lens::Lens>,
+    /// A pinhole camera this far from the bubble's axis, m, looking down at
+    /// the clamp ring's centre at `elevation_deg` ([`super::pinhole`]; 0:
+    /// an orthographic camera).
+    pub camera_distance_m: f64,
 }
 
 /// Where the specimen is in the picture. Unset values keep the default
