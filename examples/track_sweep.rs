@@ -14,8 +14,10 @@
 //! the RMS of error / stated std (goal 0.8-1.2), the share within 1.96
 //! stated std (goal 93-97 %) and the RMS apex-row error, px.
 //!
-//! Run: `cargo run --release --example track_sweep -- --clean 300 --dirty 300 [--verbose]`
-//! (`--verbose` lists the worst photos and every refusal in a clean sequence).
+//! Run: `cargo run --release --example track_sweep -- --clean 300 --dirty 300
+//! [--sizes 640x480,800x600] [--verbose]` (`--sizes`: the photo sizes drawn
+//! from, by default 640x480, 800x600, 1024x768 and 1280x960; `--verbose`
+//! lists the worst photos with their looks and every refusal).
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -90,7 +92,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let clean = arg(&args, "--clean", 40)?;
     let dirty = arg(&args, "--dirty", 40)?;
     let verbose = args.iter().any(|a| a == "--verbose");
-    let sizes = [(640, 480), (800, 600), (1024, 768), (1280, 960)];
+    let sizes = match args.iter().position(|a| a == "--sizes") {
+        Some(i) => args
+            .get(i + 1)
+            .ok_or("--sizes needs a list such as 640x480,800x600")?
+            .split(',')
+            .map(|wh| {
+                let (w, h) = wh
+                    .split_once('x')
+                    .ok_or(format!("--sizes: {wh} is not WIDTHxHEIGHT"))?;
+                Ok((w.parse()?, h.parse()?))
+            })
+            .collect::<Result<Vec<(usize, usize)>, Box<dyn std::error::Error>>>()?,
+        None => vec![(640, 480), (800, 600), (1024, 768), (1280, 960)],
+    };
     let seeds: Vec<(u64, bool)> = (1..=clean)
         .map(|s| (s, false))
         .chain((1..=dirty).map(|s| (1_000_000 + s, true)))
@@ -154,21 +169,31 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("{}", t.row(FACTORS[*i], level));
     }
     if verbose {
-        let mut worst: Vec<(f64, u64, bool, usize, f64, f64)> = results
+        let look = |levels: &[(&'static str, String)]| {
+            levels
+                .iter()
+                .skip(1)
+                .filter(|(_, l)| l != "none")
+                .map(|(f, l)| format!("{f} {l}"))
+                .collect::<Vec<String>>()
+                .join("; ")
+        };
+        let mut worst: Vec<(f64, u64, bool, usize, f64, f64, String)> = results
             .iter()
-            .flat_map(|(seed, dirty, _, photos)| {
+            .flat_map(|(seed, dirty, levels, photos)| {
+                let look = look(levels);
                 photos.iter().filter_map(move |p| {
                     p.written
-                        .map(|(e, s)| ((e / s).abs(), *seed, *dirty, p.frame, e, s))
+                        .map(|(e, s)| ((e / s).abs(), *seed, *dirty, p.frame, e, s, look.clone()))
                 })
             })
             .collect();
         worst.sort_by(|a, b| b.0.total_cmp(&a.0));
         eprintln!("worst photos written (|error| / stated std):");
-        for (z, seed, dirty, frame, e, s) in worst.iter().take(25) {
+        for (z, seed, dirty, frame, e, s, look) in worst.iter().take(25) {
             let kind = if *dirty { "dirty" } else { "clean" };
             eprintln!(
-                "  seed {seed} ({kind}), frame {frame}: error {e:+.3} px, std {s:.3} px, {z:.1} std"
+                "  seed {seed} ({kind}), frame {frame}: error {e:+.3} px, std {s:.3} px, {z:.1} std [{look}]"
             );
         }
         eprintln!("photos refused:");

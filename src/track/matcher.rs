@@ -894,13 +894,15 @@ fn edge_fit_core(
     let clutter_on_top =
         cols.is_emptiest && 4 * located.iter().filter(lined).count() >= located.len();
     let (r, kept) = match test.and_then(|t| two_sided_refit(cols, &pts, centre, u_v, even, t)) {
-        Some(TwoSided::Model(fit, kept)) => {
+        Some(TwoSided::Model(fit, kept, spread2)) => {
             let r = result?;
+            let m = summarise(&fit, &kept, centre, span as f64, true);
             (
                 EdgeFit {
                     columns: r.columns,
                     rms: r.rms,
-                    ..summarise(&fit, &kept, centre, span as f64, true)
+                    y_std: (m.y_std * m.y_std + spread2).sqrt(),
+                    ..m
                 },
                 kept,
             )
@@ -1207,8 +1209,16 @@ const WIDEN_COLUMNS: usize = 24;
 /// What the test of the centroids against the step model says.
 enum TwoSided {
     /// The centroids are biased: the robust parabola through the model's
-    /// rows and the columns it kept.
-    Model(Parabola, Vec<(f64, f64)>),
+    /// rows and the columns it kept, and the edge-model term of its apex
+    /// row, px^2: the squared half-difference of the two models at the
+    /// apex beyond its variance, `max(0, D^2 - sd^2) / 4`. Two edge models
+    /// that each fit their rows and disagree at the apex leave the apex
+    /// anywhere in their spread: the step model's straight dome side is
+    /// no more the truth under a highlight's curved flank than the
+    /// centroid's flat one (a light dome with a highlight against its top,
+    /// 800x600: step model 0.34 px off at a stated 0.05 px without it,
+    /// 0.15 px with it).
+    Model(Parabola, Vec<(f64, f64)>, f64),
     /// Not significantly: the squared difference at the apex beyond its
     /// variance, an estimate of the centroid apex's squared bias, px^2.
     Bias(f64),
@@ -1331,20 +1341,25 @@ fn two_sided_refit(
         return Some(TwoSided::Bias((at_apex * at_apex - sd * sd).max(0.0)));
     }
     let (fit, kept) = robust_parabola(&model, even)?;
-    Some(TwoSided::Model(fit, kept))
+    let spread2 = 0.25 * (at_apex * at_apex - sd * sd).max(0.0);
+    Some(TwoSided::Model(fit, kept, spread2))
 }
 
 /// The located columns `(column, edge row, step)` whose step has the
 /// dome's polarity (the sign of the summed steps) and at least a quarter of
 /// the median contrast, and at least `upper_share` of the upper quartile's
-/// contrast; `None` when fewer than `min` remain.
+/// contrast, and, of those, at most `1 / upper_share` of their lower
+/// quartile's contrast; `None` when fewer than `min` remain.
 ///
 /// The second bound is for the apex: the contrast of a matte dome against
 /// its background changes slowly along the edge, so a column whose step is
 /// markedly weaker than most has something added where it is measured: a
 /// highlight on the dome against the edge, a dark line behind it. Such a
 /// column's centroid is pulled off the edge, most by a highlight's flank
-/// within the window (0.5-1.2 px on a 640x480 synthetic dome).
+/// within the window (0.5-1.2 px on a 640x480 synthetic dome). A highlight
+/// on a light dome (brighter than its background) makes the step markedly
+/// stronger instead, and pulls the centroid into the dome the same way
+/// (0.25-0.6 px on 640x480 and 800x600 photos): the third bound.
 fn strong_columns(
     located: &[(f64, f64, f64)],
     min: usize,
@@ -1363,10 +1378,18 @@ fn strong_columns(
     let med = mags[mags.len() / 2];
     let upper = mags[3 * mags.len() / 4];
     let floor = (0.25 * med).max(upper_share * upper);
+    // The same bound from the other side, among the columns above the
+    // floor: a highlight adds light, which weakens the step of a dark dome
+    // and strengthens that of a light one where it lies against the edge.
+    let above: Vec<f64> = mags.iter().copied().filter(|m| *m > floor).collect();
+    let ceiling = match above.get(above.len() / 4) {
+        Some(&lower) => lower / upper_share,
+        None => f64::INFINITY,
+    };
     let pts: Vec<(f64, f64, f64)> = located
         .iter()
         .copied()
-        .filter(|l| l.2 * sign > floor)
+        .filter(|l| l.2 * sign > floor && l.2 * sign < ceiling)
         .collect();
     (pts.len() >= min).then_some(pts)
 }
