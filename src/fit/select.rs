@@ -31,6 +31,8 @@
 //! ranked by the AICc of the relative height errors,
 //! `n ln(RSS / n) + 2k + 2k(k+1)/(n-k-1)`, and none is called consistent.
 
+use rayon::prelude::*;
+
 use super::data::Loaded;
 use super::hyperelastic::Kind;
 use super::material_fit::{FitModel, FitSettings, FittedMaterial, fit_material};
@@ -320,8 +322,9 @@ pub fn select(
         && measured
             .iter()
             .all(|m| m.height_std_m.is_some_and(|s| s > 0.0));
+    // The laws are independent: corrected side by side.
     let rows: Vec<LawRow> = candidates(degree)
-        .into_iter()
+        .into_par_iter()
         .map(|model| {
             let mut row = LawRow {
                 model,
