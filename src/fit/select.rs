@@ -230,7 +230,8 @@ pub fn stiffness_warnings(model: &Model, max_stretch: f64) -> Vec<String> {
     for i in 1..=n {
         let l = at(i);
         let s = h.equibiaxial_cauchy(l);
-        if !(s > last) {
+        // (a NaN stress counts as not increasing)
+        if s.partial_cmp(&last) != Some(std::cmp::Ordering::Greater) {
             let b = bad.get_or_insert((at(i - 1), l));
             b.1 = l;
         }
