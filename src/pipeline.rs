@@ -29,7 +29,9 @@ use crate::experiment::Specimen;
 use crate::experiment::Window;
 use crate::fit::data::Loaded;
 use crate::fit::uncertainty::{SourceKind, Sources};
-use crate::fit::{FitDetail, FitError, FitModel, FitSettings, fit_material, inverse};
+use crate::fit::{
+    FitDetail, FitError, FitModel, FitSettings, FittedMaterial, fit_material, inverse, select,
+};
 use crate::io::{CsvOut, InputError, Table, fmt_num, fmt_short};
 use crate::material::Material;
 use crate::mechanics::{
@@ -141,7 +143,8 @@ pub struct Settings {
     pub track: track::Options,
     /// Stress and strain conventions.
     pub stress: mechanics::Options,
-    /// The material model to fit.
+    /// The material model to fit; [`FitModel::Auto`] (the default): every
+    /// law, the one the heights call for chosen ([`crate::fit::select`]).
     pub fit: FitModel,
     /// Spring models to simulate (default TP MSS and Van Gelder).
     pub models: Vec<SpringModel>,
@@ -184,7 +187,7 @@ impl Default for Settings {
             #[cfg(feature = "opencv")]
             track: track::Options::default(),
             stress: mechanics::Options::default(),
-            fit: FitModel::default(),
+            fit: FitModel::Auto,
             models: vec![SpringModel::Tp, SpringModel::VanGelder],
             axisym: true,
             pressures_pa: None,
@@ -361,7 +364,7 @@ impl RunOptions {
                 "degree = {degree}: use 1 to 8 (4 is the quartic of Tudruj et al. 2023)"
             ));
         }
-        s.fit = self.fit.unwrap_or_default().with_degree(degree);
+        s.fit = self.fit.unwrap_or(FitModel::Auto).with_degree(degree);
         if s.fit == FitModel::AllHyperelastic {
             return bad(
                 "fit = \"all\" compares models in bulge fit; a run fits one model: name it".into(),
@@ -905,6 +908,10 @@ pub struct FitOut {
     pub cap_material: Material,
     /// The correction to the heights, when made.
     pub refined: Option<inverse::Refined>,
+    /// With [`FitModel::Auto`]: every law fitted, corrected to the heights
+    /// and ranked on them, and the one carried forward
+    /// ([`crate::fit::select`]).
+    pub laws: Option<select::Selection>,
 }
 
 /// Stage 3: stress/strain -> material ([`crate::fit::fit_material`] on the
@@ -917,7 +924,7 @@ pub fn fit_stage(
     s: &StressOut,
 ) -> Result<FitOut, PipelineError> {
     let data = Loaded::from_stress_rows(&s.rows, settings.stress.strain);
-    let fit_settings = FitSettings {
+    let mut fit_settings = FitSettings {
         model: settings.fit,
         poisson: spec.poisson,
         modulus: settings.stress.modulus,
@@ -925,8 +932,13 @@ pub fn fit_stage(
         lower_degree: true,
         weighted: settings.weighted,
     };
-    let mut fitted = fit_material(&data, &fit_settings, "stress_strain.csv of bulge run")?;
-    if settings.refine {
+    let source = "stress_strain.csv of bulge run";
+    let (mut fitted, laws) = if settings.fit == FitModel::Auto {
+        choose_law(spec, settings, s, &data, &mut fit_settings, source)?
+    } else {
+        (fit_material(&data, &fit_settings, source)?, None)
+    };
+    if settings.refine && fitted.refined.is_none() {
         let measured = measured_heights(&s.points);
         let opts = inverse::Options {
             uncertainty: settings.uncertainty,
@@ -977,7 +989,87 @@ pub fn fit_stage(
         warnings: fitted.warnings,
         cap_material: fitted.cap_material,
         refined: fitted.refined,
+        laws,
     })
+}
+
+/// The fit stage's choice of law ([`FitModel::Auto`]): every law fitted
+/// and corrected to the heights weighted by their stated standard
+/// deviations, ranked, the chosen one carried forward
+/// ([`crate::fit::select`]). A consistent law keeps that weighted
+/// correction (the statistically right weighting when the law holds); a
+/// law that misses the heights is corrected again by the relative errors
+/// `h_sim / h - 1` unless `settings.weighted` asks for the weights anyway,
+/// so that no few precise heights pull a wrong law away from the rest.
+/// Without the correction to the heights or with a non-circular window
+/// there is nothing to choose by: the quartic, with a warning.
+fn choose_law(
+    spec: &Specimen,
+    settings: &Settings,
+    s: &StressOut,
+    data: &Loaded,
+    fit_settings: &mut FitSettings,
+    source: &str,
+) -> Result<(FittedMaterial, Option<select::Selection>), PipelineError> {
+    fit_settings.model = FitModel::Quartic { degree: 4 };
+    if !settings.refine || !settings.window.is_circle() {
+        let mut f = fit_material(data, fit_settings, source)?;
+        f.warn(format!(
+            "the law was not chosen by the heights ({}): the quartic is used; name a law with --fit to fit another",
+            if settings.refine {
+                "the window is not circular, and the choice corrects every law through the exact axisymmetric inflation"
+            } else {
+                "the correction to the heights is off"
+            }
+        ));
+        return Ok((f, None));
+    }
+    let measured = measured_heights(&s.points);
+    let opts = inverse::Options {
+        uncertainty: settings.uncertainty,
+        weighted: true,
+        ..inverse::Options::default()
+    };
+    let sel = select::select(data, fit_settings, spec, &measured, &opts, source)?;
+    let row = sel.chosen_row();
+    fit_settings.model = row.model;
+    let mut fitted = row
+        .fitted
+        .clone()
+        .expect("the chosen law was fitted and corrected");
+    if !row.consistent() && !settings.weighted {
+        let plain = inverse::Options {
+            weighted: false,
+            ..opts.clone()
+        };
+        let mut f = fit_material(data, fit_settings, source)?;
+        match f.refine_to_heights(spec, &measured, &plain) {
+            Ok(_) => fitted = f,
+            Err(e) => fitted.warn(format!(
+                "the chosen law misses the heights, and its correction by the relative errors failed ({e}): the one weighted by the heights' standard deviations is kept"
+            )),
+        }
+    }
+    if settings.samples > 0
+        && let Err(e) = fitted.monte_carlo(
+            spec,
+            &measured,
+            &fitted_opts(&fitted, &opts),
+            settings.samples,
+            1,
+        )
+    {
+        fitted.warn(format!("no Monte Carlo of the parameters: {e}"));
+    }
+    Ok((fitted, Some(sel)))
+}
+
+/// The correction's options as the kept correction of `f` was made.
+fn fitted_opts(f: &FittedMaterial, opts: &inverse::Options) -> inverse::Options {
+    inverse::Options {
+        weighted: f.refined.as_ref().is_some_and(|r| r.weighted),
+        ..opts.clone()
+    }
 }
 
 /// The measured heights that the correction to the heights matches: the
@@ -1017,10 +1109,14 @@ impl FitOut {
                 )
             }
         };
-        match &self.refined {
+        let what = match &self.refined {
             Some(r) => {
                 format!("{what}; corrected to the heights: {}", r.describe())
             }
+            None => what,
+        };
+        match &self.laws {
+            Some(l) => format!("{what}; chosen of {} laws: {}", l.rows.len(), l.reason),
             None => what,
         }
     }
@@ -1563,6 +1659,8 @@ pub struct RunOutput {
     /// Per model, whether its heights agree with the measured ones within
     /// the uncertainty.
     pub verdicts: Vec<Verdict>,
+    /// The paper's chain beside the chosen law, when another law was chosen.
+    pub paper_chain: Option<PaperChain>,
     /// Time per stage (track, stress, fit, simulate).
     pub timings: Vec<Timing>,
     /// Remarks made along the way (frames left out, a lowered degree, the
@@ -1819,6 +1917,7 @@ pub fn run_observed(
         .as_ref()
         .map(|b| verdicts(&comparison, &runs, b))
         .unwrap_or_default();
+    let paper_chain = paper_chain(spec, settings, &fit, &stress.points, &pressures_pa);
     Ok(RunOutput {
         specimen,
         tracking,
@@ -1829,8 +1928,76 @@ pub fn run_observed(
         comparison,
         band,
         verdicts,
+        paper_chain,
         timings,
         notes,
+    })
+}
+
+/// The paper's chain (Tudruj et al. 2023): the quartic secant modulus,
+/// corrected to the heights, through TP MSS and the exact axisymmetric
+/// solution, kept beside the law the heights called for.
+#[derive(Debug, Clone)]
+pub struct PaperChain {
+    /// The quartic's label.
+    pub law: String,
+    /// Its runs: TP MSS, then the axisymmetric reference.
+    pub runs: Vec<ModelRun>,
+    /// Measured against its simulated heights.
+    pub comparison: Vec<Comparison>,
+    /// Its verdicts against the measured heights (with the quartic's own
+    /// band).
+    pub verdicts: Vec<Verdict>,
+}
+
+/// The paper's chain when the fit stage chose a law other than the quartic
+/// and the quartic was corrected to the heights; `None` otherwise (or when
+/// its simulation fails: the quartic's row in `laws.csv` still says how it
+/// fits).
+pub fn paper_chain(
+    spec: &Specimen,
+    settings: &Settings,
+    fit: &FitOut,
+    points: &[Point],
+    pressures_pa: &[f64],
+) -> Option<PaperChain> {
+    let laws = fit.laws.as_ref()?;
+    let k = laws
+        .rows
+        .iter()
+        .position(|r| matches!(r.model, FitModel::Quartic { .. }))?;
+    if k == laws.chosen {
+        return None;
+    }
+    let f = laws.rows[k].fitted.as_ref()?;
+    let r = f.refined.as_ref()?;
+    let s = Settings {
+        models: vec![SpringModel::Tp],
+        axisym: true,
+        ..settings.clone()
+    };
+    let runs = simulate_stage(spec, &s, &f.material, pressures_pa, &|| {}).ok()?;
+    let comparison = compare(points, &runs, pressures_pa);
+    let verdicts = r
+        .uncertainty
+        .as_ref()
+        .map(|u| {
+            let band = inverse::band(
+                &f.material,
+                spec,
+                u,
+                &settings.uncertainty,
+                pressures_pa,
+                &inverse::Options::default().axisym,
+            );
+            verdicts(&comparison, &runs, &band)
+        })
+        .unwrap_or_default();
+    Some(PaperChain {
+        law: f.model.label(),
+        runs,
+        comparison,
+        verdicts,
     })
 }
 

@@ -508,7 +508,21 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let flags = args.flags.options().or(shared);
     let mut members = Vec::new();
     for (name, exp) in read {
-        let s = settings(flags.clone(), &exp)?;
+        let mut s = settings(flags.clone(), &exp)?;
+        // A study fits one law to every specimen: `auto` would let each
+        // specimen's heights choose their own, so a study keeps the
+        // paper's polynomial E(eps) unless a law is named.
+        if s.fit == bulge::fit::FitModel::Auto {
+            let degree = flags
+                .degree
+                .or_else(|| {
+                    bulge::pipeline::RunOptions::from_experiment(&exp)
+                        .ok()?
+                        .degree
+                })
+                .unwrap_or(4);
+            s.fit = bulge::fit::FitModel::Quartic { degree };
+        }
         let fingerprint = fingerprint(&exp, &s);
         members.push(Member {
             name,

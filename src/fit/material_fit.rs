@@ -34,6 +34,11 @@ pub enum FitModel {
     /// Every hyperelastic model (Ogden with 1, 2 and 3 terms); the one with
     /// the lowest AICc among the Drucker-stable fits is kept.
     AllHyperelastic,
+    /// Every law (the polynomial modulus and each hyperelastic model),
+    /// corrected to the heights, the one they call for chosen
+    /// ([`super::select`]): `bulge run`'s default. [`fit_material`] alone
+    /// cannot choose (it has no heights) and refuses it.
+    Auto,
 }
 
 impl Default for FitModel {
@@ -44,7 +49,7 @@ impl Default for FitModel {
 
 impl FitModel {
     /// The names [`FromStr`] accepts.
-    pub const NAMES: &'static str = "quartic, neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3 (or ogden), gent, all";
+    pub const NAMES: &'static str = "quartic, neo-hookean, mooney-rivlin, yeoh, ogden-1, ogden-2, ogden-3 (or ogden), gent, all, auto";
 
     /// Display name: `quartic`, `polynomial E(eps) of degree N`, `ogden-3`, `all`.
     pub fn label(&self) -> String {
@@ -53,6 +58,7 @@ impl FitModel {
             FitModel::Quartic { degree } => format!("polynomial E(eps) of degree {degree}"),
             FitModel::Hyperelastic(k) => k.label(),
             FitModel::AllHyperelastic => "all".into(),
+            FitModel::Auto => "auto".into(),
         }
     }
 
@@ -66,7 +72,7 @@ impl FitModel {
 }
 
 /// Parses `quartic`, `neo-hookean`, `mooney-rivlin`, `yeoh`, `ogden-N`
-/// (`ogden`: three terms), `gent` or `all`; the quartic has degree 4.
+/// (`ogden`: three terms), `gent`, `all` or `auto`; the quartic has degree 4.
 /// A fit model name that is not one of [`FitModel::NAMES`].
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("`{0}` is not one of {names}", names = FitModel::NAMES)]
@@ -80,6 +86,7 @@ impl FromStr for FitModel {
         match s {
             "quartic" => Ok(FitModel::Quartic { degree: 4 }),
             "all" => Ok(FitModel::AllHyperelastic),
+            "auto" => Ok(FitModel::Auto),
             "ogden" => Ok(FitModel::Hyperelastic(Kind::Ogden(3))),
             _ => Kind::all()
                 .into_iter()
@@ -454,6 +461,11 @@ pub fn fit_material(
             settings.poisson
         )));
     }
+    if settings.model == FitModel::Auto {
+        return Err(FitError::Unsupported(
+            "fit model `auto` chooses among the laws by how well each reproduces the measured heights, which this fit does not have: run `bulge run` (it chooses), or name a model".into(),
+        ));
+    }
     let mut prov = Provenance {
         source: source.to_string(),
         input_kind: Some(
@@ -543,6 +555,7 @@ pub fn fit_material(
                 },
             )
         }
+        FitModel::Auto => unreachable!("`auto` is refused above"),
         FitModel::AllHyperelastic => {
             let mut fits = Vec::new();
             for kind in Kind::all() {

@@ -31,6 +31,7 @@ pub(crate) mod linear;
 pub(crate) mod lm;
 pub mod material_fit;
 pub mod quartic;
+pub mod select;
 pub mod stats;
 pub mod study;
 pub mod uncertainty;

@@ -40,6 +40,9 @@ pub struct Report {
     /// Per model, whether it agrees with the measured heights within the
     /// uncertainty (model, verdict).
     pub verdicts: Vec<(String, String)>,
+    /// Why the law was chosen and each law's verdict on the heights, when
+    /// the run chose it.
+    pub laws: Option<(String, Vec<(String, String)>)>,
     /// The comparison rows.
     pub rows: Vec<Comparison>,
     /// The simulated models.
@@ -117,6 +120,27 @@ impl Report {
             s.push_str("<table><tr><th>model</th><th>verdict</th></tr>");
             for (m, v) in &self.verdicts {
                 let bad = if v.starts_with("misses") {
+                    " class=\"bad\""
+                } else {
+                    ""
+                };
+                s.push_str(&format!(
+                    "<tr><td>{}</td><td{bad}>{}</td></tr>",
+                    esc(m),
+                    esc(v)
+                ));
+            }
+            s.push_str("</table>\n");
+        }
+        if let Some((why, lines)) = &self.laws {
+            s.push_str("<h2>The law the heights call for</h2>\n");
+            s.push_str(&format!(
+                "<p>Every law fitted and corrected to the heights, then ranked on them (laws.csv): chosen {}</p>\n",
+                esc(why)
+            ));
+            s.push_str("<table><tr><th>law</th><th>on the heights</th></tr>");
+            for (m, v) in lines {
+                let bad = if v.contains("misses") || v.contains("negative stiffness") {
                     " class=\"bad\""
                 } else {
                     ""

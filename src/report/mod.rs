@@ -6,6 +6,8 @@ pub mod fit_outputs;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) mod html;
 #[cfg(all(feature = "plots", feature = "opencv"))]
+pub(crate) mod laws;
+#[cfg(all(feature = "plots", feature = "opencv"))]
 pub mod out_dir;
 #[cfg(feature = "plots")]
 pub mod plot;

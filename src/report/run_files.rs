@@ -94,6 +94,13 @@ pub fn stage_files(
             stage: Stage::Fit,
             bytes: toml_text.into_bytes(),
         });
+        if let Some(sel) = &f.laws {
+            files.push(OutFile {
+                name: "laws.csv",
+                stage: Stage::Fit,
+                bytes: super::laws::laws_csv(sel).into_bytes(),
+            });
+        }
         files.push(OutFile {
             name: "fit.svg",
             stage: Stage::Fit,
@@ -230,6 +237,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         }),
         material_toml: material_toml.clone(),
         verdicts: verdict_lines(o),
+        laws: laws_section(o),
         rows: rows.clone(),
         runs: runs.clone(),
         settings: settings.clone(),
@@ -249,6 +257,14 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
             md.push_str(&format!("- {model}: {v}\n"));
         }
         md.push('\n');
+    }
+    if let Some((why, lines)) = laws_section(o) {
+        md.push_str("## The law the heights call for\n\n");
+        md.push_str(&format!("{why}\n\n"));
+        for (law, v) in lines {
+            md.push_str(&format!("- {law}: {v}\n"));
+        }
+        md.push_str("\nEvery law in laws.csv (chi-square of the heights against their standard deviations, AICc, BIC).\n\n");
     }
     md.push_str("## Material\n\n```toml\n");
     md.push_str(&material_toml);
@@ -286,6 +302,12 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
             terminal.push_str(&format!("  {model}: {v}\n"));
         }
     }
+    if let Some((why, lines)) = laws_section(o) {
+        terminal.push_str(&format!("\nThe law the heights call for: {why}\n"));
+        for (law, v) in lines {
+            terminal.push_str(&format!("  {law}: {v}\n"));
+        }
+    }
     terminal.push_str("\nTime per stage:\n");
     terminal.push_str(&table::timings_terminal(&timings));
     Ok(RunFiles {
@@ -295,12 +317,33 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
     })
 }
 
-/// Per model, its verdict against the measured heights.
+/// Per model, its verdict against the measured heights; then the paper's
+/// chain (the quartic through TP MSS and the axisymmetric solution) when
+/// another law was chosen.
 fn verdict_lines(o: &RunOutput) -> Vec<(String, String)> {
-    o.verdicts
+    let mut out: Vec<(String, String)> = o
+        .verdicts
         .iter()
         .map(|v| (v.model.to_string(), v.describe()))
-        .collect()
+        .collect();
+    if let Some(p) = &o.paper_chain {
+        out.extend(p.verdicts.iter().map(|v| {
+            (
+                format!("{} ({}, the paper's chain)", v.model, p.law),
+                v.describe(),
+            )
+        }));
+    }
+    out
+}
+
+/// Why the law was chosen and every law's line, when the run chose it.
+fn laws_section(o: &RunOutput) -> Option<(String, Vec<(String, String)>)> {
+    let sel = o.fit.laws.as_ref()?;
+    Some((
+        format!("chosen {}", sel.reason),
+        super::laws::laws_lines(sel),
+    ))
 }
 
 /// The settings of a run as key/value pairs for the report.

@@ -78,12 +78,58 @@ fn col(head: &[String], name: &str) -> usize {
         .unwrap_or_else(|| panic!("no column {name} in {head:?}"))
 }
 
+/// The default `--fit auto`: every law in laws.csv, one chosen, with
+/// positive stiffness, and the report's section.
+#[test]
+fn run_chooses_the_law_the_heights_call_for() {
+    let dir = tempdir();
+    synth(dir.path(), 6);
+    let _ = bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]);
+    let out = dir.path().join("out");
+    let (h, rows) = read_csv(&out.join("laws.csv"));
+    assert_eq!(rows.len(), 8, "{rows:?}");
+    let chosen: Vec<_> = rows
+        .iter()
+        .filter(|r| r[col(&h, "chosen")] == "true")
+        .collect();
+    assert_eq!(chosen.len(), 1, "{rows:?}");
+    assert_eq!(chosen[0][col(&h, "negative_stiffness")], "false");
+    assert!(rows.iter().any(|r| r[col(&h, "law")] == "quartic"));
+    let md = fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("## The law the heights call for"), "{md}");
+    let m: Material =
+        toml::from_str(&fs::read_to_string(out.join("material.toml")).unwrap()).unwrap();
+    let law = &chosen[0][col(&h, "law")];
+    let written = match m.model {
+        Model::Quartic { .. } => "quartic".to_string(),
+        ref other => format!("{other:?}").to_lowercase(),
+    };
+    // `neo-hookean` -> `neohookean {..`, `ogden-2` -> `ogden {..`.
+    let stem = law.replace('-', "");
+    assert!(
+        written.starts_with(stem.trim_end_matches(|c: char| c.is_ascii_digit())),
+        "material.toml has {written}, laws.csv chose {law}"
+    );
+}
+
 #[test]
 fn run_writes_every_output_and_the_table() {
     let dir = tempdir();
     synth(dir.path(), 6);
     let before = snapshot(&dir.path().join("exp"));
-    let r = bulge_in(dir.path(), &["run", "exp/experiment.toml", "--out", "out"]).ok();
+    // The paper's quartic named (the default chooses the law: next test).
+    let r = bulge_in(
+        dir.path(),
+        &[
+            "run",
+            "exp/experiment.toml",
+            "--out",
+            "out",
+            "--fit",
+            "quartic",
+        ],
+    )
+    .ok();
     let out = dir.path().join("out");
     // Inputs untouched.
     assert_eq!(snapshot(&dir.path().join("exp")), before);
