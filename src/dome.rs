@@ -208,7 +208,7 @@ pub struct Found {
 
 /// Grid of the search: the stress-free dome height as a fraction of the
 /// lowest measured height above the reference (`h0 = z + f d1`).
-const F_GRID: [f64; 5] = [0.25, 0.5, 0.75, 0.9, 1.0];
+const F_GRID: [f64; 6] = [0.0, 0.25, 0.5, 0.75, 0.9, 1.0];
 /// The reference apex height `z`, as a fraction of the radius.
 const Z_GRID: [f64; 5] = [0.0, 0.05, 0.1, 0.2, 0.3];
 /// Golden sections per coordinate after the grid.
@@ -248,10 +248,14 @@ where
         ));
     }
     let (trials, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let seen = std::sync::Mutex::new(Vec::<(f64, f64)>::new());
     let q = |z: f64, f: f64| -> f64 {
         trials.fetch_add(1, Ordering::Relaxed);
         match misfit(z, z + f * lowest_m) {
-            Some(v) if v.is_finite() => v,
+            Some(v) if v.is_finite() => {
+                seen.lock().expect("trials").push((z + f * lowest_m, v));
+                v
+            }
             _ => {
                 failed.fetch_add(1, Ordering::Relaxed);
                 f64::INFINITY
@@ -330,9 +334,28 @@ where
     let (up, down) = (qh(h0 + step), qh(h0 - step));
     let curv = (up * up + down * down - 2.0 * qbest * qbest) / (step * step);
     let k = if relative { 2 } else { 1 };
-    let h0_std = (curv.is_finite() && curv > 0.0 && n > p + k).then(|| {
-        let s2 = n as f64 * qbest * qbest / (n - p - k) as f64;
-        (2.0 * s2 / (n as f64 * curv)).sqrt()
+    let s2 = (n > p + k).then(|| n as f64 * qbest * qbest / (n - p - k) as f64);
+    let h0_std = s2.and_then(|s2| {
+        let local = (curv.is_finite() && curv > 0.0).then(|| (2.0 * s2 / (n as f64 * curv)).sqrt());
+        // Every trial dome whose misfit is within one unit of chi^2 of the
+        // best (n (Q - Q_best) / s^2 <= 1, the profile likelihood's one
+        // standard deviation): with a reference and a flexible law the
+        // misfit has a valley along which the law makes up for the dome,
+        // and its extent, not the curvature across it, is the uncertainty.
+        let within: Vec<f64> = seen
+            .lock()
+            .expect("trials")
+            .iter()
+            .filter(|(_, v)| n as f64 * (v * v - qbest * qbest) <= s2)
+            .map(|(h, _)| *h)
+            .collect();
+        let lo = within.iter().copied().fold(h0, f64::min);
+        let hi = within.iter().copied().fold(h0, f64::max);
+        let half = 0.5 * (hi - lo);
+        match local {
+            Some(l) => Some(l.max(half)),
+            None => (half > 0.0).then_some(half),
+        }
     });
     Ok(Found {
         reference_m: z,

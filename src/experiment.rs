@@ -206,7 +206,7 @@ pub enum SpecimenError {
     Prebulge(f64),
     /// `prebulge_height_m = "fit"` where a number is needed.
     #[error(
-        "prebulge_height_m = \"fit\" is estimated from the heights by `bulge run`; this command needs it as a number (the value bulge run reports in material.toml, [fit.refined] prebulge_height_m)"
+        "prebulge_height_m = \"fit\" is estimated from the heights by `bulge run` (from photos, or from measured heights with [heights] csv = \"heights.csv\"); this command needs it as a number (the value bulge run reports in its notes and material.toml, [fit.refined] prebulge_height_m)"
     )]
     PrebulgeToFit,
 }
