@@ -34,6 +34,11 @@ use crate::fit::data::Loaded;
 use crate::fit::quartic;
 use crate::material::Model;
 
+/// `x > 0`, false for NaN.
+fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
 /// Samples of the strain range in the stiffness check.
 const STIFFNESS_SAMPLES: usize = 200;
 
@@ -50,27 +55,27 @@ pub fn stiffness_problem(model: &Model, max_strain: f64) -> Option<String> {
             coefficients_pa, ..
         } => {
             let e0 = coefficients_pa.first().copied().unwrap_or(0.0);
-            if !(e0 > 0.0) {
+            if !positive(e0) {
                 return Some(format!(
                     "its modulus at zero strain is {e0:.3e} Pa (not positive)"
                 ));
             }
             samples
                 .map(|e| (e, quartic::implied_stress_slope(coefficients_pa, e)))
-                .find(|(_, s)| !(*s > 0.0))
+                .find(|(_, s)| !positive(*s))
                 .map(|(e, s)| {
                     format!("its stress falls at strain {e:.4} (tangent modulus {s:.3e} Pa)")
                 })
         }
         Model::Linear { young_pa } => {
-            (!(*young_pa > 0.0)).then(|| format!("its modulus {young_pa:.3e} Pa is not positive"))
+            (!positive(*young_pa)).then(|| format!("its modulus {young_pa:.3e} Pa is not positive"))
         }
         _ => {
             let h = model.hyperelastic()?;
             let mut last = 0.0;
             for (k, e) in samples.enumerate().skip(1) {
                 let s = h.equibiaxial_nominal(1.0 + e);
-                if !(s > last) {
+                if !positive(s - last) {
                     let _ = k;
                     return Some(format!(
                         "its equibiaxial stress falls at strain {e:.4} ({s:.3e} Pa)"
@@ -242,7 +247,7 @@ where
     F: Fn(f64, f64) -> Option<f64> + Sync,
 {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    if !(lowest_m > 0.0) {
+    if !positive(lowest_m) {
         return Err(format!(
             "the lowest measured height is {lowest_m} m: the dome search needs positive heights"
         ));

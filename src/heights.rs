@@ -101,7 +101,7 @@ pub fn check(
             ));
         }
         if let Some(sd) = p.height_std_m
-            && !(sd >= 0.0)
+            && (sd.is_nan() || sd < 0.0)
         {
             return Err(table.error_at(
                 i,
