@@ -206,7 +206,7 @@ pub enum SpecimenError {
     Prebulge(f64),
     /// `prebulge_height_m = "fit"` where a number is needed.
     #[error(
-        "prebulge_height_m = \"fit\" is estimated from the heights by `bulge run`; this command needs it as a number (the value bulge run reports in material.toml, [fit.refined] prebulge_height_m)"
+        "prebulge_height_m = \"fit\" is estimated from the heights by `bulge run` (from photos, or from measured heights with [heights] csv = \"heights.csv\"); this command needs it as a number (the value bulge run reports in its notes and material.toml, [fit.refined] prebulge_height_m)"
     )]
     PrebulgeToFit,
 }
@@ -461,6 +461,31 @@ pub struct PressureConfig {
     pub relative_std: Option<f64>,
 }
 
+/// `[heights]`: measured apex heights instead of photos (a laser gauge,
+/// 3D digital image correlation): a CSV with columns `pressure_pa`,
+/// `height_m` and optionally `height_std_m` ([`crate::heights`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HeightsConfig {
+    /// The CSV, relative to the experiment file.
+    pub csv: PathBuf,
+    /// What the heights are measured from (default the clamp plane).
+    #[serde(default)]
+    pub origin: HeightsOrigin,
+}
+
+/// What the heights of a `[heights]` file are measured from.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HeightsOrigin {
+    /// Above the clamp plane (a flat disc is at 0).
+    #[default]
+    Clamp,
+    /// Above a reference state of the stress-free (possibly slack, domed)
+    /// membrane: the apex stands at `height + prebulge_height_m`.
+    Reference,
+}
+
 /// A whole experiment file. Stages read the tables they need and ignore the
 /// rest; `[simulate]` and `[report]` hold settings for `bulge run`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -471,6 +496,9 @@ pub struct Experiment {
     /// Photos (needed by `track`).
     #[serde(default)]
     pub photos: Option<PhotosConfig>,
+    /// Measured heights, in place of `[photos]` (`bulge run`, `bulge study`).
+    #[serde(default)]
+    pub heights: Option<HeightsConfig>,
     /// Calibration (needed by `track`).
     #[serde(default)]
     pub calibration: Option<CalibrationConfig>,
@@ -514,6 +542,28 @@ impl Experiment {
             .validate()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
         e.window.validate().map_err(|m| InputError::file(path, m))?;
+        if e.heights.is_some() && e.photos.is_some() {
+            return Err(InputError::file(
+                path,
+                "[heights] and [photos] are both given: the heights come from one of them; remove [photos] to use the measured heights, or [heights] to track the photos",
+            ));
+        }
+        if e.heights.is_some() {
+            for (table, given) in [
+                ("pressure", e.pressure.is_some()),
+                ("calibration", e.calibration.is_some()),
+                ("camera", e.camera.is_some()),
+            ] {
+                if given {
+                    return Err(InputError::file(
+                        path,
+                        format!(
+                            "[{table}] describes photos and [heights] gives the heights: remove [{table}] (the pressures are the heights file's pressure_pa column)"
+                        ),
+                    ));
+                }
+            }
+        }
         e.specimen_std = read_specimen_file(path)?
             .std()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
@@ -581,6 +631,9 @@ impl Experiment {
         let mut files = vec![self.path.clone()];
         if let Some(p) = &self.pressure {
             files.push(self.resolve(&p.csv));
+        }
+        if let Some(h) = &self.heights {
+            files.push(self.resolve(&h.csv));
         }
         let mut folder = None;
         if let Some(ph) = &self.photos {

@@ -56,8 +56,10 @@
 
 pub mod axisym;
 pub mod camera;
+pub mod dome;
 pub mod experiment;
 pub mod fit;
+pub mod heights;
 pub mod io;
 pub mod material;
 pub mod mechanics;

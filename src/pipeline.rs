@@ -936,7 +936,13 @@ pub fn fit_stage(
     let (mut fitted, laws) = if settings.fit == FitModel::Auto {
         choose_law(spec, settings, s, &data, &mut fit_settings, source)?
     } else {
-        (fit_material(&data, &fit_settings, source)?, None)
+        let mut fitted = fit_material(&data, &fit_settings, source)?;
+        if settings.refine
+            && let Some(w) = crate::dome::positive_start(&mut fitted, &data)
+        {
+            fitted.warn(w);
+        }
+        (fitted, None)
     };
     if settings.refine && fitted.refined.is_none() {
         let measured = measured_heights(&s.points);
@@ -963,6 +969,14 @@ pub fn fit_stage(
         {
             fitted.warn(format!("no Monte Carlo of the parameters: {e}"));
         }
+    }
+    if let Some(w) = crate::dome::stiffness_problem(
+        &fitted.material.model,
+        crate::dome::top_strain(&fitted.material.model, &data),
+    ) {
+        fitted.warn(format!(
+            "the law has negative stiffness inside the measured range: {w}; a simulation can snap through or fail there (try another model or give prebulge_height_m)"
+        ));
     }
     let modulus_points = data
         .strain
@@ -1640,8 +1654,9 @@ pub struct RunOutput {
     /// The specimen the run used: the experiment's, with the stress-free
     /// dome height found when `prebulge_height_m = "fit"`.
     pub specimen: Specimen,
-    /// Photos -> heights.
-    pub tracking: Tracking,
+    /// Photos -> heights; `None` when the heights were measured
+    /// (`[heights]`).
+    pub tracking: Option<Tracking>,
     /// Heights -> stress and strain.
     pub stress: StressOut,
     /// Stress/strain -> material.
@@ -1768,44 +1783,72 @@ pub fn run_observed(
         timings.push(timing);
     };
 
-    // 1. track
+    // 1. track (or the measured heights of `[heights]`)
     let t = Instant::now();
-    let tracking =
-        track_stage_observed(exp, &with_exp, obs).map_err(|e| fail(Stage::Track, e, &partial))?;
-    let secs = t.elapsed().as_secs_f64();
-    let n = tracking.tracked.rows.len();
-    for sk in &tracking.tracked.skipped {
-        note(
-            Stage::Track,
-            format!("skipped frame {} ({}): {}", sk.frame, sk.file, sk.reason),
-        );
-    }
-    if tracking.setup.lens.is_none() {
-        note(Stage::Track, crate::track::lens::UNCALIBRATED_NOTE.into());
-    }
-    finish(
-        Stage::Track,
-        t,
-        format!(
-            "{n} of {} photos ({}x{} px), {:.1} photos/s",
-            tracking.setup.frames.len(),
-            tracking.tracked.image_size[0],
-            tracking.tracked.image_size[1],
-            n as f64 / secs.max(1e-9)
-        ),
-    );
-    partial.tracking = Some(tracking.clone());
+    let (tracking, mut points, relative) = match crate::heights::of_experiment(exp) {
+        Some(read) => {
+            let h = read
+                .map_err(|e| fail(Stage::Track, PipelineError::Input(e.to_string()), &partial))?;
+            finish(
+                Stage::Track,
+                t,
+                format!(
+                    "{} measured heights read (no photos tracked)",
+                    h.points.len()
+                ),
+            );
+            (None, h.points, h.relative)
+        }
+        None => {
+            let tracking = track_stage_observed(exp, &with_exp, obs)
+                .map_err(|e| fail(Stage::Track, e, &partial))?;
+            let secs = t.elapsed().as_secs_f64();
+            let n = tracking.tracked.rows.len();
+            for sk in &tracking.tracked.skipped {
+                note(
+                    Stage::Track,
+                    format!("skipped frame {} ({}): {}", sk.frame, sk.file, sk.reason),
+                );
+            }
+            if tracking.setup.lens.is_none() {
+                note(Stage::Track, crate::track::lens::UNCALIBRATED_NOTE.into());
+            }
+            finish(
+                Stage::Track,
+                t,
+                format!(
+                    "{n} of {} photos ({}x{} px), {:.1} photos/s",
+                    tracking.setup.frames.len(),
+                    tracking.tracked.image_size[0],
+                    tracking.tracked.image_size[1],
+                    n as f64 / secs.max(1e-9)
+                ),
+            );
+            partial.tracking = Some(tracking.clone());
+            let relative = matches!(
+                tracking.setup.calibration.origin,
+                crate::track::HeightOrigin::Reference { .. }
+            );
+            let points = tracking.points();
+            (Some(tracking), points, relative)
+        }
+    };
 
     // 2. stress (with the stress-free dome height estimated first when the
     // experiment asks for it)
     let t = Instant::now();
     obs.start(Stage::Stress, 0);
-    let mut points = tracking.points();
-    if exp.prebulge_fit {
-        let relative = matches!(
-            tracking.setup.calibration.origin,
-            crate::track::HeightOrigin::Reference { .. }
-        );
+    if exp.prebulge_fit && tracking.is_none() && with_exp.refine {
+        // measured heights: the dome found with the run's own law
+        let (found, what) = crate::dome::stage(&specimen, &with_exp, &points, relative)
+            .map_err(|e| fail(Stage::Stress, e, &partial))?;
+        specimen.prebulge_height_m = found.h0_m;
+        if let Some(sd) = found.h0_std_m {
+            with_exp.uncertainty.prebulge_std_m = sd;
+        }
+        points = shift(points, relative, found.reference_m);
+        note(Stage::Stress, what);
+    } else if exp.prebulge_fit {
         let (h0, std, what) = prebulge_stage(&specimen, &with_exp, points.clone(), relative)
             .map_err(|e| fail(Stage::Stress, e, &partial))?;
         specimen.prebulge_height_m = h0;

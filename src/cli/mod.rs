@@ -203,6 +203,11 @@ impl Observer for Console {
             Stage::Report => "heights.svg, heights.png, report.html, summary.md",
         };
         let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
+        // measured heights (`[heights]`): the track stage writes nothing
+        if t.stage == Stage::Track && t.what.contains("no photos tracked") {
+            eprintln!("[{step}/5] {:<8} {}", t.stage.name(), t.what);
+            return;
+        }
         eprintln!("[{step}/5] {:<8} {} -> {files}", t.stage.name(), t.what);
     }
 }

@@ -234,7 +234,17 @@ fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
             .into());
         }
         // The standard deviations, checked, of the whole file.
-        let sources = Experiment::read(path)?.uncertainty();
+        let whole = Experiment::read(path)?;
+        // Every key that shapes the membrane is honoured or refused: the
+        // cap formulas hold for a circular opening only.
+        if !whole.window.is_circle() {
+            return Err(InputError::file(
+                path,
+                "[window] is not a circle: the stress stage's spherical-cap formulas hold for a circular opening only; use bulge run, which corrects the law to the heights through the window, or remove [window]",
+            )
+            .into());
+        }
+        let sources = whole.uncertainty();
         return Ok((exp.specimen, sources));
     }
     let missing = |flag: &str| anyhow!("{flag} is required without --experiment");

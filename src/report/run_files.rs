@@ -118,7 +118,7 @@ pub fn stage_files(
 /// Every file of the finished run `o` of `exp` with `s`.
 pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFiles, PipelineError> {
     let t = Instant::now();
-    let mut files = stage_files(Some(&o.tracking), Some(&o.stress), Some(&o.fit))?;
+    let mut files = stage_files(o.tracking.as_ref(), Some(&o.stress), Some(&o.fit))?;
     let fit_png = files
         .iter()
         .find(|f| f.name == "fit.png")
@@ -141,24 +141,26 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
     let hfig = figures::heights(&stress.points, runs, rows, o.band.as_deref());
     let heights_svg = hfig.to_svg().map_err(|e| output_error("heights.svg", e))?;
     let heights_png = hfig.to_png().map_err(|e| output_error("heights.png", e))?;
-    let nrows = tracking.tracked.rows.len();
-    let mut picks = vec![0, nrows / 2, nrows.saturating_sub(1)];
-    picks.dedup();
     let mut photos = Vec::new();
-    for i in picks {
-        let r = &tracking.tracked.rows[i];
-        let png = annotate::annotated_frame_png(tracking.frame(i), &tracking.marks(i), 640)?;
-        photos.push(Picture {
-            caption: format!(
-                "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",
-                r.frame,
-                r.file,
-                r.pressure_pa,
-                r.height_m * 1e3,
-                r.score
-            ),
-            png,
-        });
+    if let Some(tracking) = tracking {
+        let nrows = tracking.tracked.rows.len();
+        let mut picks = vec![0, nrows / 2, nrows.saturating_sub(1)];
+        picks.dedup();
+        for i in picks {
+            let r = &tracking.tracked.rows[i];
+            let png = annotate::annotated_frame_png(tracking.frame(i), &tracking.marks(i), 640)?;
+            photos.push(Picture {
+                caption: format!(
+                    "frame {} ({}): {:.1} Pa, apex height {:.3} mm, match score {:.3}",
+                    r.frame,
+                    r.file,
+                    r.pressure_pa,
+                    r.height_m * 1e3,
+                    r.score
+                ),
+                png,
+            });
+        }
     }
     let mut timings = o.timings.clone();
     timings.push(Timing {
@@ -182,21 +184,41 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
                 format!("{} m", spec.prebulge_height_m)
             },
         ),
-        (
-            "photos".into(),
-            format!(
-                "{} tracked of {} ({}x{} px)",
-                nrows,
-                tracking.setup.frames.len(),
-                tracking.tracked.image_size[0],
-                tracking.tracked.image_size[1]
-            ),
-        ),
-        (
-            "metres per pixel".into(),
-            format!("{:.6e}", tracking.setup.calibration.metres_per_pixel),
-        ),
     ];
+    match tracking {
+        Some(tracking) => {
+            experiment.push((
+                "photos".into(),
+                format!(
+                    "{} tracked of {} ({}x{} px)",
+                    tracking.tracked.rows.len(),
+                    tracking.setup.frames.len(),
+                    tracking.tracked.image_size[0],
+                    tracking.tracked.image_size[1]
+                ),
+            ));
+            experiment.push((
+                "metres per pixel".into(),
+                format!("{:.6e}", tracking.setup.calibration.metres_per_pixel),
+            ));
+        }
+        None => {
+            let h = exp.heights.as_ref();
+            experiment.push((
+                "heights".into(),
+                format!(
+                    "{} measured ({}, {})",
+                    stress.points.len(),
+                    h.map_or(String::new(), |h| h.csv.display().to_string()),
+                    if h.is_some_and(|h| h.origin == crate::experiment::HeightsOrigin::Reference) {
+                        "above the stress-free reference state"
+                    } else {
+                        "above the clamp plane"
+                    }
+                ),
+            ));
+        }
+    }
     if let (Some(lo), Some(hi)) = (
         stress.points.iter().map(|p| p.pressure_pa).reduce(f64::min),
         stress.points.iter().map(|p| p.pressure_pa).reduce(f64::max),

@@ -7,6 +7,7 @@ mod bench;
 mod calibrate;
 mod dynamics;
 mod fit;
+mod heights;
 mod init;
 mod mistakes;
 mod run;

@@ -225,7 +225,12 @@ fn one(plan: &PhotoPlan, theta: &[f64], index: usize, dir: &Path) -> Result<One,
             .and_then(|r| r.uncertainty.as_ref())
             .ok_or_else(|| format!("no covariance: {}", out.fit.warnings.join("; ")))?;
         let band = out.band.as_deref().unwrap_or_default();
-        let rows = &out.tracking.tracked.rows;
+        let rows = &out
+            .tracking
+            .as_ref()
+            .ok_or("the run tracked no photos")?
+            .tracked
+            .rows;
         let mut pairs = Vec::with_capacity(rows.len());
         let (mut z2, mut sd) = (0.0, 0.0);
         for r in rows {
