@@ -388,6 +388,18 @@ pub fn stage(
         .filter(|h| *h > 0.0)
         .fold(f64::INFINITY, f64::min);
     let n = points.iter().filter(|p| p.height_m > 0.0).count();
+    // Each trial fits one law: with the law still to be chosen, the
+    // paper's quartic (the most flexible over a slack fabric's first
+    // stages); no Monte Carlo inside the search.
+    let searched = crate::pipeline::Settings {
+        fit: match settings.fit {
+            crate::fit::FitModel::Auto => crate::fit::FitModel::Quartic { degree: 4 },
+            f => f,
+        },
+        samples: 0,
+        ..settings.clone()
+    };
+    let settings = &searched;
     let p = match settings.fit {
         crate::fit::FitModel::Quartic { degree } => degree + 1,
         _ => 3,
