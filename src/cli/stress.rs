@@ -235,14 +235,16 @@ fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
         }
         // The standard deviations, checked, of the whole file.
         let whole = Experiment::read(path)?;
-        // Every key that shapes the membrane is honoured or refused: the
-        // cap formulas hold for a circular opening only.
+        // Every key that shapes the membrane is honoured or said: the cap
+        // formulas hold for a circular opening only, so through another
+        // window the rows are the first guess that `bulge fit
+        // --to-heights` (or `bulge run`) corrects through the window.
         if !whole.window.is_circle() {
-            return Err(InputError::file(
-                path,
-                "[window] is not a circle: the stress stage's spherical-cap formulas hold for a circular opening only; use bulge run, which corrects the law to the heights through the window, or remove [window]",
-            )
-            .into());
+            eprintln!(
+                "warning: {}: [window] is not a circle: the spherical-cap formulas hold for a circular opening only, so these rows are a first guess of the law (radius_m as the cap's radius); correct it through the window with `bulge fit --to-heights {}` or use `bulge run`",
+                path.display(),
+                path.display()
+            );
         }
         let sources = whole.uncertainty();
         return Ok((exp.specimen, sources));
