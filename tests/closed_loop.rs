@@ -41,7 +41,11 @@ mod tests {
             noise: (2.0, 1.0, None),
             seed: 301,
         };
-        let settings = Settings::default();
+        // the paper's chain: the quartic E(eps), corrected to the heights
+        let settings = Settings {
+            fit: bulge::fit::FitModel::Quartic { degree: 4 },
+            ..Settings::default()
+        };
         let dir = tempfile::tempdir().unwrap();
         let d = draw(&case, dir.path(), &settings).unwrap();
         assert_eq!(d.truth.len(), 8);
@@ -58,7 +62,7 @@ mod tests {
         assert!(tp < vg, "TP {tp} vs Van Gelder {vg}");
         let cap_only = Settings {
             refine: false,
-            ..Settings::default()
+            ..settings.clone()
         };
         let o_cap = evaluate(&d, &cap_only).unwrap();
         let tp_cap = o_cap.max_abs(TP);
