@@ -118,13 +118,26 @@ impl OutDir {
         // a lock on a removed file, so the lock counts only if the file is
         // still the folder's.
         for _ in 0..8 {
-            let mut f = OpenOptions::new()
+            // Whether the file was there before this run: a run killed
+            // between creating the file and writing its process number
+            // leaves an empty one, which is taken over all the same.
+            let (mut f, found) = match OpenOptions::new()
                 .read(true)
                 .write(true)
-                .create(true)
-                .truncate(false)
+                .create_new(true)
                 .open(&lock)
-                .map_err(io_err(&lock))?;
+            {
+                Ok(f) => (f, false),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    match OpenOptions::new().read(true).write(true).open(&lock) {
+                        Ok(f) => (f, true),
+                        // removed by the run that held it since: try again
+                        Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                        Err(e) => return Err(io_err(&lock)(e)),
+                    }
+                }
+                Err(e) => return Err(io_err(&lock)(e)),
+            };
             let holder = || {
                 fs::read_to_string(&lock)
                     .map(|s| s.trim().to_string())
@@ -145,7 +158,13 @@ impl OutDir {
             if !same_file(&f, &lock) {
                 continue;
             }
-            let taken_over = holder();
+            let taken_over =
+                match found {
+                    true => Some(holder().unwrap_or_else(|| {
+                        "an empty lock file: a run stopped as it started".into()
+                    })),
+                    false => None,
+                };
             f.set_len(0).map_err(io_err(&lock))?;
             writeln!(f, "process {}", std::process::id()).map_err(io_err(&lock))?;
             crate::io::temp::remove_on_signal(&lock);
@@ -290,6 +309,10 @@ mod tests {
         drop(out);
         assert!(!d.path().join(LOCK_FILE).exists());
         assert_eq!(OutDir::lock(d.path()).unwrap().taken_over(), None);
+        // killed between creating the file and writing its process number
+        std::fs::write(d.path().join(LOCK_FILE), "").unwrap();
+        let out = OutDir::lock(d.path()).unwrap();
+        assert!(out.taken_over().unwrap().contains("empty lock file"));
     }
 
     /// A rerun that stops at an earlier stage leaves no file of the previous
