@@ -34,10 +34,15 @@ use serde::Deserialize;
 
 use super::SimError;
 use super::mesh::{self, Corner, Mesh};
-use super::solve::Predictor;
 use super::springs::{Membrane, SpringModel};
 use crate::io::InputError;
 use crate::material::Material;
+
+mod predictors;
+pub use predictors::*;
+
+mod sizing;
+pub use sizing::*;
 
 /// Default density, kg/m^3 (natural rubber 910-1100; latex about 960-1000).
 pub const DEFAULT_DENSITY_KG_M3: f64 = 1100.0;
@@ -781,149 +786,6 @@ impl Scene {
                     .or_else(|| mesh.probe("middle"))
                     .unwrap_or(0);
                 ((x[node] - mesh.nodes[node]).norm(), vec![])
-            }
-        }
-    }
-}
-
-/// Default disc rings (a 60 degree sector of 16 rings: 153 nodes).
-pub const DEFAULT_DISC_RINGS: usize = 16;
-/// Default rings of the ellipse (the whole hexagonal disc, scaled: 1801 nodes).
-pub const DEFAULT_ELLIPSE_RINGS: usize = 24;
-/// Default cells across the rectangle's half-width.
-pub const DEFAULT_RECTANGLE_HALF_CELLS: usize = 8;
-/// Default divisions of the sphere octant's edges.
-pub const DEFAULT_SPHERE_DIVISIONS: usize = 16;
-
-/// Relative height error of the disc against the mesh-converged height of the
-/// same model, `C n^-1.7` for `n` rings. Measured (benches/sim.rs tables,
-/// docs/simulate.md) on the latex disc at 5000-8940 Pa (h/a = 0.6-0.8), as the
-/// largest error over the three pressures: TP MSS (and tp-paper)
-/// `C = 0.045`, Van Gelder `0.27`, Lloyd `0.5`.
-pub fn disc_error_constant(model: SpringModel) -> f64 {
-    match model {
-        SpringModel::Tp | SpringModel::TpPaper => 0.045,
-        SpringModel::VanGelder => 0.27,
-        SpringModel::Lloyd => 0.5,
-        // measured like TP's (docs/axisym.md: 16 rings -0.50 % from its own limit at 8940 Pa)
-        SpringModel::Membrane => 0.045,
-    }
-}
-
-/// Rings of the disc mesh for a relative height error `acc` (against the
-/// mesh-converged height of the same model) for every model in `models`
-/// (all four when empty): `n = (C / acc)^(1/1.7)`, at least 4.
-pub fn disc_rings_for_accuracy(acc: f64, models: &[SpringModel]) -> usize {
-    let c = if models.is_empty() {
-        &SpringModel::ALL[..]
-    } else {
-        models
-    }
-    .iter()
-    .map(|m| disc_error_constant(*m))
-    .fold(0.0, f64::max);
-    ((c / acc).powf(1.0 / 1.7).ceil() as usize).max(4)
-}
-
-/// The disc's mesh of `rings` rings (a sector or the whole), on the dome of
-/// height `dome_height_m` when it is positive (a slack membrane).
-pub fn disc_mesh(
-    radius_m: f64,
-    dome_height_m: f64,
-    rings: usize,
-    sector: bool,
-) -> Result<Mesh, SimError> {
-    let mut m = mesh::disc(mesh::DiscOptions {
-        radius_m,
-        rings,
-        sector,
-    })?;
-    if dome_height_m > 0.0 {
-        mesh::lift_to_cap(&mut m, radius_m, dome_height_m);
-    }
-    Ok(m)
-}
-
-/// First guesses for the elliptical and rectangular windows: at the first
-/// pressure the flat window lifted to a bump of Hencky's centre height for
-/// a disc of the window's smaller half-width (`1 - (x/a)^2 - (y/b)^2` on the
-/// ellipse, `(1 - (x/a)^2)(1 - (y/b)^2)` on the rectangle), then the last
-/// displacement scaled by `(p1 / p0)^(1/3)`.
-pub struct WindowPredictor {
-    /// Half-sizes along x and y, m (semi-axes, or half length and width).
-    pub half_m: [f64; 2],
-    /// A rectangle (else an ellipse).
-    pub rectangle: bool,
-    /// Small-strain modulus, Pa.
-    pub young_pa: f64,
-    /// Thickness, m.
-    pub thickness_m: f64,
-    /// Poisson ratio.
-    pub poisson: f64,
-}
-
-impl Predictor for WindowPredictor {
-    fn predict(&self, rest: &[Point3<f64>], x: &mut [Point3<f64>], p0: f64, p1: f64) {
-        let [a, b] = self.half_m;
-        if p0 <= 0.0 {
-            let r = a.min(b);
-            let w0 =
-                (hencky_k(self.poisson) * r * (p1 * r / (self.young_pa * self.thickness_m)).cbrt())
-                    .min(r);
-            for (xi, xr) in x.iter_mut().zip(rest) {
-                let (u, v) = ((xr.x / a).powi(2), (xr.y / b).powi(2));
-                let bump = if self.rectangle {
-                    (1.0 - u) * (1.0 - v)
-                } else {
-                    1.0 - u - v
-                };
-                if bump > 1e-12 {
-                    *xi = Point3::new(xr.x, xr.y, (w0 * bump).max(xr.z));
-                }
-            }
-        } else {
-            let s = (p1 / p0).cbrt();
-            for (xi, xr) in x.iter_mut().zip(rest) {
-                *xi = xr + (*xi - xr) * s;
-            }
-        }
-    }
-}
-
-/// First guesses for the disc: Hencky's profile at the first pressure (or
-/// a slack membrane's reference dome where that stands higher), then the
-/// last displacement scaled by `(p1 / p0)^(1/3)` (membrane scaling).
-pub struct DiscPredictor {
-    /// Free radius, m.
-    pub radius_m: f64,
-    /// Small-strain modulus, Pa.
-    pub young_pa: f64,
-    /// Thickness, m.
-    pub thickness_m: f64,
-    /// Poisson ratio.
-    pub poisson: f64,
-}
-
-impl Predictor for DiscPredictor {
-    fn predict(&self, rest: &[Point3<f64>], x: &mut [Point3<f64>], p0: f64, p1: f64) {
-        let a = self.radius_m;
-        if p0 <= 0.0 {
-            let w0 =
-                (hencky_k(self.poisson) * a * (p1 * a / (self.young_pa * self.thickness_m)).cbrt())
-                    .min(a);
-            for (xi, xr) in x.iter_mut().zip(rest) {
-                let r2 = (xr.x * xr.x + xr.y * xr.y) / (a * a);
-                // A slack membrane's reference dome where it stands higher
-                // than Hencky's profile: a guess under the dome is nearer
-                // the dome turned inside out than the inflated one.
-                if r2 < 1.0 - 1e-12 {
-                    *xi = Point3::new(xr.x, xr.y, (w0 * (1.0 - r2)).max(xr.z));
-                }
-            }
-        } else {
-            let s = (p1 / p0).cbrt();
-            for (xi, xr) in x.iter_mut().zip(rest) {
-                *xi = xr + (*xi - xr) * s;
             }
         }
     }

@@ -5,6 +5,7 @@ use std::io::Write;
 
 use super::*;
 use crate::material::Model;
+use crate::sim::solve::Predictor;
 
 /// Hencky's `K(nu)` by shooting on the Foppl-Hencky membrane equations,
 /// independently of the table: with `rho = r / a`, the radial stress
