@@ -1,6 +1,7 @@
 //! Tests of `springs`.
 
 use super::*;
+use crate::material::{Model, StrainMeasure};
 use crate::sim::mesh::{self, DiscOptions};
 
 fn linear(e: f64, nu: f64) -> Material {
