@@ -68,6 +68,8 @@ pub mod pressure_log;
 pub mod report;
 pub mod sim;
 #[cfg(feature = "opencv")]
+pub mod study;
+#[cfg(feature = "opencv")]
 pub mod track;
 
 pub use experiment::{Experiment, Specimen};

@@ -21,13 +21,7 @@ pub fn guard(plan: OutputPlan) -> Result<(), Failure> {
 /// Every file an experiment reads: its file, the pressure log, the template
 /// and each photo.
 pub fn experiment_inputs(exp: &Experiment) -> Vec<PathBuf> {
-    let (mut files, folder) = exp.input_files();
-    if let (Some(dir), Some(ph)) = (folder, &exp.photos)
-        && let Ok(photos) = bulge::track::list_photos(&dir, ph.glob())
-    {
-        files.extend(photos);
-    }
-    files
+    bulge::study::input_files(exp)
 }
 
 /// A library error about a setting, with the flag that sets it named: each
