@@ -91,18 +91,31 @@ impl Response {
     }
 
     /// Checks a gamma (finite, 0.2 to 5).
-    pub fn validate(self) -> Result<(), String> {
+    pub fn validate(self) -> Result<(), ResponseError> {
         match self {
-            Response::Gamma(g) if !(g.is_finite() && (0.2..=5.0).contains(&g)) => Err(format!(
-                "response = {g}: a camera's gamma lies between 0.2 and 5 (2.2 for most displays); write \"srgb\" for an ordinary 8-bit photo, \"linear\" for a raw or 16-bit one"
-            )),
+            Response::Gamma(g) if !(g.is_finite() && (0.2..=5.0).contains(&g)) => {
+                Err(ResponseError::Gamma(g))
+            }
             _ => Ok(()),
         }
     }
 }
 
+/// A tone curve that is not one.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ResponseError {
+    /// Neither a name nor a number.
+    #[error("camera response {0:?} is not \"srgb\", \"linear\" or a gamma such as 2.2")]
+    Unknown(String),
+    /// A gamma out of range.
+    #[error(
+        "response = {0}: a camera's gamma lies between 0.2 and 5 (2.2 for most displays); write \"srgb\" for an ordinary 8-bit photo, \"linear\" for a raw or 16-bit one"
+    )]
+    Gamma(f64),
+}
+
 impl std::str::FromStr for Response {
-    type Err = String;
+    type Err = ResponseError;
 
     /// `srgb`, `linear`, or a gamma (`2.2`, `gamma:2.2`).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
@@ -112,11 +125,9 @@ impl std::str::FromStr for Response {
             "linear" => Response::Linear,
             _ => {
                 let num = t.strip_prefix("gamma:").unwrap_or(&t);
-                let g: f64 = num.parse().map_err(|_| {
-                    format!(
-                        "camera response {s:?} is not \"srgb\", \"linear\" or a gamma such as 2.2"
-                    )
-                })?;
+                let g: f64 = num
+                    .parse()
+                    .map_err(|_| ResponseError::Unknown(s.to_string()))?;
                 Response::Gamma(g)
             }
         };

@@ -77,6 +77,11 @@ pub fn output_folder(path: &Path, flag: &str) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Parses a camera's tone curve (`srgb`, `linear`, a gamma).
+pub fn parse_response(s: &str) -> Result<bulge::camera::Response, bulge::camera::ResponseError> {
+    s.parse()
+}
+
 /// Parses a fit model name (`quartic`, `mooney-rivlin`, `ogden-3`, ...).
 pub fn parse_fit_model(s: &str) -> Result<FitModel, bulge::fit::UnknownFitModel> {
     s.parse()

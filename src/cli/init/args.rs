@@ -83,7 +83,7 @@ pub struct Args {
     /// 8-bit JPEG or PNG photos), `linear` (raw or linearised photos), or a
     /// gamma such as 2.2. Edges are located in light; the experiment file
     /// keeps it as `[camera] response`.
-    #[arg(long, default_value = "srgb", value_parser = parse_response)]
+    #[arg(long, default_value = "srgb", value_parser = super::super::parse_response)]
     pub response: bulge::camera::Response,
 
     /// The lens, a `[camera]` table written by `bulge calibrate`: the
@@ -100,8 +100,4 @@ pub struct Args {
     /// Replace an existing experiment file (never one of the inputs).
     #[arg(long)]
     pub force: bool,
-}
-
-fn parse_response(s: &str) -> Result<bulge::camera::Response, String> {
-    s.parse()
 }

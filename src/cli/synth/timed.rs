@@ -1,0 +1,118 @@
+//! The outputs joined by time: the pressure log of --log-rate-hz and the video
+//! of --video, each with its experiment file; and the frames of a
+//! non-circular window from the membrane model.
+
+use super::super::Failure;
+use anyhow::anyhow;
+use bulge::experiment::Specimen;
+use bulge::material::Material;
+use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
+
+use super::*;
+
+/// The outputs of --log-rate-hz and --video: pressure_log.csv,
+/// experiment_log.toml, the video and experiment_video.toml. Returns their
+/// part of the summary line (empty without those flags).
+pub(super) fn write_timed(
+    args: &Args,
+    spec: &SequenceSpec,
+    w: &synth::Written,
+    frames: &[SynthFrame],
+    pressures: &[f64],
+) -> Result<String, Failure> {
+    let Some(rate) = args.log_rate_hz else {
+        return Ok(String::new());
+    };
+    let failed = |e: bulge::track::TrackError| {
+        if e.is_bad_input() {
+            Failure::BadInput(e.into())
+        } else {
+            Failure::Failed(e.into())
+        }
+    };
+    let write = |name: &str, bytes: &[u8]| -> Result<(), Failure> {
+        let p = args.out_dir.join(name);
+        bulge::io::write_atomic(&p, bytes)
+            .map_err(|e| Failure::Failed(anyhow!("cannot write {}: {e}", p.display())))
+    };
+    let interval = 1.0 / f64::from(args.fps);
+    let offset = args.log_offset_s.unwrap_or(0.0);
+    let log = synth::pressure_log_csv(pressures, interval, rate, offset);
+    let bytes = log.into_bytes();
+    let rows = bytes.iter().filter(|&&b| b == b'\n').count() - 1;
+    write("pressure_log.csv", &bytes)?;
+    let pressure = format!(
+        "csv = \"pressure_log.csv\" # columns time_s,pressure_pa\noffset_s = {offset:?} # logger time = frame time + offset_s\n"
+    );
+    let ext = spec.encoding.extension();
+    let toml = synth::experiment_toml(
+        spec,
+        &w.scene,
+        &w.layout,
+        &format!(
+            "dir = \"photos\"\nglob = \"*.{ext}\"\ninterval_s = {interval:?} # photo k at start_s + k * interval_s\n"
+        ),
+        &pressure,
+    );
+    write("experiment_log.toml", toml.as_bytes())?;
+    let mut extra = format!(
+        ", pressure_log.csv ({rows} rows at {rate} Hz, logger time = camera time + {offset} s), experiment_log.toml"
+    );
+    if let Some(v) = &args.video {
+        let quality = args.jpeg_quality.unwrap_or(95);
+        let bytes = synth::write_video(&args.out_dir.join(v), spec, frames, args.fps, quality)
+            .map_err(failed)?;
+        let name = v.to_string_lossy();
+        let toml = synth::experiment_toml(
+            spec,
+            &w.scene,
+            &w.layout,
+            &format!("video = \"{name}\"\nevery = 1\n"),
+            &pressure,
+        );
+        write("experiment_video.toml", toml.as_bytes())?;
+        extra += &format!(
+            ", {name} ({:.2} MB, {} frames at {} frames/s), experiment_video.toml",
+            bytes as f64 / 1e6,
+            frames.len(),
+            args.fps
+        );
+    }
+    Ok(extra)
+}
+
+/// The frames of a non-circular window: the membrane model swept over the
+/// pressures, and at each its section through the long axis (the nodes on
+/// `y = 0`, `x >= 0`, which stay on that mirror plane), pole first.
+pub(super) fn window_frames(
+    specimen: &Specimen,
+    window: &bulge::experiment::Window,
+    material: &Material,
+    pressures: &[f64],
+) -> anyhow::Result<Vec<SynthFrame>> {
+    use bulge::sim::scene::Scene;
+    use bulge::sim::{SceneSolver, SpringModel};
+    let scene = Scene::from_window(specimen, window, material.clone(), pressures.to_vec());
+    let mesh = scene.build_mesh()?;
+    let section: Vec<usize> = (0..mesh.nodes.len())
+        .filter(|&i| mesh.nodes[i].y.abs() < 1e-12 && mesh.nodes[i].x >= 0.0)
+        .collect();
+    let mut s = SceneSolver::on_mesh(&scene, mesh, SpringModel::Membrane)?;
+    let mut frames = Vec::with_capacity(pressures.len());
+    let done = s.sweep(pressures, |solver, q| {
+        let x = solver.positions();
+        let mut pts: Vec<(f64, f64)> = section.iter().map(|&i| (x[i].x, x[i].z)).collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        frames.push(SynthFrame {
+            pressure_pa: q.pressure_pa,
+            silhouette: Silhouette {
+                rho_m: pts.iter().map(|p| p.0).collect(),
+                z_m: pts.iter().map(|p| p.1).collect(),
+            },
+        });
+    });
+    if let Err((_, stop)) = done {
+        anyhow::bail!("the bubble at {} Pa: {}", stop.pressure_pa, stop.error);
+    }
+    Ok(frames)
+}
