@@ -183,10 +183,8 @@ impl Observer for Console {
     }
 
     fn note(&self, stage: Stage, message: &str) {
-        if stage == Stage::Track
-            || stage == Stage::Fit && message.starts_with("only ")
-            || stage == Stage::Stress
-        {
+        // the simulate stage's notes are printed with the results
+        if stage != Stage::Simulate {
             eprintln!("         {message}");
         }
     }
@@ -204,7 +202,7 @@ impl Observer for Console {
         };
         let step = Stage::ALL.iter().position(|s| *s == t.stage).unwrap_or(0) + 1;
         // measured heights (`[heights]`): the track stage writes nothing
-        if t.stage == Stage::Track && t.what.contains("no photos tracked") {
+        if !t.files {
             eprintln!("[{step}/5] {:<8} {}", t.stage.name(), t.what);
             return;
         }

@@ -114,7 +114,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
     for w in &o.fit.warnings {
         eprintln!("         warning: {w}");
     }
-    for n in o.notes.iter().filter_map(|n| n.strip_prefix("simulate: ")) {
+    for n in o
+        .notes
+        .iter()
+        .filter(|n| n.stage == Stage::Simulate)
+        .map(|n| &n.text)
+    {
         eprintln!("         note: {n}");
     }
     let unsolved = o.unsolved();

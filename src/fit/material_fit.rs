@@ -344,6 +344,20 @@ pub struct FittedMaterial {
     pub skipped: Vec<String>,
     /// Warnings about the law (also in the provenance).
     pub warnings: Vec<String>,
+    /// The quartic's degree lowered to what the points can determine.
+    pub degree_lowered: Option<DegreeLowered>,
+}
+
+/// The quartic's degree lowered because the points were too few for it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("only {points} points with a secant modulus: degree lowered from {from} to {to}")]
+pub struct DegreeLowered {
+    /// Points with a secant modulus.
+    pub points: usize,
+    /// The degree asked for.
+    pub from: usize,
+    /// The degree fitted.
+    pub to: usize,
 }
 
 impl FittedMaterial {
@@ -482,6 +496,7 @@ pub fn fit_material(
     };
     let mut warnings = Vec::new();
     let mut model_used = settings.model;
+    let mut degree_lowered = None;
     let mut skipped = Vec::new();
     // How the fitted points move with their heights, when weighted: the
     // modulus law's `(strain, modulus)`, the hyperelastic `(stretch, stress)`.
@@ -503,11 +518,13 @@ pub fn fit_material(
             let (strain, modulus) = data.modulus_points();
             let mut degree = degree;
             if settings.lower_degree && strain.len() >= 2 && strain.len() <= degree {
-                warnings.push(format!(
-                    "only {} points with a secant modulus: degree lowered from {degree} to {}",
-                    strain.len(),
-                    strain.len() - 1
-                ));
+                let lowered = DegreeLowered {
+                    points: strain.len(),
+                    from: degree,
+                    to: strain.len() - 1,
+                };
+                warnings.push(lowered.to_string());
+                degree_lowered = Some(lowered);
                 degree = strain.len() - 1;
                 model_used = FitModel::Quartic { degree };
             }
@@ -651,6 +668,7 @@ pub fn fit_material(
         refined: None,
         skipped,
         warnings,
+        degree_lowered,
     })
 }
 

@@ -39,8 +39,8 @@ pub mod uncertainty;
 mod weighted_tests;
 
 pub use material_fit::{
-    FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord, UnknownFitModel,
-    fit_material,
+    DegreeLowered, FitDetail, FitModel, FitSettings, FittedMaterial, Provenance, RefinedRecord,
+    UnknownFitModel, fit_material,
 };
 
 use serde::{Deserialize, Serialize};

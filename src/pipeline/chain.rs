@@ -42,8 +42,8 @@ pub struct RunOutput {
     /// Time per stage (track, stress, fit, simulate).
     pub timings: Vec<Timing>,
     /// Remarks made along the way (frames left out, a lowered degree, the
-    /// simulator's notes), each prefixed with its stage.
-    pub notes: Vec<String>,
+    /// simulator's notes), each with its stage.
+    pub notes: Vec<Note>,
 }
 
 #[cfg(feature = "opencv")]
@@ -134,13 +134,14 @@ pub fn run_observed(
     let mut notes = Vec::new();
     let mut note = |stage: Stage, m: String| {
         obs.note(stage, &m);
-        notes.push(format!("{}: {m}", stage.name()));
+        notes.push(Note { stage, text: m });
     };
-    let mut finish = |stage: Stage, t: Instant, what: String| {
+    let mut finish = |stage: Stage, t: Instant, what: String, files: bool| {
         let timing = Timing {
             stage,
             seconds: t.elapsed().as_secs_f64(),
             what,
+            files,
         };
         obs.done(&timing);
         timings.push(timing);
@@ -159,6 +160,7 @@ pub fn run_observed(
                     "{} measured heights read (no photos tracked)",
                     h.points.len()
                 ),
+                false,
             );
             (None, h.points, h.relative)
         }
@@ -186,6 +188,7 @@ pub fn run_observed(
                     tracking.tracked.image_size[1],
                     n as f64 / secs.max(1e-9)
                 ),
+                true,
             );
             partial.tracking = Some(tracking.clone());
             let relative = matches!(
@@ -245,6 +248,7 @@ pub fn run_observed(
                 " (each input's error per point in stress_strain_sources.csv)"
             }
         ),
+        true,
     );
     partial.stress = Some(stress.clone());
 
@@ -252,11 +256,11 @@ pub fn run_observed(
     let t = Instant::now();
     obs.start(Stage::Fit, 0);
     let fit = fit_stage(spec, settings, &stress).map_err(|e| fail(Stage::Fit, e, &partial))?;
-    for w in fit.warnings.iter().filter(|w| w.starts_with("only ")) {
-        note(Stage::Fit, w.clone());
+    if let Some(lowered) = fit.degree_lowered {
+        note(Stage::Fit, lowered.to_string());
     }
     let what = fit.summary();
-    finish(Stage::Fit, t, what);
+    finish(Stage::Fit, t, what, true);
     partial.fit = Some(fit.clone());
 
     // 4. simulate
@@ -296,6 +300,7 @@ pub fn run_observed(
         Stage::Simulate,
         t,
         format!("{} pressures: {what}", pressures_pa.len()),
+        true,
     );
     for n in runs
         .iter()

@@ -31,6 +31,8 @@ pub struct FitOut {
     pub strain_measure: StrainMeasure,
     /// Warnings about the law (unphysical regions, ill conditioning).
     pub warnings: Vec<String>,
+    /// The quartic's degree lowered to what the points can determine.
+    pub degree_lowered: Option<crate::fit::DegreeLowered>,
     /// The law as the stress/strain points gave it, before the correction
     /// to the heights (the same as `material` without it).
     pub cap_material: Material,
@@ -129,6 +131,7 @@ pub fn fit_stage(
         modulus_factor: settings.stress.modulus.factor(spec.poisson),
         strain_measure: settings.stress.strain,
         warnings: fitted.warnings,
+        degree_lowered: fitted.degree_lowered,
         cap_material: fitted.cap_material,
         refined: fitted.refined,
         laws,

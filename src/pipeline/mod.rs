@@ -429,6 +429,22 @@ pub fn display(p: &Path) -> String {
     p.display().to_string()
 }
 
+/// A remark of one stage on the run (a frame left out, a degree lowered, a
+/// pressure not solved): the stage it came from and what it says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Note {
+    /// The stage that made it.
+    pub stage: Stage,
+    /// What it says.
+    pub text: String,
+}
+
+impl std::fmt::Display for Note {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.stage.name(), self.text)
+    }
+}
+
 /// Time spent in one stage.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Timing {
@@ -438,6 +454,9 @@ pub struct Timing {
     pub seconds: f64,
     /// What it did, e.g. `12 photos, 41.3 photos/s`.
     pub what: String,
+    /// Whether it made the stage's files (the track stage makes none when
+    /// the heights were measured, `[heights]`).
+    pub files: bool,
 }
 
 /// What a run tells its caller while it works (progress bars, logs). Every

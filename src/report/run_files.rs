@@ -170,6 +170,7 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
             "2 figures, {} annotated photos, report.html, summary.md",
             photos.len()
         ),
+        files: true,
     });
     let mut experiment = vec![
         ("file".to_string(), exp.path.display().to_string()),
@@ -226,10 +227,10 @@ pub fn run_files(exp: &Experiment, s: &Settings, o: &RunOutput) -> Result<RunFil
         experiment.push(("pressure range".into(), format!("{lo:.1} to {hi:.1} Pa")));
     }
     let mut notes: Vec<String> = fit.warnings.iter().map(|w| format!("fit: {w}")).collect();
-    notes.extend(o.notes.iter().filter_map(|n| {
-        n.strip_prefix("simulate: ")
-            .map(str::to_string)
-            .or_else(|| n.starts_with("stress: ").then(|| n.clone()))
+    notes.extend(o.notes.iter().filter_map(|n| match n.stage {
+        Stage::Simulate => Some(n.text.clone()),
+        Stage::Stress => Some(n.to_string()),
+        _ => None,
     }));
     let material_toml = String::from_utf8_lossy(
         &files
