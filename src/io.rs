@@ -30,6 +30,10 @@ pub struct InputError {
     pub column: Option<String>,
     /// What is wrong, the value, and the fix.
     pub message: String,
+    /// The setting (its key, e.g. `stress_measure`) that decides the
+    /// matter, when one does, so that a caller can name its own way of
+    /// setting it (a flag).
+    pub setting: Option<&'static str>,
 }
 
 fn location(path: &Path, line: Option<u64>, column: Option<&str>) -> String {
@@ -51,6 +55,7 @@ impl InputError {
             line: None,
             column: None,
             message: message.into(),
+            setting: None,
         }
     }
 
@@ -61,6 +66,15 @@ impl InputError {
             line: Some(line),
             column: Some(column.to_string()),
             message: message.into(),
+            setting: None,
+        }
+    }
+
+    /// The same error, said to be decided by the setting `key`.
+    pub fn about_setting(self, key: &'static str) -> Self {
+        Self {
+            setting: Some(key),
+            ..self
         }
     }
 }
@@ -124,6 +138,7 @@ impl Table {
                     },
                     one.replace([';', '\t'], ",")
                 ),
+                setting: None,
             });
         }
         let mut index = HashMap::new();
@@ -147,6 +162,7 @@ impl Table {
                     line,
                     column: None,
                     message: format!("malformed CSV record: {e}"),
+                    setting: None,
                 }
             })?;
             let line = rec.position().map(|p| p.line()).unwrap_or(0);
@@ -480,6 +496,7 @@ pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
         line,
         column: None,
         message,
+        setting: None,
     }
 }
 

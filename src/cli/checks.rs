@@ -24,20 +24,15 @@ pub fn experiment_inputs(exp: &Experiment) -> Vec<PathBuf> {
     bulge::study::input_files(exp)
 }
 
-/// A library error about a setting, with the flag that sets it named: each
-/// `(phrase, flag)` whose phrase the message contains adds "(flag)".
+/// A library error about a setting, with the flag that sets it named: the
+/// `(setting, flag)` whose setting the error is about adds "(flag)".
 pub fn with_flags(e: bulge::io::InputError, flags: &[(&str, &str)]) -> bulge::io::InputError {
-    let named: Vec<&str> = flags
-        .iter()
-        .filter(|(phrase, _)| e.message.contains(phrase))
-        .map(|(_, flag)| *flag)
-        .collect();
-    if named.is_empty() {
-        return e;
-    }
-    bulge::io::InputError {
-        message: format!("{} ({})", e.message, named.join(", ")),
-        ..e
+    match flags.iter().find(|(key, _)| e.setting == Some(*key)) {
+        Some((_, flag)) => bulge::io::InputError {
+            message: format!("{} ({flag})", e.message),
+            ..e
+        },
+        None => e,
     }
 }
 

@@ -83,8 +83,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         modulus: args.modulus,
     };
     let flags = [
-        ("stress measure", "--stress-measure"),
-        ("strain measure", "--strain-measure"),
+        ("stress_measure", "--stress-measure"),
+        ("strain_measure", "--strain-measure"),
     ];
     let loaded = data::load(&table, &opts).map_err(|e| super::with_flags(e, &flags))?;
     let input = args.input.display().to_string();

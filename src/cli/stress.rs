@@ -59,7 +59,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let both =
         "--height-std-m: drop the flag to use the column, or drop the column to use the flag";
     let points = pipeline::heights_points(&table, args.height_std_m)
-        .map_err(|e| super::with_flags(e, &[("standard deviation of", both)]))?;
+        .map_err(|e| super::with_flags(e, &[("height_std_m", both)]))?;
     let rows = mechanics::stress_strain(&spec, &opts, &points).map_err(|e| match e {
         StressError::Point { index, problem } => Failure::BadInput(
             table
@@ -119,6 +119,7 @@ fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
                 line,
                 column: None,
                 message: format!("[specimen] {m}"),
+                setting: None,
             }
             .into());
         }

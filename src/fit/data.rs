@@ -332,7 +332,8 @@ fn load_stress_stage(
                         stretch[r],
                         m.of_stretch(stretch[r])
                     ),
-                ));
+                )
+                .about_setting("strain_measure"));
             }
             m
         }
@@ -485,7 +486,8 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
                 return Err(InputError::file(
                     &t.path,
                     "both `nominal_stress_pa` and `cauchy_stress_pa` are present: choose the stress measure to fit",
-                ));
+                )
+                .about_setting("stress_measure"));
             }
             (false, false) => {
                 return Err(InputError::file(
@@ -495,7 +497,8 @@ fn load_raw(t: &Table, stretch: Vec<f64>, opts: &LoadOptions) -> Result<Loaded, 
                          the stress measure, nominal or cauchy, chosen), or a `stress_strain.csv` from `bulge stress` (found: {})",
                         t.headers.join(", ")
                     ),
-                ));
+                )
+                .about_setting("stress_measure"));
             }
         },
     };

@@ -410,6 +410,7 @@ impl Material {
                 line,
                 column: None,
                 message: e.to_string(),
+                setting: None,
             }
         })
     }

@@ -250,7 +250,8 @@ pub fn heights_points(table: &Table, height_std_m: Option<f64>) -> Result<Vec<Po
             format!(
                 "a height standard deviation of {sd} m was given for every point and the file has a height_std_m column: drop one of them (one source of uncertainty)"
             ),
-        ));
+        )
+        .about_setting("height_std_m"));
     }
     (0..table.len())
         .map(|r| {
