@@ -200,8 +200,20 @@ pub struct Found {
     /// The stress-free dome height `h0` (`prebulge_height_m`), m.
     pub h0_m: f64,
     /// Standard deviation of `h0` from the profile of the misfit, when the
-    /// profile is convex there.
+    /// profile is convex there and the heights determine `h0`
+    /// (`h0_determined`); `None` otherwise, never a number with a false
+    /// deviation.
     pub h0_std_m: Option<f64>,
+    /// The 95 % profile-likelihood interval of `h0`, m: the lowest and
+    /// highest trial dome whose misfit lies within the chi-square quantile
+    /// of one degree of freedom of the best (`n (Q - Q_best) / s^2 <=
+    /// 3.84`), when the points' variance `s^2` can be estimated.
+    pub h0_interval_m: Option<(f64, f64)>,
+    /// Whether the heights determine `h0`: false when the 95 % interval
+    /// reaches an end of the physical range (a flat dome `z`, or the lowest
+    /// measured height `z + d1`), so the profile of the misfit does not
+    /// rise on that side within the range the search may try.
+    pub h0_determined: bool,
     /// The corrected law's rms relative height error at the optimum.
     pub rms: f64,
     /// Trials run, and how many failed or gave a law with negative
@@ -218,6 +230,31 @@ const F_GRID: [f64; 6] = [0.0, 0.25, 0.5, 0.75, 0.9, 1.0];
 const Z_GRID: [f64; 5] = [0.0, 0.05, 0.1, 0.2, 0.3];
 /// Golden sections per coordinate after the grid.
 const SECTIONS: usize = 8;
+/// The chi-square quantile of one degree of freedom at 95 %.
+const CHI2_1_95: f64 = 3.841;
+
+/// The profile interval of `h0` over the trials `seen` (`(h0, f, rms)`,
+/// `f` the fraction of the lowest height, 0 and 1 the ends of the
+/// physical range): the lowest and highest `h0` whose misfit satisfies
+/// `n (Q - Q_best) / s^2 <= level` (`Q = rms^2`), with whether it is
+/// closed (no such trial at an end of the range).
+pub fn profile_interval(
+    seen: &[(f64, f64, f64)],
+    best: (f64, f64),
+    n: usize,
+    s2: f64,
+    level: f64,
+) -> ((f64, f64), bool) {
+    let (h0, qbest) = best;
+    let within: Vec<&(f64, f64, f64)> = seen
+        .iter()
+        .filter(|(_, _, v)| n as f64 * (v * v - qbest * qbest) <= level * s2)
+        .collect();
+    let lo = within.iter().map(|t| t.0).fold(h0, f64::min);
+    let hi = within.iter().map(|t| t.0).fold(h0, f64::max);
+    let open = within.iter().any(|t| t.1 <= 0.0 || t.1 >= 1.0);
+    ((lo, hi), !open)
+}
 
 /// Finds the stress-free dome `h0` and, for heights measured from a
 /// reference state (`relative`), the reference's apex height `z` above the
@@ -253,12 +290,12 @@ where
         ));
     }
     let (trials, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let seen = std::sync::Mutex::new(Vec::<(f64, f64)>::new());
+    let seen = std::sync::Mutex::new(Vec::<(f64, f64, f64)>::new());
     let q = |z: f64, f: f64| -> f64 {
         trials.fetch_add(1, Ordering::Relaxed);
         match misfit(z, z + f * lowest_m) {
             Some(v) if v.is_finite() => {
-                seen.lock().expect("trials").push((z + f * lowest_m, v));
+                seen.lock().expect("trials").push((z + f * lowest_m, f, v));
                 v
             }
             _ => {
@@ -351,8 +388,8 @@ where
             .lock()
             .expect("trials")
             .iter()
-            .filter(|(_, v)| n as f64 * (v * v - qbest * qbest) <= s2)
-            .map(|(h, _)| *h)
+            .filter(|(_, _, v)| n as f64 * (v * v - qbest * qbest) <= s2)
+            .map(|(h, _, _)| *h)
             .collect();
         let lo = within.iter().copied().fold(h0, f64::min);
         let hi = within.iter().copied().fold(h0, f64::max);
@@ -362,10 +399,17 @@ where
             None => (half > 0.0).then_some(half),
         }
     });
+    let interval = s2.map(|s2| {
+        let seen = seen.lock().expect("trials");
+        profile_interval(&seen, (h0, qbest), n, s2, CHI2_1_95)
+    });
+    let h0_determined = interval.is_some_and(|(_, closed)| closed);
     Ok(Found {
         reference_m: z,
         h0_m: h0,
-        h0_std_m: h0_std,
+        h0_std_m: h0_std.filter(|_| h0_determined),
+        h0_interval_m: interval.map(|(i, _)| i),
+        h0_determined,
         rms: qbest,
         trials: trials.load(Ordering::Relaxed),
         failed: failed.load(Ordering::Relaxed),
@@ -426,6 +470,14 @@ pub fn stage(
     let pm = found
         .h0_std_m
         .map_or_else(String::new, |s| format!(" +- {s:.1e}"));
+    let interval = found.h0_interval_m.map_or_else(String::new, |(lo, hi)| {
+        format!(" (95 % profile interval {lo:.4e} to {hi:.4e} m)")
+    });
+    let undetermined = if found.h0_determined {
+        String::new()
+    } else {
+        "; the heights do not determine the dome height: the misfit stays within the 95 % chi-square level up to an end of its physical range, so the value is one of many that fit as well (a measured reference dome given as prebulge_height_m, or a first pressure stage low enough to catch the slack being taken up, would determine it)".to_string()
+    };
     let reference = if relative {
         format!(
             ", the reference state's apex {:.4e} m above the clamp plane (added to the heights)",
@@ -435,7 +487,7 @@ pub fn stage(
         String::new()
     };
     let what = format!(
-        "prebulge_height_m = {:.4e}{pm} m found from the heights{reference}: the law corrected to the heights at each trial dome, rms height error {:.2} % at the best ({} trials, {} failed or not physical, counted as misfits)",
+        "prebulge_height_m = {:.4e}{pm} m{interval} found from the heights{reference}: the law corrected to the heights at each trial dome, rms height error {:.2} % at the best ({} trials, {} failed or not physical, counted as misfits){undetermined}",
         found.h0_m,
         100.0 * found.rms,
         found.trials,

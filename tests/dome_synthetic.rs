@@ -81,10 +81,12 @@ fn the_dome_search_on_a_slack_membrane_reproduces_the_heights() {
     for (h0, reference) in [(0.012, 0.008), (0.02, 0.02)] {
         let (f, h0) = case(h0, reference, 2e-4, 7);
         println!(
-            "true h0 {:.2} mm: found {:.2} mm +- {:?}, reference {:.2} mm, rms {:.4} %, {} trials, {} failed",
+            "true h0 {:.2} mm: found {:.2} mm +- {:?}, 95 % interval {:?} mm, determined {}, reference {:.2} mm, rms {:.4} %, {} trials, {} failed",
             1e3 * h0,
             1e3 * f.h0_m,
             f.h0_std_m.map(|s| 1e3 * s),
+            f.h0_interval_m.map(|(lo, hi)| (1e3 * lo, 1e3 * hi)),
+            f.h0_determined,
             1e3 * f.reference_m,
             100.0 * f.rms,
             f.trials,

@@ -11,10 +11,6 @@ const MAX_CLI_LINES: usize = 250;
 /// Files allowed over [`MAX_LINES`], with why.
 const EXCEPTIONS: &[(&str, &str)] = &[
     (
-        "src/fit/inverse.rs",
-        "the correction to the heights, its joint fit, covariance, band and window correction: to be split by problem",
-    ),
-    (
         "src/track/init.rs",
         "the set-up from the photos: to be split by step (bubble, clamp ring, scale, drawing)",
     ),

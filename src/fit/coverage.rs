@@ -13,7 +13,7 @@
 //! experiments are independent and seeded by their index, so a plan gives
 //! the same counts on every machine and any number of threads.
 //!
-//! The unit tests run a cheap plan (`src/fit/inverse.rs`), the example
+//! The unit tests run a cheap plan (`src/fit/inverse/tests.rs`), the example
 //! `coverage` the full one (its table in `docs/fit.md`). The same draws,
 //! made from a corrected law itself, give the Monte Carlo of its
 //! parameters ([`monte_carlo`], `bulge run --samples N`).

@@ -230,6 +230,11 @@ pub fn run_observed(
         }
         points = shift(points, relative, h0);
         note(Stage::Stress, what);
+    } else if relative && tracking.is_none() {
+        // measured heights above a stress-free reference with the dome
+        // given as a number (`[heights] origin = "reference"`): the apex
+        // stands at the height plus `prebulge_height_m`
+        points = shift(points, true, specimen.prebulge_height_m);
     }
     let spec = &specimen;
     let settings = &with_exp;

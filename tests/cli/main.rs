@@ -8,6 +8,7 @@ mod calibrate;
 mod dynamics;
 mod fit;
 mod heights;
+mod heights_origin;
 mod init;
 mod mistakes;
 mod run;
