@@ -28,8 +28,11 @@
 //!   bounds give the curvature's ratio between two photos from their
 //!   heights alone; without the clamp row (heights unknown) only a dome
 //!   bent the wrong way is refused;
-//! - **with the pressure**: the apex does not move against the pressure,
-//!   and stays near the row extrapolated from the frames before;
+//! - **with the pressure**: the apex does not move against the pressure;
+//! - **the trend** ([`Guard::check_trend`]), not a physical bound: the apex
+//!   near the row extrapolated from the frames before. It starts the search
+//!   near the prediction; a frame that breaks only it is kept with a
+//!   warning (near a limit point the height's step is unbounded);
 //! - **the fit's residuals are the image's noise**: the residual RMS against
 //!   that of the frames before, a chi-square bound for the columns' degrees
 //!   of freedom (from the first frame after the reference on);
