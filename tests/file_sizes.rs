@@ -15,10 +15,6 @@ const EXCEPTIONS: &[(&str, &str)] = &[
         "the set-up from the photos: to be split by step (bubble, clamp ring, scale, drawing)",
     ),
     (
-        "src/track/matcher.rs",
-        "the template match and the edge and apex fits: to be split by concern",
-    ),
-    (
         "src/track/synth.rs",
         "the synthetic experiment writer: to be split (scene, drawing, files)",
     ),

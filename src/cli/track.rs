@@ -110,6 +110,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .with_context(|| format!("cannot write {}", args.output.display()))
         .failed()?;
 
+    for w in &tracked.warnings {
+        eprintln!("warning: {w}");
+    }
     for s in &tracked.skipped {
         eprintln!("skipped frame {} ({}): {}", s.frame, s.file, s.reason);
     }

@@ -169,6 +169,9 @@ pub fn run_observed(
                 .map_err(|e| fail(Stage::Track, e, &partial))?;
             let secs = t.elapsed().as_secs_f64();
             let n = tracking.tracked.rows.len();
+            for w in &tracking.tracked.warnings {
+                note(Stage::Track, format!("warning: {w}"));
+            }
             for sk in &tracking.tracked.skipped {
                 note(
                     Stage::Track,

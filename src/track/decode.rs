@@ -149,6 +149,7 @@ pub(super) fn match_frames(
     };
     let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
     let mut skipped = Vec::new();
+    let mut warnings = Vec::new();
     let mut guard = Guard::new(
         match setup.calibration.origin {
             HeightOrigin::ClampRow(r) => Some(r - roi[1] as f64),
@@ -203,6 +204,11 @@ pub(super) fn match_frames(
             match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
                 Ok(()) => Ok(loc),
                 Err(why) => {
+                    // Only the trend rule broken: kept with a warning when
+                    // the search near the prediction finds nothing better.
+                    let physical = guard
+                        .check_physical(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref())
+                        .is_ok();
                     let again = guard
                         .predict(f.pressure_pa)
                         .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
@@ -217,7 +223,17 @@ pub(super) fn match_frames(
                                 .check(f.pressure_pa, a, [xs, s], l.edge.as_ref())
                                 .is_ok()
                         });
-                    again.ok_or(why)
+                    match again {
+                        Some(l) => Ok(l),
+                        None if physical => {
+                            warnings.push(format!(
+                                "frame {i} ({}): {why}; kept, since no membrane law bounds the height's step between two photos (near the limit pressure the height grows without bound): check this photo's height, or add photos between it and the one before",
+                                f.file
+                            ));
+                            Ok(loc)
+                        }
+                        None => Err(why),
+                    }
                 }
             }
         };
@@ -393,6 +409,7 @@ pub(super) fn match_frames(
     Ok(Tracked {
         rows,
         skipped,
+        warnings,
         image_size: [width, height],
         locate_seconds: locate_time,
     })

@@ -28,8 +28,11 @@
 //!   bounds give the curvature's ratio between two photos from their
 //!   heights alone; without the clamp row (heights unknown) only a dome
 //!   bent the wrong way is refused;
-//! - **with the pressure**: the apex does not move against the pressure,
-//!   and stays near the row extrapolated from the frames before;
+//! - **with the pressure**: the apex does not move against the pressure;
+//! - **the trend** ([`Guard::check_trend`]), not a physical bound: the apex
+//!   near the row extrapolated from the frames before. It starts the search
+//!   near the prediction; a frame that breaks only it is kept with a
+//!   warning (near a limit point the height's step is unbounded);
 //! - **the fit's residuals are the image's noise**: the residual RMS against
 //!   that of the frames before, a chi-square bound for the columns' degrees
 //!   of freedom (from the first frame after the reference on);
@@ -185,6 +188,20 @@ impl Guard {
         stds: [f64; 2],
         edge: Option<&EdgeFit>,
     ) -> Result<(), String> {
+        self.check_physical(p, apex, stds, edge)?;
+        self.check_trend(p, apex[1], stds[1])
+    }
+
+    /// [`Guard::check`] without the trend rule ([`Guard::check_trend`]):
+    /// the properties every inflating membrane and every measurement of its
+    /// edge have, whatever the law and the pressure step.
+    pub(super) fn check_physical(
+        &self,
+        p: f64,
+        apex: [f64; 2],
+        stds: [f64; 2],
+        edge: Option<&EdgeFit>,
+    ) -> Result<(), String> {
         // The template's match alone is no measurement of the top.
         if self.edge_required && edge.is_none() {
             return Err("no edge of the bubble's top was found at the template's match (the top is hidden, outside the region, too faint, or level with something behind it): check the region and the template on this photo, or track with --refine quadratic".to_string());
@@ -255,6 +272,22 @@ impl Guard {
                 ));
             }
         }
+        if let Some(e) = edge {
+            self.check_columns(e)?;
+        }
+        Ok(())
+    }
+
+    /// The trend rule: the apex row `y` (standard error `std`, px) at
+    /// pressure `p` lies within `2 px + |predicted step| + 4 std` of the
+    /// row extrapolated linearly in pressure from the last two accepted
+    /// frames (the step may double). No membrane law bounds it: near a
+    /// limit point `dh/dp` grows without bound, so a coarse step there
+    /// breaks it on a clean photo. It is the trigger of the search near
+    /// the predicted apex; a frame that breaks only this rule, and whose
+    /// search finds nothing better, is kept with a warning (see
+    /// `decode.rs`).
+    pub(super) fn check_trend(&self, p: f64, y: f64, std: f64) -> Result<(), String> {
         if self.history.len() >= 2
             && let Some(pred) = self.predict(p)
         {
@@ -269,9 +302,6 @@ impl Guard {
                     tol
                 ));
             }
-        }
-        if let Some(e) = edge {
-            self.check_columns(e)?;
         }
         Ok(())
     }
@@ -445,6 +475,38 @@ mod tests {
             two_sided: false,
             clutter_on_top: false,
         }
+    }
+
+    /// The trend rule is the only one a jump breaks when every other
+    /// property holds: a step of the height twice the extrapolated one and
+    /// more fails [`Guard::check`] (so the apex is searched again near the
+    /// prediction) but not [`Guard::check_physical`], since near the limit
+    /// pressure a clean photo's height steps without bound.
+    #[test]
+    fn a_jump_alone_breaks_only_the_trend_rule() {
+        // Clamp plane at row 400, opening 200 px; heights 40 and 50 px,
+        // then 80 px where 60 px are extrapolated.
+        let mut g = Guard::new(Some(400.0), Some(200.0), 64, false);
+        g.accept(
+            1.0,
+            [300.0, 360.0],
+            [0.3, 0.02],
+            Some(&edge(0.92 * cap(40.0, 200.0), 1e-6)),
+        );
+        g.accept(
+            2.0,
+            [300.0, 350.0],
+            [0.3, 0.02],
+            Some(&edge(0.92 * cap(50.0, 200.0), 1e-6)),
+        );
+        let (apex, e) = ([300.0, 320.0], edge(0.92 * cap(80.0, 200.0), 1e-6));
+        let why = g.check(3.0, apex, [0.3, 0.02], Some(&e)).unwrap_err();
+        assert!(
+            why.contains("from where the frames before predict"),
+            "{why}"
+        );
+        let ok = g.check_physical(3.0, apex, [0.3, 0.02], Some(&e));
+        assert!(ok.is_ok(), "{ok:?}");
     }
 
     /// The curvature of the spherical cap `h` px high through a rim of

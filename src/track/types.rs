@@ -266,6 +266,10 @@ pub struct Tracked {
     pub rows: Vec<FrameResult>,
     /// Frames left out with `skip_bad_frames`.
     pub skipped: Vec<Skipped>,
+    /// Frames kept that break only the trend rule (the apex far from the
+    /// row extrapolated from the frames before, which no membrane law
+    /// bounds), one line each naming the frame and the photo.
+    pub warnings: Vec<String>,
     /// Image size, px.
     pub image_size: [usize; 2],
     /// Time spent matching and fitting (the sequential part), s.

@@ -1,0 +1,230 @@
+//! The apex fit: the edge row of each column near the apex and a robust
+//! parabola through them, in passes, with the choice between the
+//! centroids and the two-sided step model.
+
+use super::*;
+
+/// Fits the top edge of a dome near `(x0, y0)` (image coordinates of `img`):
+/// the edge row of each column of `x0 +- half_span` (`column_edge`), then
+/// a least-squares parabola `y = A + B u + C u^2` (u = x - x0) through them;
+/// the apex is its vertex. Passes: the second centres each column's window
+/// on the first parabola, the third re-centres the span on the vertex when
+/// the vertex is well determined. `None` when too few columns show an edge.
+#[cfg(test)]
+pub fn edge_fit(img: &Gray, x0: f64, y0: f64, s: EdgeSettings) -> Option<EdgeFit> {
+    edge_fit_in(&mut Columns::new(img, s.half_window_px), x0, y0, 0.0, s)
+}
+
+/// [`edge_fit`] on columns some of which may be located already, the first
+/// pass starting each column on the parabola of curvature `d2y/dx2 =
+/// curvature` through `(x0, y0)` (the previous frame's, when tracking: the
+/// second pass then finds most columns already converged).
+pub fn edge_fit_in(
+    cols: &mut Columns,
+    x0: f64,
+    y0: f64,
+    curvature: f64,
+    s: EdgeSettings,
+) -> Option<EdgeFit> {
+    edge_fit_core(cols, x0, y0, curvature, s, None)
+}
+
+/// The apex row on the bubble's axis: the edge fit of [`edge_fit_in`] with
+/// its span centred on the axis column `axis.0` (standard error `axis.1`,
+/// from [`axis_fit_in`]) and the even parabola `y = A + C (x - axis)^2`
+/// (no linear term: the silhouette of an axisymmetric dome is mirror
+/// symmetric about its axis). `apex` is the free fit of the same image,
+/// which starts the columns' windows.
+///
+/// With the vertex column given, the columns on one side alone determine
+/// the apex: a highlight or a line behind the bubble that spoils the other
+/// side's columns (they are left out by their contrast) leaves a free
+/// parabola's vertex, and so its apex row, poorly placed, while the even
+/// one keeps most of its precision. The axis's own error is carried into
+/// `y_std` (through `dA/ds` of the kept columns, which vanishes for columns
+/// placed evenly about the axis); `x_vertex` and `x_std` are the axis's.
+pub fn edge_fit_about(
+    cols: &mut Columns,
+    axis: (f64, f64),
+    apex: &EdgeFit,
+    s: EdgeSettings,
+) -> Option<EdgeFit> {
+    let u = axis.0 - apex.x_vertex;
+    let y0 = apex.y + 0.5 * apex.curvature * u * u;
+    edge_fit_core(cols, axis.0, y0, apex.curvature, s, Some(axis))
+}
+
+/// The passes of [`edge_fit_in`], or of [`edge_fit_about`] when `axis` is
+/// given.
+pub(super) fn edge_fit_core(
+    cols: &mut Columns,
+    x0: f64,
+    y0: f64,
+    curvature: f64,
+    s: EdgeSettings,
+    axis: Option<(f64, f64)>,
+) -> Option<EdgeFit> {
+    let w = cols.img.width as i64;
+    let span = s.half_span_px as i64;
+    let mut centre = x0;
+    let mut coef = [y0, 0.0, 0.5 * curvature];
+    let even = axis.is_some();
+    let mut result: Option<EdgeFit> = None;
+    // The last pass's columns, span centre, vertex offset, and whether
+    // something on the edge weakened its columns.
+    let mut last = None;
+    for pass in 0..3 {
+        if pass == 2 {
+            if axis.is_some() {
+                break;
+            }
+            match result {
+                Some(r) if r.x_std < 0.25 * span as f64 && (r.x_vertex - centre).abs() > 0.5 => {
+                    let shift = r.x_vertex.round() - centre.round();
+                    let u = shift;
+                    coef = [
+                        coef[0] + coef[1] * u + coef[2] * u * u,
+                        coef[1] + 2.0 * coef[2] * u,
+                        coef[2],
+                    ];
+                    centre += shift;
+                }
+                _ => break,
+            }
+        }
+        let xc = centre.round() as i64;
+        let mut located = Vec::with_capacity((2 * span + 1) as usize);
+        // At most about 129 columns: wider spans (large photos) are sampled.
+        let stride = (span as usize / 64).max(1);
+        for c in (xc - span..=xc + span)
+            .step_by(stride)
+            .filter(|&c| c >= 0 && c < w)
+        {
+            let u = c as f64 - centre;
+            let start = coef[0] + coef[1] * u + coef[2] * u * u;
+            if let Some((e, step)) = cols.edge(c as usize, start) {
+                located.push((u, e, step));
+            }
+        }
+        // Leave out the columns with a bright spot under the edge, where
+        // enough others remain.
+        let unspotted: Vec<(f64, f64, f64)> = located
+            .iter()
+            .copied()
+            .filter(|&(u, e, step)| {
+                !spot_below(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+            })
+            .collect();
+        let enough = unspotted.len() >= SPOT_MIN_KEPT && 4 * unspotted.len() >= located.len();
+        let candidates = if enough { &unspotted } else { &located };
+        // Keep columns whose step has the dome's polarity and about the
+        // contrast of most.
+        let Some(strong) = strong_columns(candidates, 5, UPPER_SHARE) else {
+            break;
+        };
+        let pts: Vec<(f64, f64)> = strong.iter().map(|l| (l.0, l.1)).collect();
+        let (fit, pts) = robust_parabola(&pts, even)?;
+        coef = fit.coef;
+        let r = summarise(&fit, &pts, centre, span as f64, false);
+        last = Some((pts, centre, r.x_vertex - centre, strong, located));
+        result = Some(r);
+    }
+    let (pts, centre, u_v, strong, located) = last?;
+    // Something on the edge weakened a tenth of its columns or more, or the
+    // dome side turns back under a tenth of the strong ones (a broad
+    // highlight's flank): then (only, it costs) the rows are tested
+    // against the step model.
+    let turning = || {
+        strong
+            .iter()
+            .filter(|&&(u, e, step)| {
+                turns_back(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+            })
+            .count()
+    };
+    let test = if 10 * (located.len() - strong.len()) >= located.len() {
+        Some(StepTest::Switch)
+    } else if 10 * turning() >= strong.len() {
+        Some(StepTest::Widen)
+    } else {
+        None
+    };
+    let lined = |&&(u, e, step): &&(f64, f64, f64)| {
+        line_above(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+    };
+    let clutter_on_top =
+        cols.is_emptiest && 4 * located.iter().filter(lined).count() >= located.len();
+    let (r, kept) = match test.and_then(|t| two_sided_refit(cols, &pts, centre, u_v, even, t)) {
+        Some(TwoSided::Model(fit, kept, spread2)) => {
+            let r = result?;
+            let m = summarise(&fit, &kept, centre, span as f64, true);
+            (
+                EdgeFit {
+                    columns: r.columns,
+                    rms: r.rms,
+                    y_std: (m.y_std * m.y_std + spread2).sqrt(),
+                    ..m
+                },
+                kept,
+            )
+        }
+        Some(TwoSided::Bias(b2)) => {
+            let r = result?;
+            (
+                EdgeFit {
+                    y_std: (r.y_std * r.y_std + b2).sqrt(),
+                    ..r
+                },
+                pts,
+            )
+        }
+        None => (result?, pts),
+    };
+    // Where columns were left out for a spot or a weakened step, the
+    // spot's tail beyond them ([`tail_bias2`]).
+    let tail = if test == Some(StepTest::Switch) {
+        let out: Vec<f64> = located
+            .iter()
+            .filter(|l| !strong.iter().any(|s| s.0 == l.0))
+            .map(|l| l.0)
+            .collect();
+        let sees_one_side = even && one_sided(&kept);
+        tail_bias2(
+            &kept,
+            &out,
+            span as f64,
+            r.x_vertex - centre,
+            even,
+            sees_one_side,
+        )
+    } else {
+        0.0
+    };
+    let r = EdgeFit {
+        y_std: (r.y_std * r.y_std + tail).sqrt(),
+        clutter_on_top,
+        ..r
+    };
+    Some(match axis {
+        None => r,
+        Some((_, s_std)) => {
+            // The axis's error through dA/ds (by refitting the kept columns
+            // about a shifted axis), and the sides' disagreement.
+            let h = 0.1;
+            let at = |d: f64| {
+                let shifted: Vec<(f64, f64)> = kept.iter().map(|&(u, y)| (u - d, y)).collect();
+                parabola(&shifted, true).map(|f| f.coef[0])
+            };
+            let slope = match (at(h), at(-h)) {
+                (Some(p), Some(m)) => (p - m) / (2.0 * h),
+                _ => 0.0,
+            };
+            let sides = sides_bias2(&kept);
+            EdgeFit {
+                y_std: (r.y_std * r.y_std + (slope * s_std).powi(2) + sides).sqrt(),
+                x_std: s_std,
+                ..r
+            }
+        }
+    })
+}

@@ -1,0 +1,351 @@
+//! The columns of one image and the tests each located edge passes:
+//! the rows below it are the dome's (against the fullest frame), the rows
+//! above the background's (against the emptiest), no line or static
+//! clutter on or above it.
+
+use super::*;
+
+/// The edge rows found so far in the columns of one image, so that the
+/// passes of the edge fit and the wider axis fit ([`axis_fit_in`]) locate each column once:
+/// `column_edge` iterates to a fixed point, so a column already converged
+/// within a pixel of a new start would converge to the same row again.
+pub struct Columns<'a> {
+    pub(super) img: &'a Gray,
+    pub(super) hw: f64,
+    pub(super) found: Vec<Option<(f64, f64)>>,
+    /// Per column, the centroid row the step model ([`step_model_edge`])
+    /// started from and its row: the free edge fit and the fit on the axis
+    /// test the same columns.
+    pub(super) model: Vec<Option<(f64, Option<f64>)>>,
+    pub(super) fullest: Option<&'a Gray>,
+    pub(super) emptiest: Option<&'a Gray>,
+    /// This frame is the emptiest: see [`Extremes::is_emptiest`].
+    pub(super) is_emptiest: bool,
+}
+
+impl<'a> Columns<'a> {
+    /// No column located yet; `half_window_px` as in [`EdgeSettings`].
+    pub fn new(img: &'a Gray, half_window_px: usize) -> Self {
+        Columns {
+            img,
+            hw: half_window_px.max(2) as f64,
+            found: vec![None; img.width],
+            model: vec![None; img.width],
+            fullest: None,
+            emptiest: None,
+            is_emptiest: false,
+        }
+    }
+
+    /// As [`Columns::new`], each edge checked against the same region in
+    /// the frames where the bubble is largest (`extremes.fullest`, see
+    /// [`below_is_dome`]) and smallest (`extremes.emptiest`, see
+    /// [`above_is_background`]; against it too, static clutter above an
+    /// edge cancels: [`Columns::without_clutter`]).
+    pub fn with_extremes(img: &'a Gray, half_window_px: usize, extremes: Extremes<'a>) -> Self {
+        let same = |f: &&Gray| (f.width, f.height) == (img.width, img.height);
+        Columns {
+            fullest: extremes.fullest.filter(same),
+            emptiest: extremes.emptiest.filter(same),
+            is_emptiest: extremes.is_emptiest,
+            ..Columns::new(img, half_window_px)
+        }
+    }
+
+    /// The image's width, px.
+    pub fn width(&self) -> usize {
+        self.img.width
+    }
+
+    /// The edge `(e, step)` of column `c` again where the emptiest frame
+    /// shows clutter in the rows above it that the edge's location reads
+    /// ([`clutter_in_window`]): then from the difference of
+    /// this frame and the emptiest, in which static clutter cancels (the
+    /// bubble covers it only below the edge). `None` when the emptiest
+    /// frame shows clutter on both sides of the edge.
+    pub(super) fn without_clutter(&self, c: usize, e: f64, step: f64) -> Option<(f64, f64)> {
+        let Some(f) = self.emptiest else {
+            return Some((e, step));
+        };
+        match clutter_in_window(f, c, e, self.hw, step) {
+            (false, _) => Some((e, step)),
+            (true, true) => None,
+            (true, false) => {
+                let d = in_light(
+                    self.img,
+                    difference(self.img, f, c),
+                    grey_difference(self.img, f, c),
+                    e,
+                    self.hw,
+                    false,
+                )?;
+                (d.1 * step > 0.0 && d.1.abs() >= 0.5 * step.abs()).then_some(d)
+            }
+        }
+    }
+
+    /// The step model's edge row of column `c` from the centroid row `e`
+    /// (located once per column and row); like the centroid, on the
+    /// difference from the emptiest frame where that shows clutter above
+    /// the edge ([`Columns::without_clutter`]).
+    pub(super) fn model_edge(&mut self, c: usize, e: f64) -> Option<f64> {
+        if let Some((e0, m)) = self.model[c]
+            && e0 == e
+        {
+            return m;
+        }
+        let (img, len) = (self.img, self.img.height as i64);
+        let step = self.found[c].map_or(0.0, |f| f.1);
+        let m = match self
+            .emptiest
+            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
+        {
+            Some(f) => step_model_edge(difference(img, f, c), len, e),
+            None => step_model_edge(|j| img.light(c, j as usize), len, e),
+        };
+        self.model[c] = Some((e, m));
+        m
+    }
+
+    /// The edge row and step of column `c` starting from row `start`.
+    pub(super) fn edge(&mut self, c: usize, start: f64) -> Option<(f64, f64)> {
+        if let Some((e, step)) = self.found[c]
+            && (e - start).abs() < 1.0
+        {
+            return Some((e, step));
+        }
+        let r = column_edge(self.img, c, start, self.hw)
+            .filter(|&(e, step)| {
+                self.emptiest
+                    .is_none_or(|f| !static_line_on_edge(self.img, f, c, e, self.hw, step))
+            })
+            .and_then(|(e, step)| self.without_clutter(c, e, step))
+            .filter(|&(e, step)| {
+                self.fullest
+                    .is_none_or(|f| below_is_dome(self.img, f, c, e, step))
+                    && self
+                        .emptiest
+                        .is_none_or(|f| above_is_background(self.img, f, c, e, step))
+            });
+        if r.is_some() {
+            self.found[c] = r;
+        }
+        r
+    }
+}
+
+/// Whether the edge found at row `e` of column `c` (step `step`) is the
+/// upper border of a line behind the bubble (a cable, a shelf edge) that
+/// the bubble's top touches, rather than the top itself: the two rows just
+/// under the edge look as they do in the emptiest frame (within a quarter
+/// of the step: what is dark there was there before the bubble reached
+/// it), and further down, within the rows the edge's location reads, the
+/// emptiest frame turns back to the background by half the step or more
+/// where this frame shows the dome (so what the emptiest frame shows there
+/// is a line, not its own dome under an edge in nearly the same place).
+/// Where the dome's edge runs along such a line, dark against dark, it
+/// cannot be seen in the column: its centroid sits on the line's upper
+/// border, up to the line's width above the top, and the difference from
+/// the emptiest frame on its lower border.
+pub(super) fn static_line_on_edge(
+    img: &Gray,
+    emptiest: &Gray,
+    c: usize,
+    e: f64,
+    hw: f64,
+    step: f64,
+) -> bool {
+    let h = img.height as i64;
+    let j0 = (e + 0.5).ceil() as i64;
+    let j1 = rows_read_below(e, hw).1.min(h - 2);
+    if j0 < 0 || j0 + 2 > j1 || step == 0.0 {
+        return false;
+    }
+    let pair = |f: &Gray, j: i64| 0.5 * (turned(f, c, step, j) + turned(f, c, step, j + 1));
+    let under = (pair(img, j0) - pair(emptiest, j0)).abs();
+    under <= 0.25 * step.abs()
+        && (j0 + 2..j1).any(|j| pair(emptiest, j) - pair(img, j) >= 0.5 * step.abs())
+}
+
+/// Row `j` of column `c` of `img`, turned by the sign of an edge's step
+/// `step` so that the dome side lies low and the background high.
+pub(super) fn turned(img: &Gray, c: usize, step: f64, j: i64) -> f64 {
+    -step.signum() * f64::from(img.at(c, j as usize))
+}
+
+/// Column `c` of `img` less the same column of `emptiest`, as a profile
+/// for [`profile_edge_with`] or [`step_model_edge`]: static clutter cancels.
+pub(super) fn difference<'i>(
+    img: &'i Gray,
+    emptiest: &'i Gray,
+    c: usize,
+) -> impl Fn(i64) -> f64 + 'i {
+    move |j| img.light(c, j as usize) - emptiest.light(c, j as usize)
+}
+
+/// [`difference`] of the grey levels.
+pub(super) fn grey_difference<'i>(
+    img: &'i Gray,
+    emptiest: &'i Gray,
+    c: usize,
+) -> impl Fn(i64) -> f64 + 'i {
+    move |j| f64::from(img.at(c, j as usize)) - f64::from(emptiest.at(c, j as usize))
+}
+
+/// The same region in the frames of a sequence where the bubble is largest
+/// and smallest, each `None` for the frame itself (or when not decoded).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Extremes<'a> {
+    /// The frame at the highest pressure.
+    pub fullest: Option<&'a Gray>,
+    /// The frame at the lowest pressure.
+    pub emptiest: Option<&'a Gray>,
+    /// This frame is the one at the lowest pressure. Nothing cancels
+    /// clutter above its edge: see [`EdgeFit::clutter_on_top`].
+    pub is_emptiest: bool,
+}
+
+/// Rows below the edge compared with the fullest frame, from this far
+/// below the edge (beyond its blur), px.
+pub(super) const BELOW_FROM_PX: f64 = 2.5;
+/// ... over this many rows.
+pub(super) const BELOW_ROWS: usize = 4;
+
+/// Whether the rows just below an edge found at row `e` of column `c` are
+/// the bubble's: the bubble only grows, so in the frame where it is
+/// largest (`fullest`) the rows under any frame's true edge are bubble too
+/// and look much the same, while under a line behind the bubble (a shelf
+/// edge, a cable) that the edge fit took for the top they are background
+/// in this frame and bubble in the fullest: they differ there by about the
+/// whole contrast of the edge. Refused when the mean difference, in the
+/// direction of the edge's step (`step`, the summed differences of
+/// [`profile_edge`]), exceeds half of it. The shading of the dome and a
+/// highlight differ between the frames too, but by a fraction of the
+/// contrast. Rows outside the image pass.
+pub(super) fn below_is_dome(img: &Gray, fullest: &Gray, c: usize, e: f64, step: f64) -> bool {
+    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
+    if j0 + BELOW_ROWS > img.height || step == 0.0 {
+        return true;
+    }
+    let diff: f64 = (j0..j0 + BELOW_ROWS)
+        .map(|j| f64::from(img.at(c, j)) - f64::from(fullest.at(c, j)))
+        .sum::<f64>()
+        / BELOW_ROWS as f64;
+    // Under a false edge this frame shows background where the fullest
+    // shows bubble: the difference has the sign of `-step`.
+    -diff * step.signum() <= 0.5 * step.abs()
+}
+
+/// Rows above the edge compared with the emptiest frame, from this far
+/// above the edge (beyond its blur), px; over [`BELOW_ROWS`] rows.
+pub(super) const ABOVE_FROM_PX: f64 = 3.5;
+
+/// Whether the rows just above an edge found at row `e` of column `c` are
+/// background: the bubble only grows, so in the frame where it is smallest
+/// (`emptiest`) the rows above any frame's true edge are background too,
+/// the same background (clutter and light stay put), while above an edge
+/// inside the dome (the lower border of a broad highlight, which can step
+/// down more than the bubble's own edge, or its upper border) this frame
+/// shows the dome where the emptiest shows background. Refused when the
+/// mean difference exceeds a quarter of the edge's step (on clean edges
+/// it stays within a tenth). Rows outside the image pass.
+pub(super) fn above_is_background(
+    img: &Gray,
+    emptiest: &Gray,
+    c: usize,
+    e: f64,
+    step: f64,
+) -> bool {
+    let j1 = (e - ABOVE_FROM_PX).floor();
+    if j1 < BELOW_ROWS as f64 || step == 0.0 {
+        return true;
+    }
+    let j1 = j1 as usize;
+    let diff: f64 = (j1 + 1 - BELOW_ROWS..=j1)
+        .map(|j| f64::from(img.at(c, j)) - f64::from(emptiest.at(c, j)))
+        .sum::<f64>()
+        / BELOW_ROWS as f64;
+    // Above a false edge this frame shows the dome where the emptiest
+    // shows background, darker or brighter (the upper border of a
+    // highlight steps the other way from the bubble's edge).
+    diff.abs() <= 0.25 * step.abs()
+}
+
+/// The difference between neighbouring rows, grey levels, beyond which a
+/// column shows a line (clutter behind the bubble) rather than the
+/// background's own gradient and noise: `max(15, 0.2 |step|)` for an edge
+/// whose step is `step`.
+pub(super) fn line_limit(step: f64) -> f64 {
+    15f64.max(0.2 * step.abs())
+}
+
+/// Whether column `c` of `img` shows a line between rows `a` and `b`
+/// (pairs of neighbouring rows `j, j + 1` for `j` in `a..b`, clipped to
+/// the image): a difference larger than `lim`.
+pub(super) fn line_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool {
+    rows_apart_differ(img, c, (a, b), 1, lim)
+}
+
+/// Whether two rows `gap` apart, both within rows `a..=b` of column `c`
+/// (clipped to the image), differ by more than `lim`.
+pub(super) fn rows_apart_differ(
+    img: &Gray,
+    c: usize,
+    (a, b): (i64, i64),
+    gap: i64,
+    lim: f64,
+) -> bool {
+    let v = |j: i64| f64::from(img.at(c, j as usize));
+    (a.max(0)..b.min(img.height as i64 - 1) + 1 - gap).any(|j| (v(j + gap) - v(j)).abs() > lim)
+}
+
+/// Whether the emptiest frame shows a line (clutter behind the bubble)
+/// in the rows above row `e` of column `c` that the edge's location reads
+/// (the edge window and the rows beyond it where the slope beside the
+/// edge is measured), and in the rows of the window below it ([`line_in`],
+/// [`line_limit`]). Below the edge the emptiest frame's own edge counts
+/// as a line too, which is as it should be: its rows there are then no
+/// clean background.
+pub(super) fn clutter_in_window(
+    emptiest: &Gray,
+    c: usize,
+    e: f64,
+    hw: f64,
+    step: f64,
+) -> (bool, bool) {
+    let lim = line_limit(step);
+    let lo = first_row_read_above(e, hw);
+    let hi = (e + hw + 1.0).ceil() as i64;
+    let mid = e.round() as i64;
+    (
+        line_in(emptiest, c, lo, mid - 1, lim),
+        line_in(emptiest, c, mid + 1, hi + 1, lim),
+    )
+}
+
+/// Whether column `c` of a frame with no emptier frame to compare with
+/// shows a line in the rows above its edge at row `e` that the edge's
+/// location reads (as [`clutter_in_window`]), up to [`ABOVE_FROM_PX`]
+/// above the edge, beyond its own blur. Such a line, a few rows above a
+/// flat top, pulls the edge by a good part of a pixel. Besides the
+/// neighbouring rows of [`line_in`], rows two apart count here when they
+/// differ by more than 1.5 times the limit: the flank of a faint blurred
+/// cable (40 grey levels deep, blur 1.5 px) changes by less than the limit
+/// a row, and one 8-12 rows above a 640x480 photo's first top had pulled
+/// it 0.64 px up at 6 stated standard deviations. (Taken for the emptiest
+/// frame's check of other frames as well, the same rule sent more columns
+/// through the noisier difference from it, for a worse RMS.)
+pub(super) fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
+    let (a, b) = (
+        first_row_read_above(e, hw),
+        (e - ABOVE_FROM_PX).floor() as i64,
+    );
+    let lim = line_limit(step);
+    line_in(img, c, a, b, lim) || rows_apart_differ(img, c, (a, b), 2, 1.5 * lim)
+}
+
+/// The first row above an edge at row `e` that [`profile_edge`] reads with
+/// a window of half-height `hw`: the window, then the slope rows.
+pub(super) fn first_row_read_above(e: f64, hw: f64) -> i64 {
+    (e - hw - 1.0).floor() as i64 - SLOPE_ROWS
+}
