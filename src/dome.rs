@@ -403,7 +403,11 @@ where
         let seen = seen.lock().expect("trials");
         profile_interval(&seen, (h0, qbest), n, s2, CHI2_1_95)
     });
-    let h0_determined = interval.is_some_and(|(_, closed)| closed);
+    // An optimum with the reference apex at the top of its range (0.3 a, a
+    // bound of the search, not of the physics) lies in a valley that runs on
+    // past it: the heights do not determine the dome there either.
+    let z_at_top = relative && z >= Z_GRID[Z_GRID.len() - 1] * radius_m * (1.0 - 1e-9);
+    let h0_determined = !z_at_top && interval.is_some_and(|(_, closed)| closed);
     Ok(Found {
         reference_m: z,
         h0_m: h0,
