@@ -15,10 +15,6 @@ const EXCEPTIONS: &[(&str, &str)] = &[
         "the correction to the heights, its joint fit, covariance, band and window correction: to be split by problem",
     ),
     (
-        "src/track/init.rs",
-        "the set-up from the photos: to be split by step (bubble, clamp ring, scale, drawing)",
-    ),
-    (
         "src/track/matcher.rs",
         "the template match and the edge and apex fits: to be split by concern",
     ),
