@@ -64,6 +64,7 @@ use super::synth::Layout;
 mod bubble;
 mod clamp;
 mod file;
+mod ring;
 mod scale;
 
 use bubble::{follow_side, refine_axis, shrinking_check, swept};
