@@ -94,6 +94,11 @@ pub struct Given {
     /// are given in the undistorted image (the region and the template stay
     /// the photo's), and the experiment file gets the lens.
     pub lens: Option<super::lens::Lens>,
+    /// A pinhole camera this far from the bubble's axis, m (`[camera]
+    /// distance_m`): the clamp ring's far side is fitted as the image of a
+    /// circle seen from it, and the scale at the ring's centre from the
+    /// opening's tangent points ([`ring`](self)). `None`: orthographic.
+    pub camera_distance_m: Option<f64>,
 }
 
 /// Where the scale came from.
@@ -116,6 +121,9 @@ pub struct Found {
     pub response: crate::camera::Response,
     /// The lens given (copied into the experiment file's `[camera]`).
     pub lens: Option<super::lens::Lens>,
+    /// The pinhole camera's distance from the axis given, m (written into
+    /// `[camera] distance_m`).
+    pub camera_distance_m: Option<f64>,
     /// The bubble's axis, image column.
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
@@ -610,6 +618,44 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         }
         (None, None) => None,
     };
+    // A pinhole camera at a known distance: the ring's centre row and the
+    // elevation from the ring's far side seen through it, the scale from
+    // the opening's tangent points (twice: each depends on the other).
+    let principal_row = given.lens.as_ref().map_or((h as f64 - 1.0) / 2.0, |l| l.cy);
+    let mut clamp = clamp;
+    let mut elevation_deg = elevation_deg;
+    if let Some(d) = given.camera_distance_m {
+        let mut mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
+        for _ in 0..2 {
+            let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);
+            if let (Some(e), Some(a_f)) = (raised, clamp.half_width_px) {
+                let start = [clamp.row.value, e.value.to_radians(), a_f * mpp];
+                let r = ring::fit_ring(&clamp.points, x0, d, mpp, principal_row, start, Some(a_f))
+                    .ok_or_else(|| TrackError::NotFound {
+                        what: "the clamp ring's ellipse".into(),
+                        detail: format!(
+                            "its far side ({} columns) does not fit a circle seen from {d} m",
+                            clamp.points.len()
+                        ),
+                        keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
+                    })?;
+                clamp.row = r.row;
+                elevation_deg = Some(Estimate {
+                    value: r.elevation_rad.value.to_degrees(),
+                    std: r.elevation_rad.std.to_degrees(),
+                });
+            }
+            if given.metres_per_pixel.is_none() {
+                let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
+                let mut in_photo = clamp.clone();
+                in_photo.row.value =
+                    super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
+                let (a, _) = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin())?;
+                mpp =
+                    ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row);
+            }
+        }
+    }
     let sin_e = elevation_deg.map_or(0.0, |e| e.value.max(0.0).to_radians().sin());
 
     // Step 4: the scale.
@@ -626,7 +672,18 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             in_photo.row.value =
                 super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
             let (a, sides) = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
-            let mpp = radius_m / a.value;
+            let mpp = match given.camera_distance_m {
+                Some(d) => ring::centre_scale(
+                    radius_m,
+                    a.value,
+                    d,
+                    elevation_deg.map_or(0.0, |e| e.value.to_radians()),
+                    clamp.row.value,
+                    x0,
+                    principal_row,
+                ),
+                None => radius_m / a.value,
+            };
             (
                 Some(a),
                 Estimate {
@@ -739,6 +796,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         height: h,
         response: given.response,
         lens: given.lens,
+        camera_distance_m: given.camera_distance_m,
         axis_x_px,
         clamp_row_px,
         elevation_deg,

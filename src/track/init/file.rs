@@ -78,8 +78,13 @@ impl Found {
         t.push_str(&format!(
             "[camera]\n# the tone curve from light to grey levels: edges are located in light\n\
              # (\"srgb\" for ordinary 8-bit photos, \"linear\" for raw ones, or a gamma)\n\
-             response = {}\n{}\n",
+             response = {}\n{}{}\n",
             toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string()),
+            self.camera_distance_m.map_or_else(String::new, |d| format!(
+                "# a pinhole camera this far from the bubble's axis, m (given): clamp_row_px is the image of\n\
+                 # the ring's centre and the scale is the one at it, both found through this camera\n\
+                 distance_m = {d:?}\n"
+            )),
             super::super::lens::lens_keys_toml(self.lens.as_ref()),
         ));
         t.push_str("[calibration]\n");

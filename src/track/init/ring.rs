@@ -25,8 +25,6 @@ pub(super) struct Ring {
     pub(super) elevation_rad: Estimate,
     /// The outer circle's radius, m.
     pub(super) outer_radius_m: f64,
-    /// The roll's slope, rows per column.
-    pub(super) slope: f64,
 }
 
 /// The camera of the set-up: `D` from the axis, the principal point's row
@@ -53,11 +51,28 @@ pub(super) fn fit_ring(
     mpp: f64,
     principal_row: f64,
     start: [f64; 3],
+    ends_half_px: Option<f64>,
 ) -> Option<Ring> {
     let mut q = [start[0], start[1], start[2], 0.0];
+    // With the ring's ends in the picture, its radius is the one whose
+    // tangent points are `ends_half_px` apart from the axis:
+    // `W = f A / (cos theta sqrt(D'^2 - A^2))` solved for `A`.
+    let outer = |p: &Pinhole, q: &[f64; 4]| match ends_half_px {
+        Some(w) => {
+            let k = w * p.pitch_rad.cos() / p.focal_px;
+            let d = p.distance_m + p.height_m * p.pitch_rad.tan();
+            k * d / (1.0 + k * k).sqrt()
+        }
+        None => q[2],
+    };
     let predict = |q: &[f64; 4], x: f64| {
         let p = camera(d_m, q[1], q[0], mpp, x0, principal_row);
-        far_row(&p, q[2], x).map(|r| r + q[3] * (x - x0))
+        far_row(&p, outer(&p, q), x).map(|r| r + q[3] * (x - x0))
+    };
+    let free: Vec<usize> = if ends_half_px.is_some() {
+        vec![0, 1, 3]
+    } else {
+        vec![0, 1, 2, 3]
     };
     let mut keep = vec![true; points.len()];
     let mut last: Option<(Vec<Vec<f64>>, Vec<f64>)> = None;
@@ -73,7 +88,8 @@ pub(super) fn fit_ring(
                 continue;
             };
             let mut row = Vec::with_capacity(4);
-            for (j, h) in steps.iter().enumerate() {
+            for &j in &free {
+                let h = steps[j];
                 let mut qp = q;
                 qp[j] += h;
                 let mut qm = q;
@@ -83,7 +99,7 @@ pub(super) fn fit_ring(
                     _ => break,
                 }
             }
-            if row.len() == 4 {
+            if row.len() == free.len() {
                 jac.push(row);
                 res.push(pt[1] - r0);
             }
@@ -92,13 +108,16 @@ pub(super) fn fit_ring(
             return None;
         }
         let (dq, _, _) = clamp::lstsq(&jac, &res)?;
-        for j in 0..4 {
-            q[j] += dq[j];
+        for (i, &j) in free.iter().enumerate() {
+            q[j] += dq[i];
+        }
+        if ends_half_px.is_some() {
+            q[2] = outer(&camera(d_m, q[1], q[0], mpp, x0, principal_row), &q);
         }
         if q[2] <= 0.0 || !q[1].is_finite() || q[1].abs() > 0.5 {
             return None;
         }
-        let small = dq[0].abs() < 1e-6 && dq[1].abs() < 1e-9 && dq[2].abs() < 1e-9 * q[2];
+        let small = dq[0].abs() < 1e-6 && dq[1].abs() < 1e-9 && dq[free.len() - 2].abs() < 1e-9;
         if small || round == 29 {
             // Outliers: beyond 3.5 robust deviations (at least 0.25 px).
             let all: Vec<Option<f64>> = points
@@ -131,7 +150,6 @@ pub(super) fn fit_ring(
             std: cov[1][1].sqrt() * infl,
         },
         outer_radius_m: q[2],
-        slope: q[3],
     })
 }
 
@@ -190,7 +208,22 @@ mod tests {
                 })
                 .collect();
             assert!(pts.len() > 20, "{}", pts.len());
-            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04]).unwrap();
+            // with the ends' half-width: the widest projected point of the
+            // whole circle (its tangent points lie in the near half)
+            let half = (0..n)
+                .map(|i| {
+                    let phi = std::f64::consts::TAU * i as f64 / n as f64;
+                    (p.project([a_outer * phi.sin(), a_outer * phi.cos(), 0.0])[0] - x0).abs()
+                })
+                .fold(0.0, f64::max);
+            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], Some(half)).unwrap();
+            assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
+            assert!(
+                (r.outer_radius_m - a_outer).abs() < 1e-5,
+                "{d} {e_deg}: {r:?}"
+            );
+            // and without
+            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], None).unwrap();
             assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
             assert!(
                 (r.elevation_rad.value - e).abs() < 2e-4,
