@@ -631,10 +631,12 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             if let (Some(e), Some(a_f)) = (raised, clamp.half_width_px) {
                 let start = [clamp.row.value, e.value.to_radians(), a_f * mpp];
                 let r = ring::fit_ring(&clamp.points, x0, d, mpp, principal_row, start, Some(a_f))
+                    // the ring's outer edge lies outside the opening
+                    .filter(|r| r.outer_radius_m > radius_m)
                     .ok_or_else(|| TrackError::NotFound {
                         what: "the clamp ring's ellipse".into(),
                         detail: format!(
-                            "its far side ({} columns) does not fit a circle seen from {d} m",
+                            "its far side ({} columns) does not fit a circle wider than the opening seen from {d} m",
                             clamp.points.len()
                         ),
                         keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
