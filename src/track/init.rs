@@ -64,12 +64,14 @@ use super::synth::Layout;
 mod bubble;
 mod clamp;
 mod file;
+mod frames;
 mod ring;
 mod scale;
 
 use bubble::{follow_side, refine_axis, shrinking_check, swept};
 use clamp::{find_clamp, robust_lstsq};
 pub use file::Sources;
+pub use frames::Frames;
 use scale::find_radius;
 
 /// A value found in the photos and its standard deviation.
@@ -258,98 +260,6 @@ pub fn template_size_for(a_px: f64, width: usize) -> (usize, usize) {
     let tw = (0.3 * a_px).min(0.1 * width as f64).max(32.0);
     let tw = ((tw / 2.0).round() as usize) * 2;
     (tw, tw / 2)
-}
-
-/// Where the frames of a test come from.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Frames {
-    /// Photo files, in the order taken.
-    Photos(Vec<PathBuf>),
-    /// A video and the indices of the frames to use, in time order.
-    Video {
-        /// The video file.
-        path: PathBuf,
-        /// The frames to use.
-        indices: Vec<usize>,
-    },
-}
-
-impl Frames {
-    /// The number of frames.
-    pub fn len(&self) -> usize {
-        match self {
-            Frames::Photos(p) => p.len(),
-            Frames::Video { indices, .. } => indices.len(),
-        }
-    }
-
-    /// Whether there are none.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The file that frame `i` is (or is in), for messages.
-    pub fn path(&self, i: usize) -> &Path {
-        match self {
-            Frames::Photos(p) => &p[i],
-            Frames::Video { path, .. } => path,
-        }
-    }
-
-    /// Frame `i`, grayscale.
-    fn gray(&self, i: usize) -> Result<Gray, TrackError> {
-        match self {
-            Frames::Photos(p) => Ok(read_gray(&p[i], None)?.crop),
-            Frames::Video { path, indices } => {
-                let bgr = super::video::read_frame_bgr(path, indices[i])?;
-                let mut g = opencv::core::Mat::default();
-                opencv::imgproc::cvt_color_def(&bgr, &mut g, opencv::imgproc::COLOR_BGR2GRAY)
-                    .map_err(|e| TrackError::OpenCv(e.to_string()))?;
-                use opencv::core::MatTraitConst;
-                let whole = [0, 0, g.cols() as usize, g.rows() as usize];
-                Ok(super::image::crop_mat(path, &g, whole)?.crop)
-            }
-        }
-    }
-
-    /// `f` of every frame (grayscale), in order: photos decoded in
-    /// parallel, a video read once from start to end.
-    fn map<T: Send>(
-        &self,
-        f: impl Fn(usize, Gray) -> Result<T, TrackError> + Sync,
-    ) -> Result<Vec<T>, TrackError> {
-        match self {
-            Frames::Photos(p) => (0..p.len())
-                .into_par_iter()
-                .map(|i| f(i, read_gray(&p[i], None)?.crop))
-                .collect(),
-            Frames::Video { path, indices } => {
-                let wanted: Vec<super::video::Wanted> = indices
-                    .iter()
-                    .enumerate()
-                    .map(|(seq, &index)| super::video::Wanted {
-                        seq,
-                        index,
-                        crop: None,
-                        lenient: false,
-                    })
-                    .collect();
-                let mut out = Vec::with_capacity(indices.len());
-                let mut failed = None;
-                super::video::read_frames(path, &wanted, |i, d| {
-                    match d.and_then(|d| f(i, d.crop)) {
-                        Ok(v) => out.push(v),
-                        Err(e) => failed = Some(e),
-                    }
-                    failed.is_none()
-                });
-                match failed {
-                    Some(e) => Err(e),
-                    None => Ok(out),
-                }
-            }
-        }
-    }
 }
 
 /// Finds the set-up in a sequence of photos (in the order they were
