@@ -11,10 +11,6 @@ const MAX_CLI_LINES: usize = 250;
 /// Files allowed over [`MAX_LINES`], with why.
 const EXCEPTIONS: &[(&str, &str)] = &[
     (
-        "src/track/init.rs",
-        "the set-up from the photos: to be split by step (bubble, clamp ring, scale, drawing)",
-    ),
-    (
         "src/track/synth.rs",
         "the synthetic experiment writer: to be split (scene, drawing, files)",
     ),

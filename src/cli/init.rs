@@ -119,12 +119,21 @@ pub fn run(args: Args) -> Result<(), Failure> {
         Some(p) => Some(read_lens(p)?),
         None => None,
     };
+    if let Some(d) = args.camera_distance_m
+        && !(d.is_finite() && d > 2.0 * args.radius_m)
+    {
+        return Err(bad(format!(
+            "--camera-distance-m {d}: give the horizontal distance from the bubble's axis to the camera's lens, m, more than the opening's diameter {}",
+            2.0 * args.radius_m
+        )));
+    }
     let given = Given {
         metres_per_pixel: args.metres_per_pixel.or(points
             .map(|(p, d)| d / ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())),
         elevation_deg: args.elevation_deg,
         response: args.response,
         lens,
+        camera_distance_m: args.camera_distance_m,
     };
     let found = init::find_in(&frames, args.radius_m, given).map_err(|e: TrackError| {
         if e.is_bad_input() {

@@ -280,3 +280,42 @@ fn a_rolled_camera_is_measured_or_refused_by_name() {
         "{e}"
     );
 }
+
+/// A pinhole camera 0.25 and 0.45 m from the axis, 0 to 5 degrees above the
+/// ring's centre, its distance given (the ring's ends in the picture):
+/// through the ring's far side seen from that camera the scale is within
+/// 0.3 %, the ring centre's row within 0.5 px and the heights tracked with
+/// the file init wrote within 0.3 %. (An orthographic reading of the same
+/// photos has the scale 0.35 % small at 0.45 m and the row 3-9 px off.)
+/// At 5 degrees the opening's extrapolation to the plane is not yet within
+/// 0.3 % (measured +0.31 %, heights 0.40 %): not among these cases.
+#[test]
+fn init_sets_up_a_pinhole_camera_at_a_given_distance() {
+    let sizes = [(800, 600)];
+    let cases = [(0.45, 0.0), (0.45, 3.0), (0.25, 2.0)];
+    let mut out = Vec::new();
+    for (k, &(d, e)) in cases.iter().enumerate() {
+        let seed = 261 + k as u64;
+        let mut s = synth::random_camera(
+            seed,
+            &sizes,
+            Look {
+                elevation_deg: e,
+                camera_distance_m: d,
+                ..Look::default()
+            },
+        );
+        s.framing.axis_x_px = Some(0.5 * (s.width as f64 - 1.0));
+        let dir = tempfile::tempdir().unwrap();
+        let frames = bubble(&s.specimen, 4).unwrap();
+        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e}"));
+        eprintln!("D {d} m, e {e} deg: {o:?}");
+        out.push((d, e, o));
+    }
+    for (d, e, o) in &out {
+        assert_eq!(o.tracked[0], o.tracked[1], "D {d} e {e}: {o:?}");
+        assert!(o.scale.abs() <= 0.003, "D {d} e {e}: scale {o:?}");
+        assert!(o.clamp_px.abs() <= 0.5, "D {d} e {e}: clamp row {o:?}");
+        assert!(o.heights <= 0.003, "D {d} e {e}: heights {o:?}");
+    }
+}

@@ -79,6 +79,15 @@ pub struct Args {
     #[arg(long)]
     pub elevation_deg: Option<f64>,
 
+    /// The horizontal distance from the bubble's axis to the camera's lens,
+    /// m, for a pinhole camera at that distance (written into [camera]
+    /// distance_m): the clamp ring's centre row and the elevation are fitted
+    /// to the ring's far side seen from it, and the scale at the ring's
+    /// centre from the opening's tangent points (without it the camera is
+    /// taken as orthographic: the scale comes out a^2 / (2 D^2) small).
+    #[arg(long, value_name = "M")]
+    pub camera_distance_m: Option<f64>,
+
     /// The camera's tone curve from light to grey levels: `srgb` (ordinary
     /// 8-bit JPEG or PNG photos), `linear` (raw or linearised photos), or a
     /// gamma such as 2.2. Edges are located in light; the experiment file

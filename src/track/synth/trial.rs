@@ -67,6 +67,8 @@ pub fn init_and_track(
         elevation_deg: None,
         response: spec.look.response,
         lens: spec.look.lens,
+        camera_distance_m: (spec.look.camera_distance_m > 0.0)
+            .then_some(spec.look.camera_distance_m),
     };
     let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
     let toml = found.experiment_toml(

@@ -1,0 +1,333 @@
+//! Step 3 of `bulge init`: the clamp's top edge beside the bubble's base,
+//! its row at the axis, the camera's elevation from its ellipse and the
+//! roll from its slope; and the (robust) linear least squares it uses.
+
+use super::*;
+
+/// A linear least-squares fit: coefficients, covariance, residuals.
+pub(super) type Fit = (Vec<f64>, Vec<Vec<f64>>, Vec<f64>);
+
+/// A straight-line (or any linear) least-squares fit: the coefficients,
+/// their covariance scaled by the residual variance, and the residuals.
+pub(super) fn lstsq(rows: &[Vec<f64>], y: &[f64]) -> Option<Fit> {
+    let p = rows.first()?.len();
+    let n = rows.len();
+    if n <= p {
+        return None;
+    }
+    let x = nalgebra::DMatrix::from_fn(n, p, |i, j| rows[i][j]);
+    let yv = nalgebra::DVector::from_column_slice(y);
+    let xtx = x.transpose() * &x;
+    let inv = xtx.try_inverse()?;
+    let coef = &inv * x.transpose() * &yv;
+    let res: Vec<f64> = (0..n)
+        .map(|i| y[i] - (0..p).map(|j| rows[i][j] * coef[j]).sum::<f64>())
+        .collect();
+    let rss: f64 = res.iter().map(|r| r * r).sum();
+    let s2 = rss / (n - p) as f64;
+    let cov = (0..p)
+        .map(|i| (0..p).map(|j| inv[(i, j)] * s2).collect())
+        .collect();
+    Some((coef.iter().copied().collect(), cov, res))
+}
+
+/// [`lstsq`] leaving out, in up to four rounds, the points whose residual
+/// exceeds 3.5 robust standard deviations (and `floor`); returns the fit
+/// and which points were kept.
+pub(super) fn robust_lstsq(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<(Fit, Vec<bool>)> {
+    let mut keep = vec![true; y.len()];
+    let mut fit = None;
+    for _ in 0..4 {
+        let (r, v): (Vec<Vec<f64>>, Vec<f64>) = rows
+            .iter()
+            .zip(y)
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|((r, v), _)| (r.clone(), *v))
+            .unzip();
+        let f = lstsq(&r, &v)?;
+        let all: Vec<f64> = rows
+            .iter()
+            .zip(y)
+            .map(|(r, v)| v - r.iter().zip(&f.0).map(|(a, b)| a * b).sum::<f64>())
+            .collect();
+        let mut abs: Vec<f64> = f.2.iter().map(|r| r.abs()).collect();
+        let cut = (3.5 * 1.4826 * quantile(&mut abs, 0.5)).max(floor);
+        let next: Vec<bool> = all.iter().map(|r| r.abs() <= cut).collect();
+        fit = Some(f);
+        if next == keep {
+            break;
+        }
+        keep = next;
+    }
+    fit.map(|f| (f, keep))
+}
+
+pub(super) fn find_clamp(
+    img: &Plane,
+    x0: f64,
+    a0: f64,
+    [y_low, base]: [f64; 2],
+    noise: f64,
+    given_sin_e: Option<f64>,
+    lens: Option<&super::super::lens::Lens>,
+) -> Result<Clamp, TrackError> {
+    let (w, h) = (img.w as i64, img.h as i64);
+    let lo_row = ((y_low - 0.3 * a0 - 4.0).floor() as i64).max(8);
+    let hi_row = ((base.max(y_low) + 0.1 * a0 + 4.0).ceil() as i64).min(h - 12);
+    let not_found = |detail: String| TrackError::NotFound {
+        what: "the clamp plane".into(),
+        detail,
+        keys: "clamp_row_px",
+    };
+    if hi_row <= lo_row + 4 {
+        return Err(not_found(format!(
+            "the bubble's base (row {y_low:.0}) is at the photo's bottom border: the clamp is out of the picture"
+        )));
+    }
+    let d_lo = (1.04 * a0 + 3.0).ceil() as i64;
+    let d_hi = (1.6 * a0).floor() as i64;
+    let min_step = (8.0f64).max(6.0 * noise);
+    // One column: the lowest strong step of the polarity `sign` (or of the
+    // strongest step's, when `None`) that is a step (the far side stays
+    // different beyond a thin line's height), not a shelf edge or a cable;
+    // and whether a second step almost as strong lies above it.
+    let reach = (0.04 * a0).max(8.0) as i64;
+    let column = |x: i64, sign: Option<f64>| -> Option<(f64, f64, bool)> {
+        let xs = [x - 1, x, x + 1].map(|c| c as usize);
+        let p = |j: i64| {
+            let j = j.clamp(0, h - 1) as usize;
+            xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
+        };
+        let mean = |a: i64, b: i64| (a..b).map(p).sum::<f64>() / (b - a) as f64;
+        let steps: Vec<(i64, f64)> = (lo_row..hi_row)
+            .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
+            .collect();
+        let persistent = |r: i64, g: f64| {
+            (mean(r + reach, r + 2 * reach) - mean(r - 2 * reach, r - reach)) * g.signum()
+                >= 0.5 * g.abs()
+        };
+        let gmax = steps
+            .iter()
+            .filter(|s| sign.is_none_or(|g| s.1 * g > 0.0))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
+            .1;
+        if gmax.abs() < min_step {
+            return None;
+        }
+        let g = gmax.signum();
+        let peaks: Vec<usize> = (1..steps.len().saturating_sub(1))
+            .filter(|&i| {
+                let v = steps[i].1 * g;
+                v >= 0.5 * gmax.abs()
+                    && v >= steps[i - 1].1 * g
+                    && v >= steps[i + 1].1 * g
+                    && persistent(steps[i].0, gmax)
+            })
+            .collect();
+        let &lowest = peaks.last()?;
+        let two = peaks
+            .iter()
+            .any(|&i| steps[lowest].0 - steps[i].0 > 4 && steps[i].1 * g >= 0.8 * gmax.abs());
+        let (e, step) = profile_edge(p, h, steps[lowest].0 as f64 + 0.5, 3.0)?;
+        Some((e, step, two))
+    };
+    let d_range = d_lo..=d_hi;
+    let columns: Vec<(f64, i64)> = [-1i64, 1]
+        .into_iter()
+        .flat_map(|side| d_range.clone().map(move |d| (side, d)))
+        .map(|(side, d)| ((side * d) as f64, x0.round() as i64 + side * d))
+        .filter(|&(_, x)| x >= 2 && x < w - 2)
+        .collect();
+    let candidates = columns.len();
+    // The clamp's polarity: that of the most columns' strongest step.
+    let votes: f64 = columns
+        .iter()
+        .filter_map(|&(_, x)| column(x, None))
+        .map(|c| c.1.signum())
+        .sum();
+    let sign = if votes >= 0.0 { 1.0 } else { -1.0 };
+    let mut pts: Vec<(f64, f64, f64)> = Vec::new();
+    let mut ambiguous = 0usize;
+    for &(d, x) in &columns {
+        if let Some((e, step, two)) = column(x, Some(sign)) {
+            pts.push((d, e, step));
+            ambiguous += usize::from(two);
+        }
+    }
+    let needed = (candidates / 10).max(6);
+    if pts.len() < needed {
+        return Err(not_found(format!(
+            "no horizontal edge beside the bubble's base (rows {lo_row}-{hi_row}, {} of {candidates} columns show one): the clamp is out of the picture or hidden",
+            pts.len()
+        )));
+    }
+    // The clamp's ends: from the rows just below its edge, the strongest
+    // horizontal step on each side.
+    let c_guess = {
+        let mut rows: Vec<f64> = pts.iter().map(|p| p.1).collect();
+        quantile(&mut rows, 0.9)
+    };
+    let r0 = (c_guess + 3.0).ceil() as i64;
+    let r1 = (r0 + (0.04 * a0).clamp(4.0, 12.0) as i64).min(h - 1);
+    let mut step_mags: Vec<f64> = pts.iter().map(|p| p.2.abs()).collect();
+    let clamp_step = quantile(&mut step_mags, 0.5);
+    let mut ends = [None, None];
+    if r1 > r0 {
+        let rows: Vec<usize> = (r0..=r1).map(|r| r as usize).collect();
+        let q = |x: i64| {
+            let x = x.clamp(0, w - 1) as usize;
+            rows.iter().map(|&r| img.at(x, r)).sum::<f64>() / rows.len() as f64
+        };
+        for (k, side) in [-1i64, 1].into_iter().enumerate() {
+            let a = x0 + side as f64 * 1.02 * a0;
+            let b = x0 + side as f64 * 2.2 * a0;
+            let (lo, hi) = if side < 0 { (b, a) } else { (a, b) };
+            let (lo, hi) = ((lo.floor() as i64).max(8), (hi.ceil() as i64).min(w - 10));
+            if hi <= lo + 2 {
+                continue;
+            }
+            if let Some((j, g)) = strongest_step(&q, lo, hi)
+                && g.abs() >= min_step.max(0.3 * clamp_step)
+                && j > lo
+                && j < hi - 1
+                && let Some((e, _)) = profile_edge(q, w, j as f64 + 0.5, 3.0)
+            {
+                ends[k] = Some(e);
+            }
+        }
+    }
+    // Through the lens (when calibrated): the edge's points and the clamp's
+    // ends in the undistorted image, as offsets from the axis's image (a
+    // straight edge stays straight there; the photo's is bent by the lens).
+    let (pts, ends) = super::super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
+    // Both ends centred on the axis, or one end and the axis.
+    let half = match ends {
+        [Some(l), Some(r)] if ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0 => Some((r - l) / 2.0),
+        [Some(_), Some(_)] => None,
+        [Some(e), None] | [None, Some(e)] => Some((e - x0).abs()),
+        [None, None] => None,
+    };
+    let floor = 0.25;
+    // Each fit has a slope across the photo: a camera rolled about its
+    // view axis sees the clamp's edge tilted (the row at the axis stays
+    // the clamp ring's centre's).
+    let (row, sin_e, slope) = match (half, given_sin_e) {
+        (Some(a_f), None) => {
+            let used: Vec<&(f64, f64, f64)> =
+                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+            let x: Vec<Vec<f64>> = used
+                .iter()
+                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
+                .collect();
+            let y: Vec<f64> = used.iter().map(|p| p.1).collect();
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            check_inliers(&keep, ambiguous)?;
+            let infl = lag1_inflation(&res);
+            let est = |i: usize| Estimate {
+                value: coef[i],
+                std: cov[i][i].sqrt() * infl,
+            };
+            (est(0), Some(est(1)), slope)
+        }
+        (_, Some(s)) if s != 0.0 => {
+            let Some(a_f) = half else {
+                return Err(not_found(
+                    "the camera is raised (elevation given) but the clamp's ends are not in the picture, so its ellipse's centre cannot be placed".into(),
+                ));
+            };
+            let used: Vec<&(f64, f64, f64)> =
+                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+            let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
+            let y: Vec<f64> = used
+                .iter()
+                .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
+                .collect();
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            check_inliers(&keep, ambiguous)?;
+            let row = Estimate {
+                value: coef[0],
+                std: cov[0][0].sqrt() * lag1_inflation(&res),
+            };
+            (row, None, slope)
+        }
+        _ => {
+            // Level (or the ends unseen): a straight edge, checked for a
+            // curvature that would betray a raised camera.
+            let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0, p.0]).collect();
+            let y: Vec<f64> = pts.iter().map(|p| p.1).collect();
+            let (((coef, cov, _), keep), _) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            check_inliers(&keep, ambiguous)?;
+            let dmax = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
+            let bend = coef[1] * dmax * dmax;
+            let bend_std = cov[1][1].sqrt() * dmax * dmax;
+            if given_sin_e.is_none() && bend.abs() > 1.0 && bend.abs() > 4.0 * bend_std {
+                return Err(TrackError::NotFound {
+                    what: "the camera's elevation".into(),
+                    detail: format!(
+                        "the clamp's top edge bends by {bend:.1} px across the photo (a camera above the clamp plane sees the clamp as an ellipse), but the clamp's ends are not in the picture to place the ellipse"
+                    ),
+                    keys: "elevation_deg and clamp_row_px (the row of the clamp ring's centre)",
+                });
+            }
+            let (kept_x, kept_y): (Vec<Vec<f64>>, Vec<f64>) = x
+                .iter()
+                .zip(&y)
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|((r, v), _)| (vec![r[0], r[2]], *v))
+                .unzip();
+            let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
+                .ok_or_else(|| not_found("too few columns".into()))?;
+            let row = Estimate {
+                value: c[0],
+                std: ccov[0][0].sqrt() * lag1_inflation(&cres),
+            };
+            (row, None, slope)
+        }
+    };
+    Ok(Clamp {
+        row,
+        sin_e,
+        slope,
+        half_width_px: half,
+        points: pts.iter().map(|p| [x0 + p.0, p.1]).collect(),
+    })
+}
+
+/// [`robust_lstsq`] of the clamp's edge whose rows end with the column's
+/// distance from the axis (the slope of a rolled camera's edge): the fit
+/// with the slope when it is significant (beyond 4 standard deviations),
+/// else the fit without it, and the slope measured either way.
+fn with_slope(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<((Fit, Vec<bool>), Estimate)> {
+    let (fit, keep) = robust_lstsq(rows, y, floor)?;
+    let k = rows.first()?.len() - 1;
+    let slope = Estimate {
+        value: fit.0[k],
+        std: fit.1[k][k].sqrt() * lag1_inflation(&fit.2),
+    };
+    if slope.value.abs() > 4.0 * slope.std {
+        return Some(((fit, keep), slope));
+    }
+    let level: Vec<Vec<f64>> = rows.iter().map(|r| r[..k].to_vec()).collect();
+    Some((robust_lstsq(&level, y, floor)?, slope))
+}
+
+/// Refuses a clamp edge whose columns split between two edges.
+fn check_inliers(keep: &[bool], ambiguous: usize) -> Result<(), TrackError> {
+    let kept = keep.iter().filter(|k| **k).count();
+    if (kept as f64) < 0.6 * keep.len() as f64 || ambiguous * 3 > keep.len() {
+        return Err(TrackError::NotFound {
+            what: "the clamp plane".into(),
+            detail: format!(
+                "two candidate edges beside the bubble's base: only {kept} of {} columns agree on one, {ambiguous} show two strong edges",
+                keep.len()
+            ),
+            keys: "clamp_row_px",
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,255 @@
+//! The clamp ring seen by a pinhole camera at a known distance (`bulge init
+//! --camera-distance-m`, or `[camera] distance_m`): the ring's top edge
+//! beside the bubble is the far side of the image of its outer circle, a
+//! circle of radius `A` in the clamp plane around the axis. Its rows are
+//! fitted as that circle seen by [`Pinhole::from_view`] (the camera `D`
+//! from the axis, looking down at the ring's centre at `e`, the centre's
+//! row `v0`, the scale `s` at the centre): the centre's row, the elevation
+//! and `A` together, with the roll's slope across the photo. The middle of
+//! the ellipse's image is not the image of the ring's centre (its near half
+//! is seen larger than its far half), so an orthographic fit of the same
+//! points puts the centre's row a few pixels off; the pinhole fit does not.
+//! The scale at the centre then follows from the opening's width through
+//! its tangent points ([`Pinhole::opening_scale_factor`]).
+
+use super::*;
+use crate::track::persp::Pinhole;
+use crate::track::synth::pinhole::circle_rows;
+
+/// The ring found through the pinhole.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Ring {
+    /// The ring centre's image row.
+    pub(super) row: Estimate,
+    /// The angle at which the camera looks down at the ring's centre, rad.
+    pub(super) elevation_rad: Estimate,
+    /// The outer circle's radius, m.
+    pub(super) outer_radius_m: f64,
+}
+
+/// The camera of the set-up: `D` from the axis, the principal point's row
+/// `principal_row` and the axis's column `x0`.
+pub(super) fn camera(d_m: f64, e: f64, v0: f64, mpp: f64, x0: f64, principal_row: f64) -> Pinhole {
+    Pinhole::from_view(d_m, e, v0, mpp, None, [x0, principal_row])
+}
+
+/// The far side's row of the outer circle of radius `outer_m` at image
+/// column `x` (`None` beyond the circle's ends).
+fn far_row(p: &Pinhole, outer_m: f64, x: f64) -> Option<f64> {
+    circle_rows(p, outer_m, 0.0, x).map(|r| r.0)
+}
+
+/// Fits the ring's far side to `points` (image column, row) by
+/// Gauss-Newton from the start `(v0, e, A)`, the scale `mpp` at the
+/// centre held: the parameters with standard errors from the residuals
+/// (inflated for their correlation along the edge). Points beyond the
+/// circle's current ends and beyond 3.5 robust deviations are left out.
+pub(super) fn fit_ring(
+    points: &[[f64; 2]],
+    x0: f64,
+    d_m: f64,
+    mpp: f64,
+    principal_row: f64,
+    start: [f64; 3],
+    ends_half_px: Option<f64>,
+) -> Option<Ring> {
+    let mut q = [start[0], start[1], start[2], 0.0];
+    // With the ring's ends in the picture, its radius is the one whose
+    // tangent points are `ends_half_px` apart from the axis:
+    // `W = f A / (cos theta sqrt(D'^2 - A^2))` solved for `A`.
+    let outer = |p: &Pinhole, q: &[f64; 4]| match ends_half_px {
+        Some(w) => {
+            let k = w * p.pitch_rad.cos() / p.focal_px;
+            let d = p.distance_m + p.height_m * p.pitch_rad.tan();
+            k * d / (1.0 + k * k).sqrt()
+        }
+        None => q[2],
+    };
+    let predict = |q: &[f64; 4], x: f64| {
+        let p = camera(d_m, q[1], q[0], mpp, x0, principal_row);
+        far_row(&p, outer(&p, q), x).map(|r| r + q[3] * (x - x0))
+    };
+    let free: Vec<usize> = if ends_half_px.is_some() {
+        vec![0, 1, 3]
+    } else {
+        vec![0, 1, 2, 3]
+    };
+    let mut keep = vec![true; points.len()];
+    let mut last: Option<(Vec<Vec<f64>>, Vec<f64>)> = None;
+    for round in 0..30 {
+        let mut jac = Vec::new();
+        let mut res = Vec::new();
+        let steps = [0.01, 1e-5, 1e-6 * q[2].max(1e-3), 1e-5];
+        for (pt, k) in points.iter().zip(&keep) {
+            if !k {
+                continue;
+            }
+            let Some(r0) = predict(&q, pt[0]) else {
+                continue;
+            };
+            let mut row = Vec::with_capacity(4);
+            for &j in &free {
+                let h = steps[j];
+                let mut qp = q;
+                qp[j] += h;
+                let mut qm = q;
+                qm[j] -= h;
+                match (predict(&qp, pt[0]), predict(&qm, pt[0])) {
+                    (Some(a), Some(b)) => row.push((a - b) / (2.0 * h)),
+                    _ => break,
+                }
+            }
+            if row.len() == free.len() {
+                jac.push(row);
+                res.push(pt[1] - r0);
+            }
+        }
+        if res.len() < 8 {
+            return None;
+        }
+        let (dq, _, _) = clamp::lstsq(&jac, &res)?;
+        for (i, &j) in free.iter().enumerate() {
+            q[j] += dq[i];
+        }
+        if ends_half_px.is_some() {
+            q[2] = outer(&camera(d_m, q[1], q[0], mpp, x0, principal_row), &q);
+        }
+        if q[2] <= 0.0 || !q[1].is_finite() || q[1].abs() > 0.5 {
+            return None;
+        }
+        let small = dq[0].abs() < 1e-6 && dq[1].abs() < 1e-9 && dq[free.len() - 2].abs() < 1e-9;
+        if small || round == 29 {
+            // Outliers: beyond 3.5 robust deviations (at least 0.25 px).
+            let all: Vec<Option<f64>> = points
+                .iter()
+                .map(|pt| predict(&q, pt[0]).map(|r| pt[1] - r))
+                .collect();
+            let mut abs: Vec<f64> = all.iter().flatten().map(|r| r.abs()).collect();
+            let cut = (3.5 * 1.4826 * quantile(&mut abs, 0.5)).max(0.25);
+            let next: Vec<bool> = all
+                .iter()
+                .map(|r| r.is_some_and(|r| r.abs() <= cut))
+                .collect();
+            last = Some((jac, res));
+            if next == keep {
+                break;
+            }
+            keep = next;
+        }
+    }
+    let (jac, res) = last?;
+    let (_, cov, resid) = clamp::lstsq(&jac, &res)?;
+    let infl = lag1_inflation(&resid);
+    Some(Ring {
+        row: Estimate {
+            value: q[0],
+            std: cov[0][0].sqrt() * infl,
+        },
+        elevation_rad: Estimate {
+            value: q[1],
+            std: cov[1][1].sqrt() * infl,
+        },
+        outer_radius_m: q[2],
+    })
+}
+
+/// The scale at the ring's centre, m per px, from the opening's half-width
+/// `a_px` (its tangent points) for the camera `D` from the axis at the
+/// elevation `e` with the centre at row `v0`: `a / a_px` times the
+/// opening's scale factor, iterated (the factor depends on the focal
+/// length, which depends on the scale).
+pub(super) fn centre_scale(
+    a_m: f64,
+    a_px: f64,
+    d_m: f64,
+    e: f64,
+    v0: f64,
+    x0: f64,
+    principal_row: f64,
+) -> f64 {
+    let mut s = a_m / a_px;
+    for _ in 0..20 {
+        let p = camera(d_m, e, v0, s, x0, principal_row);
+        s = a_m / a_px * p.opening_scale_factor(a_m);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The far side's points projected from a circle of 2000 points (not
+    /// through `circle_rows`) come back to the camera that drew them.
+    #[test]
+    fn the_ring_comes_back_from_its_far_side() {
+        for (d, e_deg, a_outer) in [(0.25, 2.0, 0.047), (0.45, 3.0, 0.047), (1.0, 5.0, 0.05)] {
+            let (x0, cv, mpp) = (400.0, 299.5, 1e-4);
+            let e = f64::to_radians(e_deg);
+            let v0 = 420.0;
+            let p = camera(d, e, v0, mpp, x0, cv);
+            // the far half of the circle, projected point by point
+            let n = 20000;
+            let far: Vec<[f64; 2]> = (0..n)
+                .map(|i| {
+                    let phi =
+                        -std::f64::consts::FRAC_PI_2 + std::f64::consts::PI * i as f64 / n as f64;
+                    p.project([a_outer * phi.sin(), a_outer * phi.cos(), 0.0])
+                })
+                .collect();
+            // columns beside the bubble (1.04-1.2 of the opening's 0.0375 m)
+            let a_px = 0.0375 / mpp;
+            let pts: Vec<[f64; 2]> = far
+                .windows(2)
+                .filter_map(|w| {
+                    let dx = (w[0][0] - x0).abs();
+                    (dx > 1.04 * a_px && dx < 1.2 * a_px && w[0][0].round() != w[1][0].round())
+                        .then_some(w[0])
+                })
+                .collect();
+            assert!(pts.len() > 20, "{}", pts.len());
+            // with the ends' half-width: the widest projected point of the
+            // whole circle (its tangent points lie in the near half)
+            let half = (0..n)
+                .map(|i| {
+                    let phi = std::f64::consts::TAU * i as f64 / n as f64;
+                    (p.project([a_outer * phi.sin(), a_outer * phi.cos(), 0.0])[0] - x0).abs()
+                })
+                .fold(0.0, f64::max);
+            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], Some(half)).unwrap();
+            assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
+            assert!(
+                (r.outer_radius_m - a_outer).abs() < 1e-5,
+                "{d} {e_deg}: {r:?}"
+            );
+            // and without
+            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], None).unwrap();
+            assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
+            assert!(
+                (r.elevation_rad.value - e).abs() < 2e-4,
+                "{d} {e_deg}: {r:?}"
+            );
+            assert!(
+                (r.outer_radius_m - a_outer).abs() < 1e-4,
+                "{d} {e_deg}: {r:?}"
+            );
+        }
+    }
+
+    /// The scale comes back from the opening's tangent width.
+    #[test]
+    fn the_centre_scale_comes_back_from_the_opening() {
+        let (d, e, v0, x0, cv, mpp) = (0.45, 0.05, 420.0, 400.0, 299.5, 1.1e-4);
+        let p = camera(d, e, v0, mpp, x0, cv);
+        // the widest projected point of the opening, 200 000 points
+        let a = 0.0375;
+        let w = (0..200_000)
+            .map(|i| {
+                let phi = std::f64::consts::TAU * i as f64 / 200_000.0;
+                (p.project([a * phi.sin(), a * phi.cos(), 0.0])[0] - x0).abs()
+            })
+            .fold(0.0, f64::max);
+        let s = centre_scale(a, w, d, e, v0, x0, cv);
+        assert!((s / mpp - 1.0).abs() < 1e-8, "{s} vs {mpp}");
+    }
+}
