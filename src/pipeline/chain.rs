@@ -312,8 +312,9 @@ pub fn run_observed(
     );
     for n in runs
         .iter()
-        .flat_map(|r| r.points.iter().filter_map(|p| p.note.clone()))
-        .filter(|n| !n.starts_with("not solved"))
+        .flat_map(|r| r.points.iter())
+        .filter(|p| p.outcome != Outcome::NotTried)
+        .filter_map(|p| p.note.clone())
     {
         note(Stage::Simulate, n);
     }

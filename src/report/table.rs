@@ -222,6 +222,7 @@ mod tests {
             nodes: 3,
             points: vec![],
             wall_s: 0.0,
+            stop: None,
         }
     }
 

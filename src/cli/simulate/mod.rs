@@ -8,7 +8,6 @@ use anyhow::anyhow;
 use super::Failure;
 use bulge::io::OutputPlan;
 
-mod axisym;
 mod dynamic;
 mod scene;
 mod statics;

@@ -1,5 +1,5 @@
-//! `bulge simulate` without `--dynamic`: each spring model and quasi-static
-//! solver swept over the scene's pressures ([`bulge::sim::SceneSolver`]).
+//! `bulge simulate` without `--dynamic`: the scene's mesh and the library's
+//! sweep ([`bulge::pipeline::simulate_scene`]), printed and written.
 
 use std::path::PathBuf;
 
@@ -7,12 +7,14 @@ use anyhow::{Context, anyhow};
 
 use super::{Args, build_scene, describe, finish};
 use crate::cli::{Classify, Failure};
-use bulge::io::{CsvOut, fmt_num, write_atomic};
-use bulge::sim::disc::mesh_for_accuracy;
-use bulge::sim::scene::{MeshSize, SceneKind};
+use bulge::io::write_atomic;
+use bulge::pipeline::{
+    ModelRun, Outcome, PipelineError, SceneRequest, scene_mesh, simulate_scene, simulated_csv_with,
+};
+use bulge::sim::scene::MeshSize;
 use bulge::sim::solve::Options;
 use bulge::sim::springs::{HeightModel, SpringModel};
-use bulge::sim::{SceneSolver, SimError, vtk};
+use bulge::sim::{SimError, vtk};
 
 /// Runs `bulge simulate` (quasi-static).
 pub(super) fn run(args: Args) -> Result<(), Failure> {
@@ -42,29 +44,16 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
     opts.validate()
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
-    let mesh = match (scene.mesh.size, scene.kind) {
-        (Some(MeshSize::Accuracy(a)), SceneKind::Disc { .. }) if !models.is_empty() => {
-            let s = mesh_for_accuracy(
-                &scene,
-                &models,
-                args.solver[0],
-                opts,
-                a,
-                scene.mesh.max_nodes,
-            )
-            .context("--accuracy")
-            .bad_input()?;
-            eprintln!(
-                "mesh sized for --accuracy {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
-                s.rings, s.estimated_error, s.rings, s.coarse_rings
-            );
-            s.mesh
-        }
-        _ => scene
-            .build_mesh_for(&models)
-            .context("building the mesh")
-            .bad_input()?,
-    };
+    let (mesh, sizing) = scene_mesh(&scene, &models, args.solver[0], opts)
+        .map_err(|e| anyhow!("{e}"))
+        .context("--accuracy or the mesh")
+        .bad_input()?;
+    if let (Some(s), Some(MeshSize::Accuracy(a))) = (sizing, scene.mesh.size) {
+        eprintln!(
+            "mesh sized for --accuracy {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
+            s.rings, s.estimated_error, s.rings, s.coarse_rings
+        );
+    }
     eprintln!("{}", describe(&mesh, &scene));
     for &model in &models {
         for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
@@ -72,114 +61,60 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
         }
     }
 
-    let mut header: Vec<&str> = bulge::pipeline::SIMULATED_COLUMNS.to_vec();
-    header.extend(scene.extra_columns());
-    let mut csv = CsvOut::new(&header);
+    let request = SceneRequest {
+        models,
+        solvers: args.solver.clone(),
+        axisym,
+        profile: args.profile.is_some(),
+        options: opts,
+    };
+    let runs = request.models.len() * request.solvers.len() + usize::from(axisym);
+    let pb = crate::cli::progress((runs * scene.pressures_to_solve().len()) as u64, "simulate");
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
-    let mut failures: Vec<String> = Vec::new();
-    let mut table = Vec::new();
-    let runs = models.len() * args.solver.len() + usize::from(axisym);
-    let pressures = scene.pressures_to_solve();
-    let n_p = pressures.len();
-    let pb = crate::cli::progress((runs * n_p) as u64, "simulate");
-    let mut profile_out = None;
-    if axisym {
-        profile_out = super::axisym::run_axisym(
-            &scene,
-            header.len(),
-            &mut csv,
-            &mut table,
-            &mut failures,
-            args.profile.as_deref(),
-            &pb,
-        )?;
-    }
-    for &model in &models {
-        for &solver in &args.solver {
-            let mut s = SceneSolver::on_mesh(&scene, mesh.clone(), model)
-                .and_then(|s| s.with_solver(solver, opts))
-                .map_err(|e| anyhow!("{e}"))
-                .bad_input()?;
-            let (m, sv) = (model.name(), solver.name());
-            let mut at_floor: Vec<(f64, f64)> = Vec::new();
-            let swept = s.sweep(&pressures, |s, q| {
-                pb.inc(1);
-                if q.stats.residual > opts.tolerance {
-                    at_floor.push((q.pressure_pa, q.stats.residual));
-                }
-                // Newton found the dome turned inside out, or none, on a
-                // slack dome: the equilibrium is dynamic relaxation's.
-                let sv = if q.stats.relaxed { "dr" } else { sv };
-                let mut row = vec![
-                    fmt_num(Some(q.pressure_pa)),
-                    fmt_num(Some(q.height_m)),
-                    m.to_string(),
-                    sv.to_string(),
-                    mesh.nodes.len().to_string(),
-                    q.stats.iterations.to_string(),
-                    format!("{:.3e}", q.stats.residual),
-                    format!("{:.4}", q.wall_s),
-                ];
-                row.extend(q.extra.iter().map(|v| fmt_num(Some(*v))));
-                csv.row(&row);
-                table.push(format!(
-                    "{:>10} {:>12.6e} {:>10} {:>7} {:>6} {:>9.2e} {:>8.3}",
-                    q.pressure_pa,
-                    q.height_m,
-                    m,
-                    sv,
-                    q.stats.iterations,
-                    q.stats.residual,
-                    q.wall_s
-                ));
-                if let Some(dir) = &args.vtk {
-                    let x = s.positions();
-                    let name = format!("{m}_{sv}_{:03}.vtk", q.index);
-                    let title = format!("bulge {m} {sv} {} Pa", q.pressure_pa);
-                    let stretch = s.membrane().triangle_stretch(x);
-                    vtks.push((dir.join(name), vtk::polydata(&mesh, x, &stretch, &title)));
-                }
-            });
-            if !at_floor.is_empty() {
-                let worst = at_floor.iter().fold(0.0_f64, |a, r| a.max(r.1));
-                let ps: Vec<String> = at_floor.iter().map(|r| r.0.to_string()).collect();
-                pb.suspend(|| {
-                    eprintln!(
-                        "warning ({m} / {sv}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above --tolerance {:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
-                        ps.join(", "),
-                        opts.tolerance
-                    )
-                });
-            }
-            if let Err((_, stop)) = swept {
-                let p = stop.pressure_pa;
-                if let e @ SimError::NonPositiveModulus { .. } = &stop.error {
-                    pb.finish_and_clear();
-                    return Err(Failure::BadInput(anyhow!("{m} / {sv} at {p} Pa: {e}")));
-                }
-                let mut msg = format!("{m} / {sv}: {}", stop.error);
-                // the disc's limit pressure from the axisymmetric solution
-                if let SceneKind::Disc { radius_m, .. } = scene.kind
-                    && let Some(note) = bulge::sim::hard::limit_note(
-                        &scene.material,
-                        radius_m,
-                        scene.thickness_m,
-                        p,
-                    )
-                {
-                    msg.push_str(&format!(" ({note})"));
-                }
-                failures.push(msg);
-                pb.inc((n_p - stop.index) as u64);
-            }
+    let mut each = |s: &bulge::sim::SceneSolver, q: &bulge::sim::SweepPoint| {
+        if let Some(dir) = &args.vtk {
+            let (m, sv) = (s.model().name(), s.solver().name());
+            let x = s.positions();
+            let name = format!("{m}_{sv}_{:03}.vtk", q.index);
+            let title = format!("bulge {m} {sv} {} Pa", q.pressure_pa);
+            let stretch = s.membrane().triangle_stretch(x);
+            vtks.push((dir.join(name), vtk::polydata(s.mesh(), x, &stretch, &title)));
+        }
+    };
+    let out = simulate_scene(&scene, &mesh, &request, &mut each, &|| pb.inc(1));
+    pb.finish_and_clear();
+    let out = out.map_err(|e| match e {
+        e @ (PipelineError::Input(_) | PipelineError::Axisym(_) | PipelineError::Sim(_))
+            if e.is_bad_input() =>
+        {
+            Failure::BadInput(anyhow!("{e}"))
+        }
+        e => Failure::Failed(anyhow!("{e}")),
+    })?;
+    // a material whose modulus is not positive at a strain the sweep reached
+    // is the user's material file, not a failure of the solver
+    for r in &out.runs {
+        if let Some(e @ SimError::NonPositiveModulus { .. }) = &r.stop
+            && let Some(p) = r.points.iter().find(|p| p.outcome == Outcome::Failed)
+        {
+            return Err(Failure::BadInput(anyhow!(
+                "{} / {} at {} Pa: {e}",
+                r.model,
+                r.solver,
+                p.pressure_pa
+            )));
         }
     }
-    pb.finish_and_clear();
-    csv.write(&args.output)
+    for r in &out.runs {
+        at_floor_warning(r, opts.tolerance);
+    }
+    simulated_csv_with(&out.runs, &scene.extra_columns())
+        .write(&args.output)
         .with_context(|| format!("writing {}", args.output.display()))
         .failed()?;
-    if let (Some(path), Some(prof)) = (&args.profile, profile_out) {
-        prof.write(path)
+    if let (Some(path), Some(sol)) = (&args.profile, &out.axisym_last) {
+        bulge::axisym::profile_csv(sol)
+            .write(path)
             .with_context(|| format!("writing {}", path.display()))
             .failed()?;
     }
@@ -188,11 +123,62 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
             .with_context(|| format!("writing {}", path.display()))
             .failed()?;
     }
+    let failures: Vec<String> = out
+        .runs
+        .iter()
+        .flat_map(|r| r.failures().map(|n| format!("{n} ({})", r.solver)))
+        .collect();
     finish(
         "  pressure_pa     height_m      model  solver  iters  residual   wall_s",
-        &table,
+        &table(&out.runs),
         &args.output,
         &failures,
         "the rows solved before",
     )
+}
+
+/// The terminal table: one line per pressure with a height.
+fn table(runs: &[ModelRun]) -> Vec<String> {
+    let mut lines = Vec::new();
+    for r in runs {
+        for p in r.points.iter().filter(|p| p.outcome.has_height()) {
+            let solver = match (r.model, p.outcome) {
+                (HeightModel::Axisym, _) => "shoot",
+                (_, Outcome::Relaxed) => "dr",
+                _ => r.solver.as_str(),
+            };
+            lines.push(format!(
+                "{:>10} {:>12.6e} {:>10} {:>7} {:>6} {:>9.2e} {:>8.3}",
+                p.pressure_pa,
+                p.height_m.unwrap_or(f64::NAN),
+                r.model.to_string(),
+                solver,
+                p.iterations,
+                p.residual,
+                p.wall_s
+            ));
+        }
+    }
+    lines
+}
+
+/// One warning per run for the pressures whose residual stopped above
+/// `--tolerance` at the round-off floor ([`Outcome::AtFloor`]).
+fn at_floor_warning(run: &ModelRun, tolerance: f64) {
+    let at_floor: Vec<_> = run
+        .points
+        .iter()
+        .filter(|p| p.outcome == Outcome::AtFloor)
+        .collect();
+    if at_floor.is_empty() {
+        return;
+    }
+    let worst = at_floor.iter().fold(0.0_f64, |a, p| a.max(p.residual));
+    let ps: Vec<String> = at_floor.iter().map(|p| p.pressure_pa.to_string()).collect();
+    eprintln!(
+        "warning ({} / {}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above --tolerance {tolerance:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
+        run.model,
+        run.solver,
+        ps.join(", ")
+    );
 }
