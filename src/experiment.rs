@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::io::{InputError, read_toml};
+use crate::io::{BadValue, InputError, read_toml};
 
 #[cfg(test)]
 mod tests;
@@ -104,9 +104,13 @@ impl Window {
     }
 
     /// Checks the sizes; the message names the key, the value and the fix.
-    pub fn validate(&self) -> Result<(), String> {
-        let bad =
-            |key: &str, v: f64| format!("[window] {key} = {v} must be a positive length in metres");
+    pub fn validate(&self) -> Result<(), BadValue> {
+        let bad = |key: &'static str, v: f64| {
+            BadValue::new(
+                key,
+                format!("[window] {key} = {v} must be a positive length in metres"),
+            )
+        };
         match *self {
             Window::Circle => Ok(()),
             Window::Ellipse { semi_axes_m } => {
@@ -155,7 +159,7 @@ impl SpecimenFile {
 
     /// The standard deviations, checked: zero or positive, and below the
     /// dimension itself.
-    fn std(&self) -> Result<SpecimenStd, String> {
+    fn std(&self) -> Result<SpecimenStd, BadValue> {
         for (key, sd, of) in [
             ("thickness_std_m", self.thickness_std_m, self.thickness_m),
             ("radius_std_m", self.radius_std_m, self.radius_m),
@@ -163,8 +167,11 @@ impl SpecimenFile {
             if let Some(v) = sd
                 && !(v.is_finite() && v >= 0.0 && v < of)
             {
-                return Err(format!(
-                    "{key} = {v} must be a standard deviation in metres, zero or positive and below the dimension itself ({of} m); e.g. 1e-5 for a thickness measured to 10 micrometres"
+                return Err(BadValue::new(
+                    key,
+                    format!(
+                        "{key} = {v} must be a standard deviation in metres, zero or positive and below the dimension itself ({of} m); e.g. 1e-5 for a thickness measured to 10 micrometres"
+                    ),
                 ));
             }
         }
@@ -544,7 +551,9 @@ impl Experiment {
         e.specimen
             .validate()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
-        e.window.validate().map_err(|m| InputError::file(path, m))?;
+        e.window
+            .validate()
+            .map_err(|m| InputError::from_value(path, m))?;
         if e.heights.is_some() && e.photos.is_some() {
             return Err(InputError::file(
                 path,
@@ -623,7 +632,7 @@ impl Experiment {
         let only: Only = crate::io::read_toml(path)?;
         only.window
             .validate()
-            .map_err(|m| InputError::file(path, m))?;
+            .map_err(|m| InputError::from_value(path, m))?;
         Ok(only.window)
     }
 

@@ -36,6 +36,28 @@ pub struct InputError {
     pub setting: Option<&'static str>,
 }
 
+/// A value refused by a check: the key it was given for, and what is wrong
+/// with it (the value and the fix). [`InputError::from_value`] places it in
+/// a file; a caller that sets the key its own way (a flag) names that.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct BadValue {
+    /// The key of the value refused (e.g. `thickness_std_m`).
+    pub key: &'static str,
+    /// What is wrong, the value, and the fix.
+    pub message: String,
+}
+
+impl BadValue {
+    /// A refusal of `key`'s value.
+    pub fn new(key: &'static str, message: impl Into<String>) -> Self {
+        Self {
+            key,
+            message: message.into(),
+        }
+    }
+}
+
 fn location(path: &Path, line: Option<u64>, column: Option<&str>) -> String {
     let mut s = path.display().to_string();
     if let Some(l) = line {
@@ -48,6 +70,14 @@ fn location(path: &Path, line: Option<u64>, column: Option<&str>) -> String {
 }
 
 impl InputError {
+    /// A value of the file refused by a check, the key kept as the setting.
+    pub fn from_value(path: &Path, bad: BadValue) -> Self {
+        Self {
+            setting: Some(bad.key),
+            ..Self::file(path, bad.message)
+        }
+    }
+
     /// An error about the whole file.
     pub fn file(path: &Path, message: impl Into<String>) -> Self {
         Self {

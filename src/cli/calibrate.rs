@@ -41,9 +41,9 @@ pub struct Args {
     pub output: PathBuf,
 }
 
-fn parse_corners(s: &str) -> Result<[usize; 2], String> {
+fn parse_corners(s: &str) -> anyhow::Result<[usize; 2]> {
     let bad = || {
-        format!(
+        anyhow::anyhow!(
             "--inner-corners {s}: give COLUMNSxROWS of inner corners, each at least 2, such as 9x6"
         )
     };

@@ -40,7 +40,9 @@ pub fn run(args: Args) -> Result<(), Failure> {
             }
         }
     };
-    window.validate().map_err(bad)?;
+    window
+        .validate()
+        .map_err(|m| bad(format!("--window-semi-axes-m: {m}")))?;
     let specimen = Specimen {
         radius_m: match window {
             bulge::experiment::Window::Ellipse { semi_axes_m } => semi_axes_m[0],

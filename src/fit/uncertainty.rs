@@ -94,7 +94,7 @@ pub struct Sources {
 impl Sources {
     /// Checks that every field is a finite, non-negative number; the error
     /// names the field.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), crate::io::BadValue> {
         for (name, v) in [
             ("pressure_std_pa", self.pressure_std_pa),
             ("pressure_relative_std", self.pressure_relative_std),
@@ -105,8 +105,9 @@ impl Sources {
             ("prebulge_std_m", self.prebulge_std_m),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!(
-                    "{name} = {v}: a standard deviation is a finite number >= 0"
+                return Err(crate::io::BadValue::new(
+                    name,
+                    format!("{name} = {v}: a standard deviation is a finite number >= 0"),
                 ));
             }
         }

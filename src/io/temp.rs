@@ -66,7 +66,9 @@ pub fn temporary_files() -> Vec<PathBuf> {
 /// `main`; the targets of unfinished writes keep their old content.
 #[cfg(feature = "cli")]
 pub fn install_cleanup_on_signal() -> io::Result<()> {
-    static INSTALLED: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    // the error kept as its kind and text: io::Error is not Clone
+    static INSTALLED: std::sync::OnceLock<Option<(io::ErrorKind, String)>> =
+        std::sync::OnceLock::new();
     INSTALLED
         .get_or_init(|| {
             ctrlc::set_handler(|| {
@@ -76,10 +78,16 @@ pub fn install_cleanup_on_signal() -> io::Result<()> {
                 remove_all(&mut list);
                 std::process::exit(130);
             })
-            .map_err(|e| format!("cannot install the interrupt handler: {e}"))
+            .err()
+            .map(|e| {
+                (
+                    io::ErrorKind::Other,
+                    format!("cannot install the interrupt handler: {e}"),
+                )
+            })
         })
         .clone()
-        .map_err(io::Error::other)
+        .map_or(Ok(()), |(kind, text)| Err(io::Error::new(kind, text)))
 }
 
 /// A registered temporary file next to a target; removed (and unregistered)

@@ -31,12 +31,12 @@ pub struct Entry {
 }
 
 /// What a run measured: wall time, steps (iterations for a static solve),
-/// the measured value or why there is none, and a note (`ok` or why the
-/// value is not the settled one).
+/// the measured value (`None`: there is none), and a note (`ok`, why the
+/// value is not the settled one, or why there is none).
 pub struct Measured {
     wall_s: f64,
     steps: usize,
-    value: Result<f64, String>,
+    value: Option<f64>,
     note: String,
 }
 
@@ -52,8 +52,8 @@ impl Measured {
         reference: f64,
     ) -> Entry {
         let (error, status) = match self.value {
-            Ok(v) => (Some(((v - reference) / reference).abs()), self.note),
-            Err(e) => (None, e),
+            Some(v) => (Some(((v - reference) / reference).abs()), self.note),
+            None => (None, self.note),
         };
         Entry {
             case,
@@ -105,14 +105,14 @@ pub fn disc_static_run(
         Ok(s) => Measured {
             wall_s,
             steps: s.iterations,
-            value: Ok(disc.apex_height_m()),
+            value: Some(disc.apex_height_m()),
             note: "ok".into(),
         },
         Err(e) => Measured {
             wall_s,
             steps: 0,
-            value: Err(e.to_string()),
-            note: String::new(),
+            value: None,
+            note: e.to_string(),
         },
     })
 }
@@ -150,14 +150,14 @@ pub fn static_run(
         Ok(s) => Measured {
             wall_s,
             steps: s.iterations,
-            value: Ok(measure(&x)),
+            value: Some(measure(&x)),
             note: "ok".into(),
         },
         Err(e) => Measured {
             wall_s,
             steps: 0,
-            value: Err(e.to_string()),
-            note: String::new(),
+            value: None,
+            note: e.to_string(),
         },
     }
 }
@@ -176,9 +176,9 @@ pub fn dynamic_run(
     measure: &dyn Fn(&[Point3<f64>]) -> f64,
 ) -> Measured {
     let t0 = Instant::now();
-    let out = (|| -> Result<(f64, usize, bool, f64), String> {
-        let mut d = Dynamics::new(mem, mesh, damping).map_err(|e| e.to_string())?;
-        let est = d.estimate_step(&mesh.nodes).map_err(|e| e.to_string())?;
+    let out = (|| -> anyhow::Result<(f64, usize, bool, f64)> {
+        let mut d = Dynamics::new(mem, mesh, damping)?;
+        let est = d.estimate_step(&mesh.nodes)?;
         // explicit integrators at a share of their own limit; the implicit
         // ones at multiples of symplectic Euler's (the conservative one)
         let dt = if integ.is_explicit() {
@@ -205,21 +205,19 @@ pub fn dynamic_run(
         };
         let mut x = mesh.nodes.clone();
         let mut v = vec![Vector3::zeros(); x.len()];
-        let run = d
-            .run(&mut x, &mut v, &opts, measure)
-            .map_err(|e| e.to_string())?;
+        let run = d.run(&mut x, &mut v, &opts, measure)?;
         let settled = (run.steps as f64) < steps - 0.5;
         Ok((measure(&x), run.steps * run.substeps, settled, t_cap))
     })();
     let wall_s = t0.elapsed().as_secs_f64();
     let (steps, value, note) = match out {
-        Ok((v, steps, true, _)) => (steps, Ok(v), "ok".into()),
+        Ok((v, steps, true, _)) => (steps, Some(v), "ok".into()),
         Ok((v, steps, false, t)) => (
             steps,
-            Ok(v),
+            Some(v),
             format!("not settled to the tolerance by t = {t:.3e} s (error at that time)"),
         ),
-        Err(e) => (0, Err(e), String::new()),
+        Err(e) => (0, None, format!("{e:#}")),
     };
     Measured {
         wall_s,

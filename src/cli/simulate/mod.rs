@@ -95,10 +95,10 @@ pub struct Args {
     pub dynamic: dynamic::DynArgs,
 }
 
-fn parse_pressure(s: &str) -> Result<f64, String> {
+fn parse_pressure(s: &str) -> anyhow::Result<f64> {
     s.trim()
         .parse()
-        .map_err(|_| format!("`{}` is not a pressure in Pa", s.trim()))
+        .map_err(|_| anyhow!("`{}` is not a pressure in Pa", s.trim()))
 }
 
 fn describe(mesh: &Mesh, scene: &Scene) -> String {
