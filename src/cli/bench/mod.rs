@@ -2,22 +2,22 @@
 //! disc bubble (error against the exact axisymmetric solution) and on
 //! Sudhamani & Merriliance's sheet (error against a converged static solution of the same mesh).
 //! Writes `bench.csv`, `bench.md` and `bench.png` (log wall time against log
-//! error, with each case's Pareto front); with `--paper003` also
-//! `paper003.md`, Sudhamani & Merriliance's (2019) three experiments and the disc's pressure step
+//! error, with each case's Pareto front); with `--sudhamani-merriliance` also
+//! `sudhamani-merriliance.md`, Sudhamani & Merriliance's (2019) three experiments and the disc's pressure step
 //! (see `docs/dynamics.md`).
 //!
 //! * [`runs`]: one measured run ([`runs::Entry`]), static or dynamic;
 //! * [`speed`]: the cases and sizes measured;
 //! * [`tables`]: Pareto front, CSV, Markdown table and plot;
-//! * [`paper003`]: Sudhamani & Merriliance's experiments and their tables.
+//! * [`sudhamani`]: Sudhamani & Merriliance's experiments and their tables.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 
-mod paper003;
 mod runs;
 mod speed;
+mod sudhamani;
 mod tables;
 
 use crate::cli::{Classify, Failure};
@@ -44,9 +44,9 @@ pub struct Args {
     pub quick: bool,
     /// Also reproduce Sudhamani & Merriliance's (2019) experiments (time against points, largest
     /// stable step per integrator, deformation against load) and the disc's
-    /// pressure step into paper003.md. Several minutes (less with --quick).
+    /// pressure step into sudhamani-merriliance.md. Several minutes (less with --quick).
     #[arg(long)]
-    pub paper003: bool,
+    pub sudhamani_merriliance: bool,
 }
 
 /// Runs `bulge bench`.
@@ -62,8 +62,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let csv = tables::csv(&entries);
     let md = tables::markdown(&entries);
     let fig = tables::plot(&entries);
-    let paper = if args.paper003 {
-        Some(paper003::markdown(args.quick).failed()?)
+    let paper = if args.sudhamani_merriliance {
+        Some(sudhamani::markdown(args.quick).failed()?)
     } else {
         None
     };
@@ -80,8 +80,8 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .map_err(|e| anyhow!("{e}"))
         .failed()?;
     if let Some(p) = &paper {
-        write_atomic(&args.out.join("paper003.md"), p.as_bytes())
-            .context("writing paper003.md")
+        write_atomic(&args.out.join("sudhamani-merriliance.md"), p.as_bytes())
+            .context("writing sudhamani-merriliance.md")
             .failed()?;
     }
     println!("{md}");
@@ -91,7 +91,11 @@ pub fn run(args: Args) -> Result<(), Failure> {
     println!(
         "wrote {}/bench.csv, bench.md, bench.png{}",
         args.out.display(),
-        if paper.is_some() { ", paper003.md" } else { "" }
+        if paper.is_some() {
+            ", sudhamani-merriliance.md"
+        } else {
+            ""
+        }
     );
     Ok(())
 }

@@ -7,7 +7,7 @@ use anyhow::anyhow;
 use nalgebra::{Point3, Vector3};
 
 use super::DISC_P;
-use super::paper003::bubble_specimen;
+use super::sudhamani::bubble_specimen;
 use bulge::material::Material;
 use bulge::sim::SceneSolver;
 use bulge::sim::dynamics::{DampingLaw, DynOptions, Dynamics, Integrator};

@@ -4,8 +4,8 @@
 
 use nalgebra::Point3;
 
-use super::paper003::{self, SheetSetup};
 use super::runs::{Entry, disc_reference, disc_static_run, dynamic_run, static_run};
+use super::sudhamani::{self, SheetSetup};
 use super::{DISC_P, T};
 use bulge::sim::dynamics::{DampingLaw, Integrator};
 use bulge::sim::solve::Solver;
@@ -40,12 +40,12 @@ fn disc_runs(
     out: &mut Vec<Entry>,
     tick: &dyn Fn(),
 ) -> anyhow::Result<()> {
-    let (_, mat) = paper003::bubble_disc(2);
+    let (_, mat) = sudhamani::bubble_disc(2);
     let href = disc_reference(&mat)?;
     let rings: &[usize] = if quick { &[3, 5] } else { &[4, 8, 16, 32] };
     let dyn_rings: &[usize] = if quick { &[3] } else { &[4, 8] };
     for &n in rings {
-        let (mesh, _) = paper003::bubble_disc(n);
+        let (mesh, _) = sudhamani::bubble_disc(n);
         let nodes = mesh.nodes.len();
         for &model in &[
             SpringModel::Tp,
@@ -111,7 +111,7 @@ fn sheet_runs(
         let node = mesh.probe("middle").expect("sheet probe");
         let measure = |x: &[Point3<f64>]| (x[node] - mesh.nodes[node]).norm();
         let mut mem = setup.membrane(&mesh, "middle", 10.0);
-        let xs = paper003::static_solution(&mut mem, &mesh, 2)?;
+        let xs = sudhamani::static_solution(&mut mem, &mesh, 2)?;
         let uref = measure(&xs);
         for solver in [Solver::Newton, Solver::Dr] {
             for &tol in tols {

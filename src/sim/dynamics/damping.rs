@@ -7,7 +7,7 @@
 //!   `m_red = m_i m_j / (m_i + m_j)`, a fraction `zeta` of the spring's
 //!   critical value. `k` is the spring's small-strain stiffness
 //!   ([`reference_edge_stiffness`]).
-//! * [`DampingLaw::Paper003`]: eq 5 of Sudhamani & Merriliance (2019),
+//! * [`DampingLaw::SudhamaniMerriliance`]: eq 5 of Sudhamani & Merriliance (2019),
 //!   `d = sqrt(k (m_i + m_j)) / l0`. It is **not** a damping coefficient:
 //!   `sqrt(k m)` is already N s/m, and the extra `1/l0` makes it N s/m^2, so
 //!   the damping it gives depends on the unit of length and on the mesh size
@@ -27,7 +27,7 @@ pub enum DampingLaw {
     Critical(f64),
     /// Sudhamani & Merriliance (2019) eq 5, `d = sqrt(k (m_i + m_j)) / l0`
     /// (dimensionally inconsistent).
-    Paper003,
+    SudhamaniMerriliance,
 }
 
 impl Default for DampingLaw {
@@ -88,7 +88,7 @@ pub fn edge_damping(mesh: &Mesh, k: &[f64], masses: &[f64], law: DampingLaw) -> 
             let k = k.max(0.0);
             match law {
                 DampingLaw::Critical(z) => z * 2.0 * (k * mi * mj / (mi + mj)).sqrt(),
-                DampingLaw::Paper003 => {
+                DampingLaw::SudhamaniMerriliance => {
                     let l0 = (mesh.nodes[e[1] as usize] - mesh.nodes[e[0] as usize]).norm();
                     (k * (mi + mj)).sqrt() / l0
                 }

@@ -545,7 +545,7 @@ fn edge_damping_follows_its_laws() {
     assert!(rel(c[0], 0.5 * 2.0 * (4.0 * m1 / 2.0).sqrt()) < 1e-14);
     assert!(rel(c[1], 0.5 * 2.0 * (5.0 * m1 * m2 / (m1 + m2)).sqrt()) < 1e-14);
     assert_eq!(c[2], 0.0);
-    let c = edge_damping(&mesh, &k, &masses, DampingLaw::Paper003);
+    let c = edge_damping(&mesh, &k, &masses, DampingLaw::SudhamaniMerriliance);
     assert!(rel(c[1], (5.0 * (m1 + m2)).sqrt() / L) < 1e-12);
     assert_eq!(DampingLaw::default(), DampingLaw::Critical(DEFAULT_DAMPING));
 }

@@ -43,7 +43,7 @@ pub struct DynArgs {
     /// 2 sqrt(k m_red). Default 0.1.
     #[arg(long, default_value_t = bulge::sim::dynamics::DEFAULT_DAMPING)]
     pub damping: f64,
-    /// Damping law: critical (a fraction of critical, default) or paper003
+    /// Damping law: critical (a fraction of critical, default) or sudhamani-merriliance
     /// (Sudhamani & Merriliance's d = sqrt(k (m_i + m_j)) / l0, which has an extra 1/length and
     /// depends on the mesh; --damping is then ignored).
     #[arg(long, default_value = "critical")]
@@ -85,10 +85,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .bad_input()?;
     let damping = match d.damping_law.trim() {
         "critical" => DampingLaw::Critical(d.damping),
-        "paper003" => DampingLaw::Paper003,
+        "sudhamani-merriliance" => DampingLaw::SudhamaniMerriliance,
         other => {
             return Err(Failure::BadInput(anyhow!(
-                "--damping-law `{other}` is not one of critical, paper003"
+                "--damping-law `{other}` is not one of critical, sudhamani-merriliance"
             )));
         }
     };

@@ -1,4 +1,4 @@
-//! `paper003.md`: Sudhamani & Merriliance's (2019) three experiments on the
+//! `sudhamani-merriliance.md`: Sudhamani & Merriliance's (2019) three experiments on the
 //! sheet beside their published figures, and the disc's pressure step.
 
 use std::fmt::Write as _;

@@ -1,34 +1,7 @@
-//! Sudhamani & Merriliance's (2019) experiments, with every parameter it leaves out stated, and
-//! the sudden pressure step on the disc.
-//!
-//! 003 fixes a square mesh on its left edge and loads it "at the middle" or
-//! "at the corner" with forces in N/m, and reports the computation time
-//! against the number of points (200-4000), the time step of explicit Euler,
-//! implicit Euler and Verlet, and a "deformation error" against the force
-//! (0-10 N/m). It gives no size, modulus, thickness, density, damping, step,
-//! simulated time or tolerance. bulge's choices ([`SheetSetup::default`]):
-//!
-//! * a square of 0.1 m, thickness 1 mm, E = 50 kPa, nu = 0.45, density
-//!   1060 kg/m^3 (soft tissue), Van Gelder springs (Sudhamani & Merriliance's springs are linear;
-//!   Van Gelder's eq 1 sets their stiffness from E and nu). Sudhamani & Merriliance's liver
-//!   modulus, 3.5 kPa, moves the loaded node 21-24 mm under 10 N/m at 200
-//!   points (more than three mesh spacings): the point load then inverts
-//!   triangles on fine meshes and the spring lattice has several equilibria
-//!   (Newton and dynamic relaxation found two 4 % apart at 1000 points).
-//!   50 kPa keeps the largest load's displacement near one spacing;
-//! * the load is in the plane of the sheet, along -y, on the node at the
-//!   middle (or the corner) of the free edge x = L. Its N/m is read as the 2D
-//!   convention of a plane model: force per unit thickness, so the nodal force
-//!   is `q t` and the displacement scales as `q / E` (10 N/m / 3.5 kPa =
-//!   2.9 mm at 3.5 kPa, the size of Sudhamani & Merriliance's "errors"). The nodes are held in the plane
-//!   z = 0 (a flat membrane has no stiffness out of its plane);
-//! * damping: 0.1 of each spring's critical value;
-//! * the static reference: Newton (sparse LU) to a residual of 1e-10 of the
-//!   load.
-//!
-//! * [`tables`]: the three experiments on the sheet;
-//! * [`markdown`]: their tables in `paper003.md`;
-//! * [`disc`]: the bubble disc and its sudden pressure step.
+//! The sheet of Sudhamani & Merriliance's experiments ([`SheetSetup`]) and
+//! its static reference: what the tables and the tests of the sheet share.
+//! It uses the library only, so that the tests (`tests/sheet_dynamics.rs`)
+//! run on it outside the binary.
 
 use nalgebra::{Point3, Vector3};
 
@@ -37,15 +10,6 @@ use bulge::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrato
 use bulge::sim::mesh::{self, Mesh, SheetOptions};
 use bulge::sim::solve::{self, Options};
 use bulge::sim::springs::{Membrane, SpringModel};
-
-mod disc;
-mod markdown;
-mod tables;
-#[cfg(test)]
-mod tests;
-
-pub use disc::{bubble_disc, bubble_specimen};
-pub use markdown::markdown;
 
 /// The sheet of Sudhamani & Merriliance's experiments.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -123,7 +87,7 @@ impl SheetSetup {
 }
 
 /// 0.9 of Verlet's estimated step limit on the sheet at rest.
-fn verlet_step(setup: &SheetSetup, mem: &mut Membrane, mesh: &Mesh) -> Result<f64, DynError> {
+pub fn verlet_step(setup: &SheetSetup, mem: &mut Membrane, mesh: &Mesh) -> Result<f64, DynError> {
     let d = Dynamics::new(mem, mesh, setup.damping)?;
     Ok(0.9 * d.estimate_step(&mesh.nodes)?.limit(Integrator::Verlet))
 }
@@ -131,7 +95,7 @@ fn verlet_step(setup: &SheetSetup, mem: &mut Membrane, mesh: &Mesh) -> Result<f6
 /// A run of `integ` from rest for `t_end_s` at step `dt` (sub-stepped where
 /// the integrator needs it), sampling the displacement of `node`.
 #[allow(clippy::too_many_arguments)]
-fn from_rest(
+pub fn from_rest(
     setup: &SheetSetup,
     mem: &mut Membrane,
     mesh: &Mesh,
@@ -157,7 +121,7 @@ fn from_rest(
 }
 
 /// Displacement magnitude of node `node`.
-fn displacement(mesh: &Mesh, x: &[Point3<f64>], node: usize) -> f64 {
+pub fn displacement(mesh: &Mesh, x: &[Point3<f64>], node: usize) -> f64 {
     (x[node] - mesh.nodes[node]).norm()
 }
 

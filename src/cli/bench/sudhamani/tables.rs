@@ -33,7 +33,7 @@ pub struct TimeRow {
     pub static_m: f64,
 }
 
-/// 003 Table 2.2.1: time to simulate `t_end_s` of the sheet loaded at its
+/// Sudhamani & Merriliance's Table 2.2.1: time to simulate `t_end_s` of the sheet loaded at its
 /// middle with `q` N/m, for each number of points and integrator. The step is
 /// the same for all integrators, 0.9 of Verlet's estimated limit; explicit
 /// Euler sub-steps to its own limit; implicit Euler takes it as is.
@@ -89,7 +89,7 @@ pub struct StepRow {
     pub omega: [f64; 3],
 }
 
-/// 003 Table 2.2.2: the largest stable step per integrator on the sheet of
+/// Sudhamani & Merriliance's Table 2.2.2: the largest stable step per integrator on the sheet of
 /// `points` nodes loaded at the middle with `q` N/m, at its static
 /// equilibrium: estimated (power iteration and the amplification
 /// polynomials) and measured (bisection to 1 %, `steps` steps from the
@@ -143,7 +143,7 @@ pub struct LoadRow {
     pub dynamic_m: Vec<(Integrator, f64)>,
 }
 
-/// 003 Table 2.2.3: displacement of the loaded node against the load, static
+/// Sudhamani & Merriliance's Table 2.2.3: displacement of the loaded node against the load, static
 /// and after `t_end_s` of each integrator from rest (same step for all,
 /// 0.9 of Verlet's limit; explicit Euler sub-steps). The "deformation error"
 /// is the distance from the static answer.
