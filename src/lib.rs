@@ -63,6 +63,7 @@ pub mod heights;
 pub mod io;
 pub mod material;
 pub mod mechanics;
+pub(crate) mod numerics;
 pub mod pipeline;
 pub mod pressure_log;
 pub mod report;

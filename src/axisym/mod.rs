@@ -47,7 +47,7 @@
 
 mod law;
 mod ode;
-mod roots;
+use crate::numerics::roots;
 mod sens;
 mod shoot;
 mod walk;
