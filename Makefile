@@ -41,7 +41,7 @@ test: deps
 
 lint: deps
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --locked --all-targets -- -D warnings
+	$(CARGO) clippy --locked --all-targets --features harness -- -D warnings
 
 bench: build-release
 	$(BULGE_RELEASE) bench --out $(OUT)/bench

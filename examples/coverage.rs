@@ -7,7 +7,7 @@
 //! the 95 % asked for (the binomial standard deviation of a share of `n`
 //! is `sqrt(0.95 * 0.05 / n)`: 1.5 points for 200 experiments).
 //!
-//!     cargo run --release --example coverage [experiments]
+//!     cargo run --release --features harness --example coverage [experiments]
 //!
 //! With `--photos N`, the same study through photos
 //! (`bulge::fit::coverage::photos`): N experiments per case, each rendered
@@ -18,7 +18,7 @@
 //! its binomial standard error `sqrt(s (1 - s) / n)`, the band's share with
 //! the standard error from the spread of the experiments' own shares.
 //!
-//!     cargo run --release --example coverage -- --photos 100
+//!     cargo run --release --features harness --example coverage -- --photos 100
 
 use bulge::experiment::Specimen;
 use bulge::fit::coverage::{self, Plan};

@@ -419,7 +419,7 @@ impl FittedMaterial {
         let Some(r) = self.refined.as_mut() else {
             return Ok(());
         };
-        let mc = super::coverage::monte_carlo(r, specimen, measured, opts, samples, seed)?;
+        let mc = super::monte_carlo::monte_carlo(r, specimen, measured, opts, samples, seed)?;
         r.monte_carlo = Some(mc);
         let record = RefinedRecord::of(r, &self.cap_material.model);
         self.provenance_mut().refined = Some(record);

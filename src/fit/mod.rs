@@ -23,6 +23,7 @@
 //! Every entry point is a pure function from data to a fit; `bulge fit`
 //! (`src/cli/fit.rs`) reads the files and writes the outputs.
 
+#[cfg(any(test, feature = "harness"))]
 pub mod coverage;
 pub mod data;
 pub mod hyperelastic;
@@ -30,6 +31,7 @@ pub mod inverse;
 pub(crate) mod linear;
 pub(crate) mod lm;
 pub mod material_fit;
+pub mod monte_carlo;
 pub mod quartic;
 pub mod select;
 pub mod stats;

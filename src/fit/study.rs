@@ -248,9 +248,10 @@ pub fn joint(inputs: &[StudyInput], start: &Material) -> Result<JointFit, FitErr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::coverage::{Rng, draw};
+    use crate::fit::monte_carlo::draw;
     use crate::fit::uncertainty::Sources;
     use crate::material::Model;
+    use crate::numerics::Rng;
 
     /// The Mooney-Rivlin law of the joint-fit tests (C1 = 0.12 MPa, C2 =
     /// 0.03 MPa).

@@ -3,7 +3,6 @@
 //! standard deviation, the stress stage run on them, the law fitted
 //! weighted and unweighted, many times.
 
-use super::coverage::Rng;
 use super::data::Loaded;
 use super::hyperelastic::Kind;
 use super::material_fit::{FitDetail, FitModel, FitSettings, FittedMaterial, fit_material};
@@ -14,6 +13,7 @@ use crate::mechanics::{
     self, Modulus, ModulusStress, Options, Point, StrainMeasure, TrueStress, cap_radius,
     engineering_strain,
 };
+use crate::numerics::Rng;
 
 /// The paper's latex disc (a = 37.5 mm, t = 0.5 mm).
 fn disc() -> Specimen {

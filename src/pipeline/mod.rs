@@ -186,7 +186,7 @@ pub struct Settings {
     /// (default false).
     pub weighted: bool,
     /// Monte Carlo samples of the corrected parameters, 0 for none
-    /// ([`crate::fit::coverage::monte_carlo`], seeded: the same number
+    /// ([`crate::fit::monte_carlo::monte_carlo`], seeded: the same number
     /// gives the same result).
     pub samples: usize,
 }

@@ -117,12 +117,12 @@ pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> Result<Dr
     let mut rng = Rng::new(seed);
     let s = &plan.sources;
     let nominal = plan.specimen;
-    let super::Shared {
+    let crate::fit::monte_carlo::Shared {
         real,
         gain,
         scale,
         offset_m,
-    } = super::Shared::draw(s, &nominal, &mut rng);
+    } = crate::fit::monte_carlo::Shared::draw(s, &nominal, &mut rng);
     let mut frames = Vec::with_capacity(plan.pressures_pa.len());
     for &p in &plan.pressures_pa {
         let reading = p * gain + s.pressure_std_pa * rng.normal();

@@ -190,8 +190,8 @@ pub struct Refined {
     /// Whether the fit was weighted by the points' standard deviations.
     pub weighted: bool,
     /// The Monte Carlo of the parameters, when asked for
-    /// ([`super::coverage::monte_carlo`]).
-    pub monte_carlo: Option<super::coverage::MonteCarlo>,
+    /// ([`super::monte_carlo::monte_carlo`]).
+    pub monte_carlo: Option<super::monte_carlo::MonteCarlo>,
 }
 
 impl Refined {

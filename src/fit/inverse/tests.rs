@@ -277,7 +277,8 @@ fn monte_carlo_agrees_with_the_first_order_covariance() {
     };
     let r = refine(&truth, &specimen(), &data.measured, &opts).unwrap();
     let lin = r.uncertainty.as_ref().unwrap().std_errors()[0];
-    let mc = coverage::monte_carlo(&r, &specimen(), &data.measured, &opts, 30, 11).unwrap();
+    let mc = super::super::monte_carlo::monte_carlo(&r, &specimen(), &data.measured, &opts, 30, 11)
+        .unwrap();
     assert_eq!(mc.failed, 0);
     let ratio = mc.std_errors[0] / lin;
     assert!(
@@ -287,7 +288,9 @@ fn monte_carlo_agrees_with_the_first_order_covariance() {
     );
     let [lo, hi] = mc.intervals_95[0];
     assert!(lo < mc.values[0] && mc.values[0] < hi, "{lo} {hi}");
-    let few = |seed| coverage::monte_carlo(&r, &specimen(), &data.measured, &opts, 4, seed);
+    let few = |seed| {
+        super::super::monte_carlo::monte_carlo(&r, &specimen(), &data.measured, &opts, 4, seed)
+    };
     assert_eq!(few(5).unwrap(), few(5).unwrap());
     eprintln!("MC {:?} linear {lin}", mc.std_errors);
 }
@@ -340,7 +343,7 @@ fn the_dome_heights_error_is_found_and_carried_to_the_law() {
     let all: Vec<Run> = (0..runs)
         .into_par_iter()
         .map(|k| {
-            let mut rng = super::super::coverage::Rng::new(500 + k as u64);
+            let mut rng = crate::numerics::Rng::new(500 + k as u64);
             let data: Vec<Measured> = exact
                 .iter()
                 .map(|&(p, h)| Measured {

@@ -6,8 +6,8 @@
 
 use super::*;
 use crate::axisym;
-use crate::fit::coverage::Rng;
 use crate::mechanics::{self, Modulus, ModulusStress, Options, Point, StrainMeasure, TrueStress};
+use crate::numerics::Rng;
 
 fn disc() -> Specimen {
     Specimen::latex()
