@@ -73,6 +73,16 @@ pub mod study;
 #[cfg(feature = "opencv")]
 pub mod track;
 
+/// Whether an error is the user's input being refused or the work failing:
+/// the one rule behind the command line's exit status (2: fix the input;
+/// 1: the work failed on valid input). Every error type of the stages
+/// implements it; an error that wraps another asks it.
+pub trait Refusal {
+    /// True when the input was refused (the message names what to fix),
+    /// false when the work itself failed.
+    fn is_bad_input(&self) -> bool;
+}
+
 pub use experiment::{Experiment, Specimen};
 pub use material::{Material, Model, StrainMeasure};
 pub use mechanics::{Modulus, ModulusStress, TrueStress};

@@ -256,6 +256,17 @@ pub enum AxisymError {
     NoConvergence(String),
 }
 
+impl crate::Refusal for AxisymError {
+    /// The specimen, the material and the options are the user's; a
+    /// pressure without solution is a result of valid input.
+    fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            AxisymError::Specimen(_) | AxisymError::Material(_) | AxisymError::Options(_)
+        )
+    }
+}
+
 /// The equilibrium with pole stretch `pole_stretch` (>= 1): shoots on the
 /// pressure. Defined on both sides of a pressure maximum.
 pub fn solve_pole_stretch(

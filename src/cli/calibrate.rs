@@ -71,13 +71,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         inner: args.inner_corners,
         square_m: args.square_m,
     };
-    let c = calibrate_folder(&args.photos, &board).map_err(|e| {
-        if e.is_bad_input() {
-            Failure::BadInput(e.into())
-        } else {
-            Failure::Failed(e.into())
-        }
-    })?;
+    let c = calibrate_folder(&args.photos, &board).map_err(Failure::of)?;
     for s in &c.skipped {
         eprintln!(
             "skipped {s}: the board ({}x{} inner corners) was not found",

@@ -135,13 +135,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         lens,
         camera_distance_m: args.camera_distance_m,
     };
-    let found = init::find_in(&frames, args.radius_m, given).map_err(|e: TrackError| {
-        if e.is_bad_input() {
-            Failure::BadInput(e.into())
-        } else {
-            Failure::Failed(e.into())
-        }
-    })?;
+    let found = init::find_in(&frames, args.radius_m, given).map_err(Failure::of::<TrackError>)?;
     let base = args
         .output
         .parent()

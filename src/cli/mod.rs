@@ -75,6 +75,15 @@ pub enum Failure {
 }
 
 impl Failure {
+    /// A library error, by the library's own rule ([`bulge::Refusal`]).
+    pub fn of<E: bulge::Refusal + Into<anyhow::Error>>(e: E) -> Failure {
+        if e.is_bad_input() {
+            Failure::BadInput(e.into())
+        } else {
+            Failure::Failed(e.into())
+        }
+    }
+
     /// The process exit status for this failure.
     pub fn exit_code(&self) -> i32 {
         match self {

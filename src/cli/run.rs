@@ -9,6 +9,7 @@ use std::path::Path;
 use anyhow::anyhow;
 
 use super::{Console, Failure};
+use bulge::Refusal;
 use bulge::experiment::Experiment;
 use bulge::io::OutputPlan;
 use bulge::pipeline::{self, Observer, PipelineError, RunOptions, RunOutput, Settings, Stage};

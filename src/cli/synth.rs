@@ -139,13 +139,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         },
         window,
     };
-    let w = synth::write_sequence(&args.out_dir, &spec, &frames).map_err(|e| {
-        if e.is_bad_input() {
-            Failure::BadInput(e.into())
-        } else {
-            Failure::Failed(e.into())
-        }
-    })?;
+    let w = synth::write_sequence(&args.out_dir, &spec, &frames).map_err(Failure::of)?;
     let extra = write_timed(&args, &spec, &w, &frames, &pressures)?;
     let hmax = w.truth.iter().map(|t| t.height_m).fold(0.0, f64::max);
     println!(

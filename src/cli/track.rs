@@ -151,9 +151,5 @@ pub fn run(args: Args) -> Result<(), Failure> {
 }
 
 fn classify(e: TrackError) -> Failure {
-    if e.is_bad_input() {
-        Failure::BadInput(e.into())
-    } else {
-        Failure::Failed(e.into())
-    }
+    Failure::of(e)
 }

@@ -138,6 +138,13 @@ pub enum FitError {
     Solver(String),
 }
 
+impl crate::Refusal for FitError {
+    /// Every fit error is bad input but the solver's failure on valid data.
+    fn is_bad_input(&self) -> bool {
+        !matches!(self, FitError::Solver(_))
+    }
+}
+
 /// Refuses NaN and infinities.
 pub(crate) fn check_finite(v: &[f64]) -> Result<(), FitError> {
     match v.iter().position(|x| !x.is_finite()) {

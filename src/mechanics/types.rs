@@ -321,3 +321,10 @@ pub enum StressError {
         problem: PointError,
     },
 }
+
+impl crate::Refusal for StressError {
+    /// A specimen or a point that the formulas refuse.
+    fn is_bad_input(&self) -> bool {
+        true
+    }
+}

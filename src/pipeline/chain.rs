@@ -1,5 +1,6 @@
 //! The whole run: each stage in order, what it returns and where it stopped.
 
+use crate::Refusal;
 use std::time::Instant;
 
 #[cfg(feature = "opencv")]

@@ -120,26 +120,16 @@ pub enum PipelineError {
     Output(String),
 }
 
-impl PipelineError {
-    /// True when the user's input was refused (exit 2), false when the work
-    /// failed (exit 1).
-    pub fn is_bad_input(&self) -> bool {
+impl crate::Refusal for PipelineError {
+    fn is_bad_input(&self) -> bool {
         match self {
             #[cfg(feature = "opencv")]
             PipelineError::Track(e) => e.is_bad_input(),
-            PipelineError::Stress(_) | PipelineError::Input(_) => true,
-            PipelineError::Fit(e) => !matches!(e, FitError::Solver(_)),
-            PipelineError::Sim(e) => matches!(
-                e,
-                SimError::BadParameter(_)
-                    | SimError::DegenerateTriangle { .. }
-                    | SimError::InvertedTriangle { .. }
-                    | SimError::BadMesh(_)
-            ),
-            PipelineError::Axisym(e) => matches!(
-                e,
-                AxisymError::Specimen(_) | AxisymError::Material(_) | AxisymError::Options(_)
-            ),
+            PipelineError::Stress(e) => e.is_bad_input(),
+            PipelineError::Fit(e) => e.is_bad_input(),
+            PipelineError::Sim(e) => e.is_bad_input(),
+            PipelineError::Axisym(e) => e.is_bad_input(),
+            PipelineError::Input(_) => true,
             PipelineError::Output(_) => false,
         }
     }

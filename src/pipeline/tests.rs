@@ -1,4 +1,5 @@
 use super::*;
+use crate::Refusal;
 use crate::experiment::Specimen;
 use crate::material::Material;
 use crate::material::Model;

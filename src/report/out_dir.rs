@@ -51,9 +51,9 @@ pub enum OutDirError {
     },
 }
 
-impl OutDirError {
-    /// True when the user's choice of folder is at fault (not the system).
-    pub fn is_bad_input(&self) -> bool {
+impl crate::Refusal for OutDirError {
+    /// The user's choice of folder is at fault (not the system).
+    fn is_bad_input(&self) -> bool {
         !matches!(self, OutDirError::Io { .. })
     }
 }
@@ -268,6 +268,7 @@ fn same_file(f: &fs::File, path: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Refusal;
     use crate::pipeline::Stage;
 
     fn file(name: &'static str, stage: Stage) -> OutFile {

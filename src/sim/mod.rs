@@ -143,3 +143,17 @@ pub enum SimError {
         reason: String,
     },
 }
+
+impl crate::Refusal for SimError {
+    /// A parameter or a mesh that cannot be solved; the rest (no
+    /// equilibrium, a law left) are results of valid input.
+    fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            SimError::BadParameter(_)
+                | SimError::DegenerateTriangle { .. }
+                | SimError::InvertedTriangle { .. }
+                | SimError::BadMesh(_)
+        )
+    }
+}

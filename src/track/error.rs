@@ -205,10 +205,8 @@ pub enum TrackError {
     OpenCv(String),
 }
 
-impl TrackError {
-    /// True when the error is the user's input being refused (exit 2), false
-    /// when the work itself failed.
-    pub fn is_bad_input(&self) -> bool {
+impl crate::Refusal for TrackError {
+    fn is_bad_input(&self) -> bool {
         !matches!(self, TrackError::OpenCv(_) | TrackError::Write { .. })
     }
 }

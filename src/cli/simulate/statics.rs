@@ -83,14 +83,7 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
     };
     let out = simulate_scene(&scene, &mesh, &request, &mut each, &|| pb.inc(1));
     pb.finish_and_clear();
-    let out = out.map_err(|e| match e {
-        e @ (PipelineError::Input(_) | PipelineError::Axisym(_) | PipelineError::Sim(_))
-            if e.is_bad_input() =>
-        {
-            Failure::BadInput(anyhow!("{e}"))
-        }
-        e => Failure::Failed(anyhow!("{e}")),
-    })?;
+    let out = out.map_err(Failure::of::<PipelineError>)?;
     // a material whose modulus is not positive at a strain the sweep reached
     // is the user's material file, not a failure of the solver
     for r in &out.runs {

@@ -14,6 +14,7 @@ use indicatif::MultiProgress;
 
 use super::run::{RunFlags, settings};
 use super::{Failure, experiment_inputs};
+use bulge::Refusal;
 use bulge::io::OutputPlan;
 use bulge::report::out_dir::OutDir;
 use bulge::report::run_files::settings_table;

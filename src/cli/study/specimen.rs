@@ -53,8 +53,7 @@ pub(super) fn one(m: &Member, out: &Path, redo: bool, bars: &MultiProgress) -> O
     }
     let lock = match OutDir::lock(&dir) {
         Ok(d) => d,
-        Err(e) if e.is_bad_input() => return Outcome::Failed(Failure::BadInput(e.into())),
-        Err(e) => return Outcome::Failed(Failure::Failed(e.into())),
+        Err(e) => return Outcome::Failed(Failure::of(e)),
     };
     let obs = Bar {
         name: m.name.clone(),

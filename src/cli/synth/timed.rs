@@ -23,13 +23,7 @@ pub(super) fn write_timed(
     let Some(rate) = args.log_rate_hz else {
         return Ok(String::new());
     };
-    let failed = |e: bulge::track::TrackError| {
-        if e.is_bad_input() {
-            Failure::BadInput(e.into())
-        } else {
-            Failure::Failed(e.into())
-        }
-    };
+    let failed = Failure::of::<bulge::track::TrackError>;
     let write = |name: &str, bytes: &[u8]| -> Result<(), Failure> {
         let p = args.out_dir.join(name);
         bulge::io::write_atomic(&p, bytes)
