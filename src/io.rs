@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 
 mod guard;
 pub(crate) mod temp;
+mod toml_de;
 
 pub use guard::{OutputConflict, OutputPlan};
 #[cfg(feature = "cli")]
@@ -497,132 +498,56 @@ impl CsvOut {
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
     let text = fs::read_to_string(path)
         .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
-    toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))
+    parse_toml(path, &text)
 }
 
-/// An [`InputError`] from a TOML parse error of `text`, read from `path`:
-/// the line of the error and, for an unknown key or value, the nearest
-/// valid one.
-pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
-    let line = e.span().map(|s| {
-        // a span never splits a character, but a byte offset might
-        let mut end = (0..=s.start.min(text.len()))
-            .rev()
-            .find(|&i| text.is_char_boundary(i))
-            .unwrap_or(0);
-        if e.message().starts_with("missing field") {
-            // The span starts just before the table's header: name its line.
-            end += text[end..].len() - text[end..].trim_start().len();
-        }
-        text[..end].matches('\n').count() as u64 + 1
-    });
-    let at = e.span().map_or(0, |s| s.start.min(text.len()));
-    let mut message = plain_toml_message(e.message().trim_end(), text, at);
-    if let Some(hint) = did_you_mean(e.message()) {
-        message.push_str(&format!("; did you mean `{hint}`?"));
-    }
-    InputError {
-        path: path.to_path_buf(),
-        line,
-        column: None,
-        message,
-        setting: None,
-    }
-}
-
-/// serde's data errors in the words of the file: the key and its table
-/// named, Rust's type names (`usize`, `f64`) said as what the value must be.
-/// A syntax error stays "invalid TOML".
-/// `[name]` or `[[name]]` when `line` is a table header (not the continuation
-/// of a multi-line array such as `[1.0, 2.0],`).
-fn table_header(line: &str) -> Option<String> {
-    let l = line.trim();
-    let double = l.starts_with("[[");
-    let inner = l.strip_prefix(if double { "[[" } else { "[" })?;
-    let (name, _) = inner.split_once(']')?;
-    let name = name.trim();
-    let ok = name.starts_with(|c: char| c.is_alphabetic() || c == '"')
-        && name
-            .chars()
-            .all(|c| c.is_alphanumeric() || "_-.\" ".contains(c));
-    ok.then(|| {
-        if double {
-            format!("[[{name}]]")
-        } else {
-            format!("[{name}]")
+/// `text`, read from `path`, parsed into `T`; a refusal names the key, its
+/// table and its line ([`toml_de`]).
+pub(crate) fn parse_toml<T: serde::de::DeserializeOwned>(
+    path: &Path,
+    text: &str,
+) -> Result<T, InputError> {
+    toml_de::from_str(text).map_err(|e| match e {
+        toml_de::Error::Syntax(e) => toml_error(path, text, &e),
+        toml_de::Error::Refused(r) => {
+            // a missing key is refused at its table, whose span starts with
+            // the whitespace before the header: name the header's line
+            let skip = matches!(r.kind, toml_de::Kind::Missing(_));
+            InputError {
+                path: path.to_path_buf(),
+                line: r.span.as_ref().map(|s| line_at(text, s.start, skip)),
+                column: None,
+                message: r.to_string(),
+                setting: None,
+            }
         }
     })
 }
 
-fn plain_toml_message(message: &str, text: &str, at: usize) -> String {
-    let at = (0..=at)
+/// 1-based line of byte `at` of `text` (past the whitespace there when
+/// `skip_space`).
+fn line_at(text: &str, at: usize, skip_space: bool) -> u64 {
+    // a span never splits a character, but a byte offset might
+    let mut end = (0..=at.min(text.len()))
         .rev()
         .find(|&i| text.is_char_boundary(i))
         .unwrap_or(0);
-    let before = &text[..at];
-    let table = before.lines().rev().find_map(table_header);
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let line = text[line_start..].lines().next().unwrap_or("");
-    let key = line
-        .split_once('=')
-        .map(|(k, _)| k.trim().trim_matches('"'))
-        .filter(|k| !k.is_empty() && !k.starts_with('['));
-    let within = table
-        .as_deref()
-        .map_or(String::new(), |t| format!(" in {t}"));
-    if let Some(field) = message
-        .strip_prefix("missing field `")
-        .and_then(|r| r.split('`').next())
-    {
-        // The span of a missing key starts just before its table's header.
-        let header = text[at..]
-            .lines()
-            .map(str::trim)
-            .find(|l| !l.is_empty() && !l.starts_with('#'))
-            .and_then(table_header);
-        let within = header.map_or(within, |t| format!(" in {t}"));
-        return format!(
-            "missing key `{field}`{within}: add `{field} = ...` (see the file formats in docs/)"
-        );
+    if skip_space {
+        end += text[end..].len() - text[end..].trim_start().len();
     }
-    if let Some(rest) = message.strip_prefix("invalid length ") {
-        let (found, expected) = rest.rsplit_once(", expected ").unwrap_or((rest, ""));
-        let expected = expected
-            .strip_prefix("an array of length ")
-            .map_or(expected.to_string(), |n| format!("a list of {n} values"));
-        let what = key.map_or(String::from("a list"), |k| format!("`{k}`"));
-        return format!("{what}{within} must be {expected}, not {found}");
-    }
-    let data = ["invalid type: ", "invalid value: "];
-    if let Some(rest) = data.iter().find_map(|p| message.strip_prefix(p)) {
-        let (found, expected) = rest.rsplit_once(", expected ").unwrap_or((rest, ""));
-        let expected = match expected.trim() {
-            "usize" | "u64" | "u32" | "u16" | "u8" => "a whole number >= 0".to_string(),
-            "i64" | "i32" | "i16" | "i8" => "a whole number".to_string(),
-            "f64" | "f32" => "a number".to_string(),
-            other => other.to_string(),
-        };
-        let what = key.map_or(String::from("a value"), |k| format!("`{k}`"));
-        return format!("{what}{within} must be {expected}, not {found}");
-    }
-    if message.starts_with("unknown field") || message.starts_with("unknown variant") {
-        return match key {
-            Some(k) => format!("`{k}`{within}: {message}"),
-            None => format!("{message}{within}"),
-        };
-    }
-    format!("invalid TOML: {message}")
+    text[..end].matches('\n').count() as u64 + 1
 }
 
-/// The suggestion for serde's "unknown field `x`, expected one of `a`, `b`"
-/// and "unknown variant `x`, expected ..." messages.
-fn did_you_mean(message: &str) -> Option<&str> {
-    let rest = message
-        .strip_prefix("unknown field `")
-        .or_else(|| message.strip_prefix("unknown variant `"))?;
-    let (name, rest) = rest.split_once('`')?;
-    let candidates = rest.split('`').skip(1).step_by(2);
-    nearest_name(name, candidates)
+/// An [`InputError`] from a TOML syntax error of `text`, read from `path`:
+/// the line of the error and the parser's message.
+pub fn toml_error(path: &Path, text: &str, e: &toml::de::Error) -> InputError {
+    InputError {
+        path: path.to_path_buf(),
+        line: e.span().map(|s| line_at(text, s.start, false)),
+        column: None,
+        message: format!("invalid TOML: {}", e.message().trim_end()),
+        setting: None,
+    }
 }
 
 /// The candidate nearest to a misspelt `name`, if one is near enough to be

@@ -2,17 +2,41 @@
 
 use super::*;
 
-/// Table headers are told from the rows of a multi-line array.
+/// The table a refusal names is the document's own: `[photos]`, `[[load]]`
+/// for an element of an array of tables, never a row of a multi-line array;
+/// the line is the value's.
 #[test]
-fn table_headers_are_not_array_rows() {
-    assert_eq!(table_header("[photos]").as_deref(), Some("[photos]"));
+fn refusals_name_their_table_from_the_document() {
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    struct Load {
+        node: usize,
+    }
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    struct Photos {
+        roi_px: [f64; 4],
+    }
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    struct F {
+        photos: Photos,
+        load: Vec<Load>,
+    }
+    let short = "[photos]\nroi_px = [\n  1.0, 2.0,\n  3.0,\n]\n\n[[load]]\nnode = 1\n";
+    let e = parse_toml::<F>(Path::new("f.toml"), short).unwrap_err();
+    assert_eq!(e.line, Some(2), "{e}");
     assert_eq!(
-        table_header("  [[load]] # a load").as_deref(),
-        Some("[[load]]")
+        e.message, "`roi_px` in [photos] must be a list of 4 values, not 3",
+        "{e}"
     );
-    assert_eq!(table_header("[1.0, 2.0],"), None);
-    assert_eq!(table_header("[3.5]"), None);
-    assert_eq!(table_header("roi_px = [1, 2, 3, 4]"), None);
+    let negative = "[photos]\nroi_px = [1, 2, 3, 4]\n\n[[load]]\nnode = 1\n\n[[load]]\nnode = -1\n";
+    let e = parse_toml::<F>(Path::new("f.toml"), negative).unwrap_err();
+    assert_eq!(e.line, Some(8), "{e}");
+    assert_eq!(
+        e.message, "`node` in [[load]] must be a whole number >= 0, not integer `-1`",
+        "{e}"
+    );
 }
 
 /// A wrong value inside a table after a multi-line array names the
@@ -32,8 +56,7 @@ fn toml_messages_name_the_table_past_multi_line_arrays() {
     }
     let text =
         "[calibration]\npoints_px = [\n  [1.0, 2.0],\n  [3.0, 4.0],\n]\nclamp_row_px = \"low\"\n";
-    let e = toml::from_str::<File>(text).unwrap_err();
-    let m = toml_error(Path::new("e.toml"), text, &e);
+    let m = parse_toml::<File>(Path::new("e.toml"), text).unwrap_err();
     assert_eq!(m.line, Some(6), "{m}");
     assert!(
         m.message

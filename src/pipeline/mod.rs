@@ -300,9 +300,9 @@ impl RunOptions {
                         rest: toml::Table,
                     }
                     let located = std::fs::read_to_string(&exp.path).ok().and_then(|text| {
-                        toml::from_str::<Tables>(&text)
+                        crate::io::parse_toml::<Tables>(&exp.path, &text)
                             .err()
-                            .map(|e| crate::io::toml_error(&exp.path, &text, &e).to_string())
+                            .map(|e| e.to_string())
                     });
                     PipelineError::Input(located.unwrap_or_else(|| {
                         format!("{}: [{table}]: {}", exp.path.display(), e.message())
