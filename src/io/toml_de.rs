@@ -8,6 +8,10 @@
 //! the wrong type or length) are built by [`Refused`]'s own constructors,
 //! and the walk adds where they happened.
 
+// A refusal carries its key, table and span by value: it is made once per
+// file read, so its size costs nothing worth a box.
+#![allow(clippy::result_large_err)]
+
 use std::fmt;
 use std::ops::Range;
 
@@ -94,9 +98,8 @@ impl fmt::Display for Refused {
                 variant,
             } => {
                 let noun = if *variant { "variant" } else { "field" };
-                match &self.key {
-                    Some(k) => write!(f, "`{k}`{within}: ")?,
-                    None => {}
+                if let Some(k) = &self.key {
+                    write!(f, "`{k}`{within}: ")?;
                 }
                 write!(f, "unknown {noun} `{name}`, expected {}", one_of(expected))?;
                 if self.key.is_none() {
