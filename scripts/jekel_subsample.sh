@@ -2,10 +2,10 @@
 # The public real tests (data/jekel) subsampled to 7 evenly spaced stages over the whole
 # range, each run through `bulge run` with default settings; prints the chosen law and
 # the TP MSS rms height error. Usage: scripts/jekel_subsample.sh [OUT_DIR]
-# (needs `cargo build --release`).
+# (needs `cargo build --release`, or BULGE=path/to/bulge).
 set -e
 out=${1:-target/jekel_subsample}
-bin=target/release/bulge
+bin=${BULGE:-target/release/bulge}
 for t in 1 3; do
   src=data/jekel/test$t
   n=$(($(wc -l < $src/heights.csv) - 1))

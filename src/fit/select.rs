@@ -41,11 +41,14 @@ use super::{FitError, inverse, quartic};
 use crate::experiment::Specimen;
 use crate::material::{Material, Model};
 
-/// The laws compared, in order of their number of parameters: the
-/// polynomial secant modulus of `degree` (the quartic of the paper) and
-/// every hyperelastic law.
+/// The laws compared: the polynomial secant modulus of `degree` (the
+/// quartic of the paper), the same polynomial with fewer terms (down to
+/// degree 2: a short series may determine no more than three, and AICc's
+/// small-sample term `2k(k+1)/(n-k-1)` would otherwise judge the polynomial
+/// by its largest form only), and every hyperelastic law.
 pub fn candidates(degree: usize) -> Vec<FitModel> {
     let mut v = vec![FitModel::Quartic { degree }];
+    v.extend((2..degree).rev().map(|d| FitModel::Quartic { degree: d }));
     v.extend(Kind::all().into_iter().map(FitModel::Hyperelastic));
     v
 }
