@@ -9,10 +9,7 @@ const MAX_LINES: usize = 800;
 const MAX_CLI_LINES: usize = 250;
 
 /// Files allowed over [`MAX_LINES`], with why.
-const EXCEPTIONS: &[(&str, &str)] = &[(
-    "src/track/tests.rs",
-    "the tracker's tests: to be split by topic",
-)];
+const EXCEPTIONS: &[(&str, &str)] = &[];
 
 /// Command-line modules allowed over [`MAX_CLI_LINES`], with why.
 const CLI_EXCEPTIONS: &[(&str, &str)] = &[];
