@@ -16,8 +16,18 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-create_exception!(_native, BadInput, PyValueError, "The input was refused (the command line's exit status 2).");
-create_exception!(_native, Failure, PyRuntimeError, "The work failed (the command line's exit status 1).");
+create_exception!(
+    _native,
+    BadInput,
+    PyValueError,
+    "The input was refused (the command line's exit status 2)."
+);
+create_exception!(
+    _native,
+    Failure,
+    PyRuntimeError,
+    "The work failed (the command line's exit status 1)."
+);
 
 /// An error with its chain of causes, as the command line prints it
 /// (`{:#}` of its error: each cause after a colon).
@@ -60,7 +70,6 @@ fn has_opencv() -> bool {
 fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
 }
-
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
