@@ -15,7 +15,7 @@ TARGET := $(or $(CARGO_TARGET_DIR),target)
 BULGE := $(TARGET)/debug/bulge
 BULGE_RELEASE := $(TARGET)/release/bulge
 
-.PHONY: all deps build build-release demo test lint bench bench-peers clean
+.PHONY: all deps build build-release demo test lint bench bench-peers clean python python-test
 
 all: demo
 
@@ -38,6 +38,7 @@ test: deps
 	@# No code is compiled only without the features, so the tests above
 	@# already ran every line this build has; checking it keeps make test short.
 	$(CARGO) check --locked --no-default-features --all-targets
+	$(MAKE) python-test
 
 lint: deps
 	$(CARGO) fmt --all -- --check
@@ -54,6 +55,20 @@ bench-peers: build-release
 	  { echo "bench-peers: python3 -m venv failed (Debian/Ubuntu: apt-get install python3-venv)" >&2; exit 1; }
 	$(PEERS_VENV)/bin/pip install --quiet felupe==11.3.0 tensortrax==0.29.0
 	$(PEERS_VENV)/bin/python benches/peers/compare.py $(BULGE_RELEASE) benches/peers/mooney-rivlin-disc.toml
+
+# The Python package (python/, PyO3 + maturin) in a virtual environment
+# under the target folder, built into the same target folder with the dev
+# profile so that the dependencies built by cargo test are reused.
+PY_VENV := $(TARGET)/py-venv
+python: deps
+	@test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV) || \
+	  { echo "python: python3 -m venv failed (Debian/Ubuntu: apt-get install python3-venv)" >&2; exit 1; }
+	CARGO_TARGET_DIR=$(abspath $(TARGET)) $(PY_VENV)/bin/pip install --quiet ./python pytest
+
+# The bindings checked against the command line's output (needs the bulge
+# binary that cargo test builds).
+python-test: python
+	CARGO_TARGET_DIR=$(abspath $(TARGET)) BULGE_BIN=$(abspath $(BULGE)) $(PY_VENV)/bin/python -m pytest -q python/tests
 
 clean:
 	rm -rf $(OUT)

@@ -1,0 +1,101 @@
+//! `run`: the whole pipeline on an experiment file (`bulge run` without
+//! writing files): track, stress, fit, simulate and the report's files.
+
+use std::path::PathBuf;
+
+use bulge::experiment::Experiment;
+use bulge::pipeline::{self, RunOptions, Stage};
+use bulge::report::run_files::run_files;
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use super::{File, bad, chain, failed};
+
+/// The outcome of the work done without the GIL.
+enum Outcome {
+    Done {
+        files: Vec<(String, String, Vec<u8>)>,
+        notes: Vec<(String, String)>,
+        warnings: Vec<String>,
+        unsolved: Vec<f64>,
+    },
+    Bad(String),
+    Failed(String),
+}
+
+fn stage_message(stage: Stage, e: &pipeline::PipelineError) -> Outcome {
+    let verb = if e.is_bad_input() {
+        "refused its input"
+    } else {
+        "failed"
+    };
+    let msg = format!("stage `{}` {verb}: {}", stage.name(), chain(e));
+    if e.is_bad_input() {
+        Outcome::Bad(msg)
+    } else {
+        Outcome::Failed(msg)
+    }
+}
+
+fn work(experiment: PathBuf) -> Outcome {
+    let exp = match Experiment::read(&experiment) {
+        Ok(e) => e,
+        Err(e) => return Outcome::Bad(chain(&e)),
+    };
+    let opts = match RunOptions::from_experiment(&exp) {
+        Ok(o) => o,
+        Err(e) => return Outcome::Bad(chain(&e)),
+    };
+    let s = match RunOptions::default().or(opts).settings() {
+        Ok(s) => s,
+        Err(e) => return Outcome::Bad(format!("{}: {}", exp.path.display(), chain(&e))),
+    };
+    let o = match pipeline::run(&exp, &s) {
+        Ok(o) => o,
+        Err(e) => return stage_message(e.stage, &e.error),
+    };
+    let files = match run_files(&exp, &s, &o) {
+        Ok(f) => f,
+        Err(e) => return stage_message(Stage::Report, &e),
+    };
+    Outcome::Done {
+        files: files
+            .files
+            .into_iter()
+            .map(|f| (f.name.to_string(), f.stage.name().to_string(), f.bytes))
+            .collect(),
+        notes: o
+            .notes
+            .iter()
+            .map(|n| (n.stage.name().to_string(), n.text.clone()))
+            .collect(),
+        warnings: o.fit.warnings.clone(),
+        unsolved: o.unsolved(),
+    }
+}
+
+/// The run's files, its notes (stage, text), the fit's warnings and the
+/// pressures left unsolved.
+type RunResult = (Vec<File>, Vec<(String, String)>, Vec<String>, Vec<f64>);
+
+/// Runs the whole pipeline on an experiment file (as `bulge run`), the GIL
+/// released; returns the files `bulge run` writes, in memory.
+#[pyfunction]
+pub fn run(py: Python<'_>, experiment: PathBuf) -> PyResult<RunResult> {
+    match py.allow_threads(move || work(experiment)) {
+        Outcome::Done {
+            files,
+            notes,
+            warnings,
+            unsolved,
+        } => {
+            let files = files
+                .into_iter()
+                .map(|(n, s, b)| (n, s, PyBytes::new(py, &b).unbind()))
+                .collect();
+            Ok((files, notes, warnings, unsolved))
+        }
+        Outcome::Bad(m) => Err(bad(m)),
+        Outcome::Failed(m) => Err(failed(m)),
+    }
+}
