@@ -38,7 +38,6 @@ test: deps
 	@# No code is compiled only without the features, so the tests above
 	@# already ran every line this build has; checking it keeps make test short.
 	$(CARGO) check --locked --no-default-features --all-targets
-	$(MAKE) python-test
 
 lint: deps
 	$(CARGO) fmt --all -- --check

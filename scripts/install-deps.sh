@@ -2,14 +2,13 @@
 # Installs what building bulge needs when it is missing: the system OpenCV
 # (libopencv-dev: its pkg-config file is what the opencv crate probes), clang/libclang (the opencv crate generates its
 # bindings with it) and pkg-config. Debian/Ubuntu through apt-get (as root or
-# with sudo), and python3 with venv and pip (the Python package's tests), macOS through Homebrew; otherwise it names the packages.
+# with sudo), macOS through Homebrew; otherwise it names the packages.
 set -euo pipefail
 
-APT_PACKAGES=(clang libclang-dev pkg-config libopencv-dev python3-venv python3-pip)
+APT_PACKAGES=(clang libclang-dev pkg-config libopencv-dev)
 BREW_PACKAGES=(opencv llvm pkg-config)
 
 have_opencv() { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists opencv4; }
-have_python() { command -v python3 >/dev/null 2>&1 && python3 -c 'import ensurepip, venv' >/dev/null 2>&1; }
 have_libclang() {
   compgen -G '/usr/lib/llvm-*/lib/libclang*.so*' >/dev/null ||
     compgen -G '/usr/lib/x86_64-linux-gnu/libclang*.so*' >/dev/null ||
@@ -23,7 +22,7 @@ if ! command -v cargo >/dev/null 2>&1; then
   exit 1
 fi
 
-if have_opencv && have_libclang && have_python; then
+if have_opencv && have_libclang; then
   echo "install-deps: OpenCV $(pkg-config --modversion opencv4) and libclang are present."
   exit 0
 fi
@@ -48,7 +47,7 @@ else
   exit 1
 fi
 
-if ! have_opencv || ! have_libclang || ! have_python; then
+if ! have_opencv || ! have_libclang; then
   echo "install-deps: OpenCV or libclang still missing after the install; see the messages above." >&2
   exit 1
 fi
