@@ -256,6 +256,19 @@ pub fn profile_interval(
     ((lo, hi), !open)
 }
 
+/// Why the dome search found no dome height.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SearchError {
+    /// The lowest height given, m.
+    #[error("the lowest measured height is {0} m: the dome search needs positive heights")]
+    NotPositive(f64),
+    /// Every trial failed; how many there were.
+    #[error(
+        "no trial dome height gave a law with positive stiffness that reproduces the heights ({0} trials)"
+    )]
+    NoTrial(usize),
+}
+
 /// Finds the stress-free dome `h0` and, for heights measured from a
 /// reference state (`relative`), the reference's apex height `z` above the
 /// clamp plane, from the heights `points` (see the module documentation).
@@ -279,15 +292,13 @@ pub fn search<F>(
     relative: bool,
     (n, p): (usize, usize),
     misfit: F,
-) -> Result<Found, String>
+) -> Result<Found, SearchError>
 where
     F: Fn(f64, f64) -> Option<f64> + Sync,
 {
     use std::sync::atomic::{AtomicUsize, Ordering};
     if !positive(lowest_m) {
-        return Err(format!(
-            "the lowest measured height is {lowest_m} m: the dome search needs positive heights"
-        ));
+        return Err(SearchError::NotPositive(lowest_m));
     }
     let (trials, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let seen = std::sync::Mutex::new(Vec::<(f64, f64, f64)>::new());
@@ -320,12 +331,7 @@ where
     let best = (0..grid.len())
         .filter(|&i| scores[i].is_finite())
         .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
-        .ok_or_else(|| {
-            format!(
-                "no trial dome height gave a law with positive stiffness that reproduces the heights ({} trials)",
-                grid.len()
-            )
-        })?;
+        .ok_or(SearchError::NoTrial(grid.len()))?;
     let (mut z, mut f) = grid[best];
     let mut qbest = scores[best];
     // golden sections on f between the grid neighbours, then on z

@@ -32,19 +32,36 @@ fn ascii(f: &exif::Field) -> Option<&[u8]> {
     }
 }
 
+/// Why a photo has no time.
+#[derive(Debug, thiserror::Error)]
+pub enum NoTime {
+    /// The file cannot be opened.
+    #[error("cannot open it: {0}")]
+    Open(std::io::Error),
+    /// The file holds no EXIF data.
+    #[error("no EXIF data ({0})")]
+    NoExif(exif::Error),
+    /// The EXIF data have no date.
+    #[error("its EXIF data have no DateTimeOriginal")]
+    NoDate,
+    /// The date is not one.
+    #[error("its EXIF DateTimeOriginal is not a date and time")]
+    BadDate,
+}
+
 /// The time a photo was taken, s since 1970 in the camera's clock, or why
 /// it has none.
-pub fn photo_time(path: &Path) -> Result<f64, String> {
-    let file = File::open(path).map_err(|e| format!("cannot open it: {e}"))?;
+pub fn photo_time(path: &Path) -> Result<f64, NoTime> {
+    let file = File::open(path).map_err(NoTime::Open)?;
     let exif = Reader::new()
         .read_from_container(&mut BufReader::new(file))
-        .map_err(|e| format!("no EXIF data ({e})"))?;
+        .map_err(NoTime::NoExif)?;
     let field = exif
         .get_field(Tag::DateTimeOriginal, In::PRIMARY)
-        .ok_or("its EXIF data have no DateTimeOriginal")?;
+        .ok_or(NoTime::NoDate)?;
     let mut dt = ascii(field)
         .and_then(|a| exif::DateTime::from_ascii(a).ok())
-        .ok_or("its EXIF DateTimeOriginal is not a date and time")?;
+        .ok_or(NoTime::BadDate)?;
     if let Some(sub) = exif
         .get_field(Tag::SubSecTimeOriginal, In::PRIMARY)
         .and_then(ascii)
@@ -128,6 +145,6 @@ pub(crate) mod tests {
         assert!((c - b - 86_400.25).abs() < 1e-9, "{}", c - b);
         let bare = dir.path().join("bare.jpg");
         std::fs::write(&bare, jpeg).unwrap();
-        assert!(photo_time(&bare).unwrap_err().contains("no EXIF"));
+        assert!(matches!(photo_time(&bare).unwrap_err(), NoTime::NoExif(_)));
     }
 }
