@@ -88,6 +88,8 @@ pub(super) fn find_clamp(
     let d_lo = (1.04 * a0 + 3.0).ceil() as i64;
     let d_hi = (1.6 * a0).floor() as i64;
     let min_step = (8.0f64).max(6.0 * noise);
+    // Residuals below a quarter pixel are never outliers.
+    let floor = 0.25;
     // One column: the lowest strong step of the polarity `sign` (or of the
     // strongest step's, when `None`) that is a step (the far side stays
     // different beyond a thin line's height), not a shelf edge or a cable;
@@ -140,22 +142,60 @@ pub(super) fn find_clamp(
         .filter(|&(_, x)| x >= 2 && x < w - 2)
         .collect();
     let candidates = columns.len();
-    // The clamp's polarity: that of the most columns' strongest step.
-    let votes: f64 = columns
-        .iter()
-        .filter_map(|&(_, x)| column(x, None))
-        .map(|c| c.1.signum())
-        .sum();
-    let sign = if votes >= 0.0 { 1.0 } else { -1.0 };
-    let mut pts: Vec<(f64, f64, f64)> = Vec::new();
-    let mut ambiguous = 0usize;
-    for &(d, x) in &columns {
-        if let Some((e, step, two)) = column(x, Some(sign)) {
-            pts.push((d, e, step));
-            ambiguous += usize::from(two);
+    let needed = (candidates / 10).max(6);
+    // The ring's top edge, per polarity: each column's lowest strong step
+    // of that polarity. A ring seen from above shows its top face as a
+    // band between the face's far side (the ring's top edge, against the
+    // background) and its front edge (against the ring's side); the face
+    // may be lighter or darker than either, so the polarity is chosen by
+    // geometry, not by which step is the stronger: see [`top_family`].
+    let family = |sign: f64| {
+        let mut pts: Vec<(f64, f64, f64)> = Vec::new();
+        let mut ambiguous = 0usize;
+        for &(d, x) in &columns {
+            if let Some((e, step, two)) = column(x, Some(sign)) {
+                pts.push((d, e, step));
+                ambiguous += usize::from(two);
+            }
+        }
+        (pts, ambiguous)
+    };
+    let (pts, ambiguous) = top_family([family(1.0), family(-1.0)], needed, floor);
+    // A stripe lying on the edge found: a step of the other polarity within
+    // the persistence window above it (so thin that the rule above took it
+    // for a line). Across most columns that is the ring's own flange lit
+    // lighter (or darker) than both the wall and the ring's side, whose
+    // upper edge would be the ring's top: the row cannot be told from a
+    // stripe in front of the ring, so init says so rather than guess.
+    if let Some(g) = pts.first().map(|p| p.2.signum()) {
+        let stripes: Vec<f64> = pts
+            .iter()
+            .filter_map(|&(d, e, _)| {
+                let x = x0.round() as i64 + d as i64;
+                let xs = [x - 1, x, x + 1].map(|c| c.clamp(0, w - 1) as usize);
+                let p = |j: i64| {
+                    let j = j.clamp(0, h - 1) as usize;
+                    xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
+                };
+                let top = (e.round() as i64 - 2 * reach).max(1);
+                let (j, step) = strongest_step(&p, top, e.round() as i64 - 3)?;
+                (step * g < 0.0 && step.abs() >= min_step).then_some(e - j as f64 - 1.5)
+            })
+            .collect();
+        if stripes.len() * 5 >= pts.len() * 3 {
+            let mut tall = stripes;
+            return Err(TrackError::NotFound {
+                what: "the clamp plane".into(),
+                detail: format!(
+                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, or something in front of the ring): its top or its bottom may be the clamp's edge",
+                    quantile(&mut tall, 0.5),
+                    tall.len(),
+                    pts.len()
+                ),
+                keys: "clamp_row_px",
+            });
         }
     }
-    let needed = (candidates / 10).max(6);
     if pts.len() < needed {
         return Err(not_found(format!(
             "no horizontal edge beside the bubble's base (rows {lo_row}-{hi_row}, {} of {candidates} columns show one): the clamp is out of the picture or hidden",
@@ -208,7 +248,6 @@ pub(super) fn find_clamp(
         [Some(e), None] | [None, Some(e)] => Some((e - x0).abs()),
         [None, None] => None,
     };
-    let floor = 0.25;
     // Each fit has a slope across the photo: a camera rolled about its
     // view axis sees the clamp's edge tilted (the row at the axis stays
     // the clamp ring's centre's).
@@ -330,4 +369,67 @@ fn check_inliers(keep: &[bool], ambiguous: usize) -> Result<(), TrackError> {
         });
     }
     Ok(())
+}
+
+/// One polarity's edge points `(d, row, step)` and how many of its columns
+/// show two strong steps of that polarity.
+type Family = (Vec<(f64, f64, f64)>, usize);
+
+/// The ring's top edge among the two polarities' edges (`[rising,
+/// falling]`, each column's lowest strong step of that sign).
+///
+/// When only one polarity has an edge across enough columns, it is the
+/// ring's. When both do, the two are the edges of one band across the
+/// ring's top, and the ring's top edge is the upper one: the ring's outline
+/// against the background is the topmost edge of the ring, whatever the
+/// face's shade. Its far side and its front are the two halves of one
+/// ellipse (`row -+ sin(e) sqrt(a_f^2 - d^2)`), so the band is thickest at
+/// the axis and thins towards the ring's ends; a level camera sees a band
+/// of constant thickness (the flange's front). A band that instead
+/// thickens away from the axis (beyond four standard deviations of its
+/// fitted curvature) is not the ring's: the upper edge is then something
+/// behind the ring (a shelf's edge, straight, above a raised ring's curved
+/// far side), and the lower edge is taken.
+fn top_family([rising, falling]: [Family; 2], needed: usize, floor: f64) -> Family {
+    let enough = |f: &Family| f.0.len() >= needed;
+    match (enough(&rising), enough(&falling)) {
+        (true, false) => return rising,
+        (false, true) => return falling,
+        (false, false) => {
+            return if rising.0.len() >= falling.0.len() {
+                rising
+            } else {
+                falling
+            };
+        }
+        (true, true) => {}
+    }
+    // The band's thickness in the columns where both polarities have an
+    // edge: `lower - upper`, as a function of d^2.
+    let pairs: Vec<(f64, f64)> = rising
+        .0
+        .iter()
+        .filter_map(|r| {
+            let f = falling.0.iter().find(|f| f.0 == r.0)?;
+            Some((r.0, f.1 - r.1))
+        })
+        .collect();
+    if pairs.len() < needed {
+        return if rising.0.len() >= falling.0.len() {
+            rising
+        } else {
+            falling
+        };
+    }
+    let mut gaps: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+    let rising_upper = quantile(&mut gaps, 0.5) > 0.0;
+    let sign = if rising_upper { 1.0 } else { -1.0 };
+    let rows: Vec<Vec<f64>> = pairs.iter().map(|p| vec![1.0, p.0 * p.0]).collect();
+    let t: Vec<f64> = pairs.iter().map(|p| sign * p.1).collect();
+    let thickens_outwards = robust_lstsq(&rows, &t, floor)
+        .is_some_and(|((c, cov, _), _)| c[1] > 0.0 && c[1] > 4.0 * cov[1][1].sqrt());
+    match (rising_upper, thickens_outwards) {
+        (true, false) | (false, true) => rising,
+        (false, false) | (true, true) => falling,
+    }
 }
