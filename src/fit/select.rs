@@ -26,7 +26,11 @@
 //!
 //! The rule: among the laws with positive stiffness, the consistent law
 //! with the fewest parameters (ties: the lower chi-square); when none is
-//! consistent, the lowest AICc, its misfit said. Without a stated standard
+//! consistent, the lowest AICc, its misfit said, among the laws the spring
+//! models can follow when there are any ([`LawRow::springs_follow`]: the
+//! spring models take a hyperelastic law's equibiaxial secant modulus,
+//! whose heights can differ from the law's own by more than the law's own
+//! misfit, as for a Mooney-Rivlin law with `C1 < 0`). Without a stated standard
 //! deviation for every height there is no chi-square: the laws are then
 //! ranked by the AICc of the relative height errors,
 //! `n ln(RSS / n) + 2k + 2k(k+1)/(n-k-1)`, and none is called consistent.
@@ -94,6 +98,12 @@ pub struct LawRow {
     pub max_z: Option<f64>,
     /// Where the law's stiffness is not positive over the measured range.
     pub negative_stiffness: Vec<String>,
+    /// For a hyperelastic law: the root-mean-square of `h_springs / h_law -
+    /// 1` over the measured pressures, where `h_law` are the law's exact
+    /// heights and `h_springs` those of the law the spring models take from
+    /// it, its equibiaxial secant modulus (see [`springs_equivalent`]);
+    /// `None` for the polynomial laws, which the springs take as they are.
+    pub springs_rms_rel: Option<f64>,
 }
 
 impl LawRow {
@@ -106,6 +116,17 @@ impl LawRow {
     /// stiffness.
     pub fn eligible(&self) -> bool {
         self.error.is_none() && self.negative_stiffness.is_empty() && self.aicc.is_some()
+    }
+
+    /// Whether the spring models can follow the law: a polynomial law they
+    /// take as it is; a hyperelastic law when its springs' heights differ
+    /// from its own by no more than its own misfit to the measured ones
+    /// ([`LawRow::springs_rms_rel`] at most [`LawRow::rms_rel`]).
+    pub fn springs_follow(&self) -> bool {
+        match self.model {
+            FitModel::Quartic { .. } => true,
+            _ => matches!((self.springs_rms_rel, self.rms_rel), (Some(d), Some(r)) if d <= r),
+        }
     }
 
     /// "consistent", "misses (chi2/dof 41.2, p < 1e-6)", "negative
@@ -132,6 +153,16 @@ impl LawRow {
             }
             (Some(_), _) => "no degrees of freedom left to test it".into(),
             _ => "no stated uncertainty of the heights: ranked by AICc only".into(),
+        };
+        let fit = match (self.springs_follow(), self.springs_rms_rel) {
+            (false, Some(d)) if d.is_finite() => format!(
+                "{fit}; the spring models' version of it (its equibiaxial secant modulus) gives heights {:.2} % rms from its own",
+                100.0 * d
+            ),
+            (false, _) if self.rms_rel.is_some() => format!(
+                "{fit}; the spring models' version of it (its equibiaxial secant modulus) has no equilibrium at some measured pressure"
+            ),
+            _ => fit,
         };
         if self.negative_stiffness.is_empty() {
             fit
@@ -248,6 +279,74 @@ pub fn stiffness_warnings(model: &Model, max_stretch: f64) -> Vec<String> {
     .unwrap_or_default()
 }
 
+/// The law the spring models take from a hyperelastic `material`: its
+/// equibiaxial secant modulus `E(eps) = (1 - nu) P(1 + eps) / eps` (`P` the
+/// equibiaxial nominal stress), as a polynomial of degree 6 in the
+/// engineering strain fitted on `[0, max_stretch - 1]`. Its exact
+/// axisymmetric heights are what TP MSS converges to; they equal the law's
+/// own only where the membrane is stretched equally in both directions
+/// (the pole), so a law whose response off the equibiaxial line is unlike
+/// its response on it (a Mooney-Rivlin law with `C1 < 0`, say) gives the
+/// spring models other heights. `None` for a law that is not hyperelastic.
+pub fn springs_equivalent(material: &Material, max_stretch: f64) -> Option<Material> {
+    let h = material.model.hyperelastic()?;
+    let top = (max_stretch - 1.0).max(1e-3);
+    let nu = material.poisson;
+    let n = 60;
+    let (strain, modulus): (Vec<f64>, Vec<f64>) = (1..=n)
+        .map(|i| {
+            let e = top * i as f64 / n as f64;
+            (e, (1.0 - nu) * h.equibiaxial_nominal(1.0 + e) / e)
+        })
+        .unzip();
+    // Least squares in the scaled strain eps / top (well conditioned over
+    // any range), then back to powers of eps.
+    let p = 7;
+    let a = nalgebra::DMatrix::from_fn(n, p, |i, j| (strain[i] / top).powi(j as i32));
+    let y = nalgebra::DVector::from_column_slice(&modulus);
+    let b = a.svd(true, true).solve(&y, 1e-13).ok()?;
+    let coefficients_pa: Vec<f64> = (0..p).map(|j| b[j] / top.powi(j as i32)).collect();
+    if coefficients_pa.iter().any(|c| !c.is_finite()) {
+        return None;
+    }
+    Some(Material {
+        model: Model::Quartic {
+            coefficients_pa,
+            strain_range: [0.0, top],
+            strain_measure: crate::material::StrainMeasure::Engineering,
+        },
+        poisson: nu,
+        fit: None,
+    })
+}
+
+/// [`LawRow::springs_rms_rel`] of a fitted law.
+fn springs_deviation(
+    material: &Material,
+    specimen: &Specimen,
+    measured: &[inverse::Measured],
+    opts: &inverse::Options,
+    max_stretch: f64,
+) -> Option<f64> {
+    let eq = springs_equivalent(material, max_stretch)?;
+    let own = inverse::height_errors(material, specimen, measured, opts).ok()?;
+    let springs = inverse::height_errors(&eq, specimen, measured, opts).ok()?;
+    // A point where the law has an equilibrium and its springs' law has
+    // none (past its limit point): the springs cannot follow it at all.
+    let mut d = Vec::new();
+    for (a, b) in own.iter().zip(&springs) {
+        match (a, b) {
+            (Some(a), Some(b)) => d.push((1.0 + b) / (1.0 + a) - 1.0),
+            (Some(_), None) => return Some(f64::INFINITY),
+            (None, _) => {}
+        }
+    }
+    if d.is_empty() {
+        return None;
+    }
+    Some((d.iter().map(|v| v * v).sum::<f64>() / d.len() as f64).sqrt())
+}
+
 /// Scores a corrected law on the measured heights (see the module docs).
 fn score(row: &mut LawRow, r: &inverse::Refined, measured: &[inverse::Measured]) {
     let n = measured.len();
@@ -345,6 +444,7 @@ pub fn select(
                 rms_rel: None,
                 max_z: None,
                 negative_stiffness: vec![],
+                springs_rms_rel: None,
             };
             let s = FitSettings { model, ..*settings };
             let fitted = fit_material(data, &s, source).and_then(|mut f| {
@@ -359,6 +459,8 @@ pub fn select(
                         score(&mut row, &r, measured);
                     }
                     row.negative_stiffness = stiffness_warnings(&f.material.model, max_stretch);
+                    row.springs_rms_rel =
+                        springs_deviation(&f.material, specimen, measured, opts, max_stretch);
                     for w in &row.negative_stiffness {
                         let w = format!("negative stiffness: {w}");
                         if !f.warnings.contains(&w) {
@@ -390,12 +492,23 @@ pub fn choose(rows: Vec<LawRow>, sigma_known: bool) -> Result<Selection, FitErro
                     .total_cmp(&rows[b].chi2.unwrap_or(f64::INFINITY)),
             )
         });
-    let best_ic = eligible.iter().copied().min_by(|&a, &b| {
-        rows[a]
-            .aicc
-            .unwrap_or(f64::INFINITY)
-            .total_cmp(&rows[b].aicc.unwrap_or(f64::INFINITY))
-    });
+    // Without a consistent law, the lowest AICc among the laws the spring
+    // models can follow, else among all.
+    let lowest_ic = |among: &mut dyn Iterator<Item = usize>| {
+        among.min_by(|&a, &b| {
+            rows[a]
+                .aicc
+                .unwrap_or(f64::INFINITY)
+                .total_cmp(&rows[b].aicc.unwrap_or(f64::INFINITY))
+        })
+    };
+    let followed = lowest_ic(
+        &mut eligible
+            .iter()
+            .copied()
+            .filter(|&i| rows[i].springs_follow()),
+    );
+    let best_ic = followed.or_else(|| lowest_ic(&mut eligible.iter().copied()));
     let (chosen, reason) = match (consistent, best_ic) {
         (Some(i), _) => {
             let r = &rows[i];
@@ -428,9 +541,14 @@ pub fn choose(rows: Vec<LawRow>, sigma_known: bool) -> Result<Selection, FitErro
             (
                 i,
                 format!(
-                    "{}: no law is consistent with the heights; the lowest AICc ({:.1}) among the laws with positive stiffness, and {misfit}",
+                    "{}: no law is consistent with the heights; the lowest AICc ({:.1}) among the laws with positive stiffness{}, and {misfit}",
                     r.model.label(),
-                    r.aicc.unwrap_or(f64::NAN)
+                    r.aicc.unwrap_or(f64::NAN),
+                    if followed.is_some() {
+                        " that the spring models can follow"
+                    } else {
+                        " (the spring models follow none of them within its misfit)"
+                    }
                 ),
             )
         }

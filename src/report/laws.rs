@@ -19,6 +19,7 @@ pub fn laws_csv(sel: &Selection) -> CsvOut {
         "height_rms_relative_error",
         "max_abs_z",
         "negative_stiffness",
+        "springs_rms_relative_deviation",
         "chosen",
         "verdict",
     ]);
@@ -36,6 +37,7 @@ pub fn laws_csv(sel: &Selection) -> CsvOut {
             fmt_num(r.rms_rel),
             fmt_num(r.max_z),
             (!r.negative_stiffness.is_empty()).to_string(),
+            fmt_num(r.springs_rms_rel),
             (i == sel.chosen).to_string(),
             r.verdict().replace(',', ";"),
         ]);

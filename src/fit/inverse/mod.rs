@@ -404,6 +404,35 @@ fn parameters_for(
     Ok((params, x0))
 }
 
+/// `h(p_i) / h_i - 1` of `material` as it is, per measured point (`None`
+/// where it has no equilibrium): the exact axisymmetric heights of
+/// `specimen` against `measured`, without correcting anything.
+pub fn height_errors(
+    material: &Material,
+    specimen: &Specimen,
+    measured: &[Measured],
+    opts: &Options,
+) -> Result<Vec<Option<f64>>, FitError> {
+    // Nothing is fitted: any number of points will do.
+    let (params, x0) = Params::of(&material.model)?;
+    let solves = AtomicUsize::new(0);
+    let warm: Vec<Mutex<Option<(f64, f64)>>> = measured.iter().map(|_| Mutex::new(None)).collect();
+    let problem = Problem {
+        derivatives: opts.derivatives,
+        warm: &warm,
+        params,
+        base: material,
+        specimen,
+        points: measured,
+        opts: &opts.axisym,
+        solves: &solves,
+        scale_of: None,
+        weights: None,
+        monotone: None,
+    };
+    Ok(problem.errors(&x0))
+}
+
 /// Corrects `material`'s parameters so that the axisymmetric inflation of
 /// `specimen` reproduces `measured` (see the module documentation).
 ///

@@ -194,6 +194,7 @@ fn a_negative_stiffness_quartic_is_warned_and_never_chosen() {
         rms_rel: Some(0.001),
         max_z: None,
         negative_stiffness: negative,
+        springs_rms_rel: None,
     };
     let rows = vec![
         row(FitModel::Quartic { degree: 4 }, 5, 8.0, w),
@@ -207,4 +208,98 @@ fn a_negative_stiffness_quartic_is_warned_and_never_chosen() {
     );
     assert!(s.reason.contains("no law is consistent"), "{}", s.reason);
     assert!(s.rows[0].verdict().contains("negative stiffness"));
+}
+
+/// The springs' law of a neo-Hookean material is its equibiaxial secant
+/// modulus: `(1 - nu) 2 C1 (l - l^-5) / (l - 1)` in closed form (the
+/// equibiaxial nominal stress of `W = C1 (I1 - 3)`), within 0.1 % over the
+/// range, and the law keeps the Poisson ratio.
+#[test]
+fn the_springs_take_a_laws_equibiaxial_secant_modulus() {
+    let m = material(Model::NeoHookean { c1_pa: 0.2e6 });
+    let eq = springs_equivalent(&m, 1.8).unwrap();
+    assert_eq!(eq.poisson, 0.45);
+    let Model::Quartic {
+        coefficients_pa,
+        strain_range,
+        ..
+    } = &eq.model
+    else {
+        panic!("{eq:?}");
+    };
+    assert_eq!(strain_range[0], 0.0);
+    assert!((strain_range[1] - 0.8).abs() < 1e-12);
+    for i in 1..=40 {
+        let e = 0.8 * i as f64 / 40.0;
+        let l = 1.0 + e;
+        let exact = 0.55 * 2.0 * 0.2e6 * (l - l.powi(-5)) / e;
+        let got = quartic::eval(coefficients_pa, e);
+        assert!(
+            (got / exact - 1.0).abs() < 1e-3,
+            "eps {e}: {got} against {exact}"
+        );
+    }
+    assert!(springs_equivalent(&material(Model::Linear { young_pa: 1e6 }), 1.8).is_none());
+}
+
+/// Without a stated uncertainty no law is consistent, and the lowest AICc
+/// is taken among the laws whose springs' heights stay within the law's
+/// own misfit: a Mooney-Rivlin law whose springs stray by 5 % (its misfit
+/// 0.4 %) gives way to a polynomial law; the same law with springs that
+/// follow it is chosen.
+#[test]
+fn without_a_consistent_law_the_lowest_aicc_the_springs_can_follow_is_chosen() {
+    let row = |model, params, aicc: f64, rms: f64, springs: Option<f64>| LawRow {
+        model,
+        params,
+        fitted: None,
+        error: None,
+        n: 7,
+        chi2: None,
+        dof: 7 - params,
+        p_value: None,
+        chi2_95: None,
+        aicc: Some(aicc),
+        bic: Some(aicc),
+        rms_rel: Some(rms),
+        max_z: None,
+        negative_stiffness: vec![],
+        springs_rms_rel: springs,
+    };
+    let rows = |mr_springs| {
+        vec![
+            row(FitModel::Quartic { degree: 2 }, 3, -66.5, 0.0032, None),
+            row(
+                FitModel::Hyperelastic(Kind::MooneyRivlin),
+                2,
+                -70.6,
+                0.0039,
+                Some(mr_springs),
+            ),
+            row(
+                FitModel::Hyperelastic(Kind::NeoHookean),
+                1,
+                -50.4,
+                0.0224,
+                Some(0.0055),
+            ),
+        ]
+    };
+    let s = choose(rows(0.054), false).unwrap();
+    assert_eq!(s.chosen_row().model, FitModel::Quartic { degree: 2 });
+    assert!(
+        s.reason.contains("spring models can follow"),
+        "{}",
+        s.reason
+    );
+    assert!(
+        s.rows[1].verdict().contains("5.40 % rms"),
+        "{}",
+        s.rows[1].verdict()
+    );
+    let s = choose(rows(0.003), false).unwrap();
+    assert_eq!(
+        s.chosen_row().model,
+        FitModel::Hyperelastic(Kind::MooneyRivlin)
+    );
 }
