@@ -206,9 +206,7 @@ pub(super) fn match_frames(
                 Err(why) => {
                     // Only the trend rule broken: kept with a warning when
                     // the search near the prediction finds nothing better.
-                    let physical = guard
-                        .check_physical(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref())
-                        .is_ok();
+                    let only_trend = why.is_trend();
                     let again = guard
                         .predict(f.pressure_pa)
                         .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
@@ -225,14 +223,14 @@ pub(super) fn match_frames(
                         });
                     match again {
                         Some(l) => Ok(l),
-                        None if physical => {
+                        None if only_trend => {
                             warnings.push(format!(
                                 "frame {i} ({}): {why}; kept, since no membrane law bounds the height's step between two photos (near the limit pressure the height grows without bound): check this photo's height, or add photos between it and the one before",
                                 f.file
                             ));
                             Ok(loc)
                         }
-                        None => Err(why),
+                        None => Err(why.to_string()),
                     }
                 }
             }

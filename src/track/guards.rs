@@ -42,6 +42,120 @@
 use super::matcher::EdgeFit;
 use super::types::Elevation;
 
+/// The property of an inflating membrane, or of the measurement of its
+/// edge, that a frame's apex breaks (see the module doc); each message says
+/// what to do.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(crate) enum Implausible {
+    /// No edge at the template's match.
+    #[error(
+        "no edge of the bubble's top was found at the template's match (the top is hidden, outside the region, too faint, or level with something behind it): check the region and the template on this photo, or track with --refine quadratic"
+    )]
+    NoEdge,
+    /// A line just above the top on the emptiest photo.
+    #[error(
+        "a line behind the bubble (clutter) lies a few rows above the top in this photo at the lowest pressure, and no emptier photo shows the background there to tell the two apart: clear the background or add a photo at a lower pressure"
+    )]
+    ClutterOnTop,
+    /// The apex column moved off the axis.
+    #[error(
+        "the apex column moved from {from:.1} to {to:.1} px (tolerance {tol:.1} px), while the bubble's axis stays put: the edge found is off the axis (something beside the top, or the camera moved: then track the photos after the move separately)"
+    )]
+    AxisMoved { from: f64, to: f64, tol: f64 },
+    /// The apex at or below the clamp plane.
+    #[error(
+        "the apex found at row {row:.1} is at or below the clamp plane ({clamp:.1} in the region), while the frames before were above it: the edge found is not the bubble's top; check the region on this photo"
+    )]
+    BelowClamp { row: f64, clamp: f64 },
+    /// A straight edge: no vertex within the span.
+    #[error(
+        "the edge found has no apex (its vertex column is uncertain by {x_std:.0} px, half the {span:.0} px span or more), while the frames before had one: the edge fitted is straight, not the bubble's top"
+    )]
+    NoApex { x_std: f64, span: f64 },
+    /// An edge bent the wrong way.
+    #[error(
+        "the edge found curves downward ({k:.2e} +- {ks:.2e} 1/px), which the top of a bubble does not: it is not the bubble's top; check the region and the template on this photo"
+    )]
+    CurvesDown { k: f64, ks: f64 },
+    /// An edge whose curvature cannot be told from a straight one's.
+    #[error(
+        "the edge found does not show a dome's curvature ({k:.2e} +- {ks:.2e} 1/px, against {cap:.2e} for a spherical cap {h:.1} px high on an opening of radius {a:.1} px): it cannot be told from a straight edge, so the edge fitted may not be the bubble's top; open the photo to check"
+    )]
+    NotDomed {
+        k: f64,
+        ks: f64,
+        cap: f64,
+        h: f64,
+        a: f64,
+    },
+    /// The pole's curvature outside the range of every membrane law.
+    #[error(
+        "the edge's curvature {k:.2e} +- {ks:.2e} 1/px is {r:.2} times that of the spherical cap through the rim {h:.1} px high on an opening of radius {a:.1} px ({cap:.2e} 1/px), while an inflated membrane's pole is {lo}-{hi} times it: the edge found is not the bubble's top, or clamp_row_px or radius_m is wrong"
+    )]
+    PoleRatio {
+        k: f64,
+        ks: f64,
+        r: f64,
+        h: f64,
+        a: f64,
+        cap: f64,
+        lo: f64,
+        hi: f64,
+    },
+    /// The pole's ratio changed faster than any membrane's.
+    #[error(
+        "the edge's curvature against the spherical cap through the rim changed from {r1:.3} to {r:.3} between heights {h1:.1} and {h:.1} px (at most {tol:.3} for a membrane whose height changed so): the edge found is not the bubble's top"
+    )]
+    PoleRatioChanged {
+        r1: f64,
+        r: f64,
+        h1: f64,
+        h: f64,
+        tol: f64,
+    },
+    /// Without the opening: the curvature changed beyond the bounds.
+    #[error(
+        "the edge's curvature changed from {k1:.2e} to {k:.2e} 1/px between heights {h1:.1} and {h:.1} px, beyond what a membrane's pole does ({min:.2e} to {max:.2e}): the edge found is not the bubble's top"
+    )]
+    CurvatureChanged {
+        k1: f64,
+        k: f64,
+        h1: f64,
+        h: f64,
+        min: f64,
+        max: f64,
+    },
+    /// The apex moved against the pressure.
+    #[error(
+        "the apex moved {dy:+.2} px against the pressure ({p1} -> {p} Pa; rows grow downward), which a membrane does not do: the edge found is not the bubble's, or the pressures are not the photos' (check pressure.csv)"
+    )]
+    AgainstPressure { dy: f64, p1: f64, p: f64 },
+    /// Fewer than half the columns of the frames before.
+    #[error(
+        "the edge is seen in {columns} columns against {typical} in the frames before: fewer than half, so the columns kept may be something else's (something hides the bubble's top, or the light changed); open the photo to check"
+    )]
+    FewColumns { columns: usize, typical: usize },
+    /// A residual beyond the image noise's bound.
+    #[error(
+        "the edge's columns disagree (residual RMS {rms:.2} px against {typical:.2} px in the frames before, at most {bound:.2} px from the image's noise): something crosses the bubble's top edge, or the photo is blurred; open the photo to check"
+    )]
+    ColumnsDisagree { rms: f64, typical: f64, bound: f64 },
+    /// The trend rule ([`Guard::check_trend`]): not a physical bound.
+    #[error(
+        "the apex jumped to row {y:.1}, {:.1} px from where the frames before predict it ({pred:.1}; tolerance {tol:.1} px): the edge found is not the bubble's, or the pressures are not the photos'",
+        y - pred
+    )]
+    Jumped { y: f64, pred: f64, tol: f64 },
+}
+
+impl Implausible {
+    /// Whether only the trend rule is broken (no physical property): such
+    /// a frame may be kept with a warning.
+    pub(crate) fn is_trend(&self) -> bool {
+        matches!(self, Implausible::Jumped { .. })
+    }
+}
+
 /// The range of `R = kappa_pole / (2 h / (a^2 + h^2))`, the pole's curvature
 /// against the spherical cap through the rim with the same height, that the
 /// tracker's edge fit can measure on an inflated clamped disc: the exact
@@ -187,7 +301,7 @@ impl Guard {
         apex: [f64; 2],
         stds: [f64; 2],
         edge: Option<&EdgeFit>,
-    ) -> Result<(), String> {
+    ) -> Result<(), Implausible> {
         self.check_physical(p, apex, stds, edge)?;
         self.check_trend(p, apex[1], stds[1])
     }
@@ -201,13 +315,13 @@ impl Guard {
         apex: [f64; 2],
         stds: [f64; 2],
         edge: Option<&EdgeFit>,
-    ) -> Result<(), String> {
+    ) -> Result<(), Implausible> {
         // The template's match alone is no measurement of the top.
         if self.edge_required && edge.is_none() {
-            return Err("no edge of the bubble's top was found at the template's match (the top is hidden, outside the region, too faint, or level with something behind it): check the region and the template on this photo, or track with --refine quadratic".to_string());
+            return Err(Implausible::NoEdge);
         }
         if edge.is_some_and(|e| e.clutter_on_top) {
-            return Err("a line behind the bubble (clutter) lies a few rows above the top in this photo at the lowest pressure, and no emptier photo shows the background there to tell the two apart: clear the background or add a photo at a lower pressure".to_string());
+            return Err(Implausible::ClutterOnTop);
         }
         let [x_std, std] = stds;
         let y = apex[1];
@@ -223,10 +337,11 @@ impl Guard {
         {
             let tol = 3.0 + SIGMAS * x_std.hypot(xs1);
             if (apex[0] - a1[0]).abs() > tol {
-                return Err(format!(
-                    "the apex column moved from {:.1} to {:.1} px (tolerance {:.1} px), while the bubble's axis stays put: the edge found is off the axis (something beside the top, or the camera moved: then track the photos after the move separately)",
-                    a1[0], apex[0], tol
-                ));
+                return Err(Implausible::AxisMoved {
+                    from: a1[0],
+                    to: apex[0],
+                    tol,
+                });
             }
         }
         // (When the first frame's apex is below it too, the clamp row is
@@ -235,10 +350,7 @@ impl Guard {
             && y >= c
             && self.history.first().is_some_and(|h| h.apex[1] < c)
         {
-            return Err(format!(
-                "the apex found at row {:.1} is at or below the clamp plane ({:.1} in the region), while the frames before were above it: the edge found is not the bubble's top; check the region on this photo",
-                y, c
-            ));
+            return Err(Implausible::BelowClamp { row: y, clamp: c });
         }
         // A curved top places its vertex: an edge fit whose vertex column is
         // uncertain by half the span has no apex in the span, while the
@@ -250,11 +362,10 @@ impl Guard {
                 .all(|&s| s < 0.25 * self.span)
             && (x_std >= 0.5 * self.span || x_std.is_nan())
         {
-            return Err(format!(
-                "the edge found has no apex (its vertex column is uncertain by {:.0} px, half the {:.0} px span or more), while the frames before had one: the edge fitted is straight, not the bubble's top",
+            return Err(Implausible::NoApex {
                 x_std,
-                2.0 * self.span
-            ));
+                span: 2.0 * self.span,
+            });
         }
         if let Some(e) = edge {
             self.check_curvature(y, e)?;
@@ -266,10 +377,7 @@ impl Guard {
         {
             let dy = y - a1[1];
             if (p > p1 && dy > noise) || (p < p1 && dy < -noise) {
-                return Err(format!(
-                    "the apex moved {:+.2} px against the pressure ({} -> {} Pa; rows grow downward), which a membrane does not do: the edge found is not the bubble's, or the pressures are not the photos' (check pressure.csv)",
-                    dy, p1, p
-                ));
+                return Err(Implausible::AgainstPressure { dy, p1, p });
             }
         }
         if let Some(e) = edge {
@@ -287,20 +395,18 @@ impl Guard {
     /// the predicted apex; a frame that breaks only this rule, and whose
     /// search finds nothing better, is kept with a warning (see
     /// `decode.rs`).
-    pub(super) fn check_trend(&self, p: f64, y: f64, std: f64) -> Result<(), String> {
+    pub(super) fn check_trend(&self, p: f64, y: f64, std: f64) -> Result<(), Implausible> {
         if self.history.len() >= 2
             && let Some(pred) = self.predict(p)
         {
             let last = self.history[self.history.len() - 1].apex[1];
             let tol = 2.0 + (pred[1] - last).abs() + SIGMAS * std;
             if (y - pred[1]).abs() > tol {
-                return Err(format!(
-                    "the apex jumped to row {:.1}, {:.1} px from where the frames before predict it ({:.1}; tolerance {:.1} px): the edge found is not the bubble's, or the pressures are not the photos'",
+                return Err(Implausible::Jumped {
                     y,
-                    y - pred[1],
-                    pred[1],
-                    tol
-                ));
+                    pred: pred[1],
+                    tol,
+                });
             }
         }
         Ok(())
@@ -308,16 +414,14 @@ impl Guard {
 
     /// The pole's curvature against the spherical cap through the rim
     /// ([`POLE_RATIO`], [`POLE_RATIO_SLOPE`]); see the module doc.
-    fn check_curvature(&self, y: f64, e: &EdgeFit) -> Result<(), String> {
+    fn check_curvature(&self, y: f64, e: &EdgeFit) -> Result<(), Implausible> {
         let k = pole_curvature(e.curvature, self.span);
         let ks = e.curvature_std;
         let Some(h) = self.height(y).filter(|h| *h > 2.0) else {
             // No height: a dome is convex upward (positive curvature); a
             // curvature below zero by 4 standard errors is no dome.
             if k < -SIGMAS * ks {
-                return Err(format!(
-                    "the edge found curves downward ({k:.2e} +- {ks:.2e} 1/px), which the top of a bubble does not: it is not the bubble's top; check the region and the template on this photo"
-                ));
+                return Err(Implausible::CurvesDown { k, ks });
             }
             return Ok(());
         };
@@ -332,9 +436,7 @@ impl Guard {
             // (a shelf edge along a flat top, the lower edge of a highlight
             // inside the dome) by 2 standard errors: `rs <= lo / 2`.
             if visible && rs > 0.5 * lo {
-                return Err(format!(
-                    "the edge found does not show a dome's curvature ({k:.2e} +- {ks:.2e} 1/px, against {cap:.2e} for a spherical cap {h:.1} px high on an opening of radius {a:.1} px): it cannot be told from a straight edge, so the edge fitted may not be the bubble's top; open the photo to check"
-                ));
+                return Err(Implausible::NotDomed { k, ks, cap, h, a });
             }
             // With no frame before (the reference frame), nothing else tests
             // the edge: the dome must be shown, 2 standard errors inside.
@@ -344,18 +446,23 @@ impl Guard {
             // photos show: radius_m wrong) is tested too.
             let curves = 0.5 * k * self.span * self.span >= 1.0;
             if (visible && r < lo - low * rs) || ((visible || curves) && r > hi + SIGMAS * rs) {
-                return Err(format!(
-                    "the edge's curvature {k:.2e} +- {ks:.2e} 1/px is {r:.2} times that of the spherical cap through the rim {h:.1} px high on an opening of radius {a:.1} px ({cap:.2e} 1/px), while an inflated membrane's pole is {lo}-{hi} times it: the edge found is not the bubble's top, or clamp_row_px or radius_m is wrong"
-                ));
+                return Err(Implausible::PoleRatio {
+                    k,
+                    ks,
+                    r,
+                    h,
+                    a,
+                    cap,
+                    lo,
+                    hi,
+                });
             }
             if let Some((k1, ks1, h1)) = self.recent_curvature() {
                 let cap1 = 2.0 * h1 / (a * a + h1 * h1);
                 let (r1, rs1) = (k1 / cap1, ks1 / cap1);
                 let tol = POLE_RATIO_SLOPE * (h - h1).abs() / a + SIGMAS * rs.hypot(rs1);
                 if visible && (r - r1).abs() > tol {
-                    return Err(format!(
-                        "the edge's curvature against the spherical cap through the rim changed from {r1:.3} to {r:.3} between heights {h1:.1} and {h:.1} px (at most {tol:.3} for a membrane whose height changed so): the edge found is not the bubble's top"
-                    ));
+                    return Err(Implausible::PoleRatioChanged { r1, r, h1, h, tol });
                 }
             }
         } else if let Some((k1, ks1, h1)) = self.recent_curvature() {
@@ -365,9 +472,14 @@ impl Guard {
             let noise = SIGMAS * ks.hypot(ks1 * k / k1.max(f64::MIN_POSITIVE));
             let (min, max) = (k1 * lo / hi / q, k1 * hi / lo * q);
             if k < min - noise || k > max + noise {
-                return Err(format!(
-                    "the edge's curvature changed from {k1:.2e} to {k:.2e} 1/px between heights {h1:.1} and {h:.1} px, beyond what a membrane's pole does ({min:.2e} to {max:.2e}): the edge found is not the bubble's top"
-                ));
+                return Err(Implausible::CurvatureChanged {
+                    k1,
+                    k,
+                    h1,
+                    h,
+                    min,
+                    max,
+                });
             }
         }
         Ok(())
@@ -377,7 +489,7 @@ impl Guard {
     /// columns kept (the robust fit's breakdown point), and a residual RMS
     /// within the chi-square bound of the image noise the frames before
     /// show.
-    fn check_columns(&self, e: &EdgeFit) -> Result<(), String> {
+    fn check_columns(&self, e: &EdgeFit) -> Result<(), Implausible> {
         let mut cols: Vec<usize> = self
             .history
             .iter()
@@ -387,10 +499,10 @@ impl Guard {
             cols.sort_unstable();
             let typical = cols[cols.len() / 2];
             if 2 * e.columns < typical {
-                return Err(format!(
-                    "the edge is seen in {} columns against {} in the frames before: fewer than half, so the columns kept may be something else's (something hides the bubble's top, or the light changed); open the photo to check",
-                    e.columns, typical
-                ));
+                return Err(Implausible::FewColumns {
+                    columns: e.columns,
+                    typical,
+                });
             }
         }
         // (The last three: the residual of a parabola grows with the dome's
@@ -410,10 +522,11 @@ impl Guard {
             let before: f64 = recent.iter().map(|r| dof(r.1)).sum();
             let bound = typical * rms_ratio_bound(dof(e.columns), before);
             if e.rms > bound {
-                return Err(format!(
-                    "the edge's columns disagree (residual RMS {:.2} px against {:.2} px in the frames before, at most {:.2} px from the image's noise): something crosses the bubble's top edge, or the photo is blurred; open the photo to check",
-                    e.rms, typical, bound
-                ));
+                return Err(Implausible::ColumnsDisagree {
+                    rms: e.rms,
+                    typical,
+                    bound,
+                });
             }
         }
         Ok(())
@@ -501,8 +614,10 @@ mod tests {
         );
         let (apex, e) = ([300.0, 320.0], edge(0.92 * cap(80.0, 200.0), 1e-6));
         let why = g.check(3.0, apex, [0.3, 0.02], Some(&e)).unwrap_err();
+        assert!(why.is_trend(), "{why}");
         assert!(
-            why.contains("from where the frames before predict"),
+            why.to_string()
+                .contains("from where the frames before predict"),
             "{why}"
         );
         let ok = g.check_physical(3.0, apex, [0.3, 0.02], Some(&e));
@@ -556,14 +671,17 @@ mod tests {
         };
         for r in [0.5, 1.4] {
             let e = why(&g, r).unwrap_err();
-            assert!(e.contains("times that of the spherical cap"), "{e}");
+            assert!(
+                e.to_string().contains("times that of the spherical cap"),
+                "{e}"
+            );
         }
         let h1 = h - 0.01 * a;
         let e1 = edge(0.92 * cap(h1, a), 1e-3 * cap(h1, a));
         g.accept(1000.0, [300.0, clamp - h1], [0.3, 0.02], Some(&e1));
         assert!(why(&g, 0.93).is_ok());
         let e = why(&g, 0.72).unwrap_err();
-        assert!(e.contains("changed from 0.918 to 0.719"), "{e}");
+        assert!(e.to_string().contains("changed from 0.918 to 0.719"), "{e}");
     }
 
     /// Without the opening's radius the bounds hold on the ratio of two
@@ -583,7 +701,7 @@ mod tests {
         g.accept(1.0, [300.0, 300.0], [0.3, 0.02], Some(&edge(1e-3, 1e-6)));
         assert!(at(&g, 1e-5).is_ok());
         let e = at(&g, -1e-4).unwrap_err();
-        assert!(e.contains("curves downward"), "{e}");
+        assert!(e.to_string().contains("curves downward"), "{e}");
     }
 
     /// The fit's parabola over a half-span `w` of a circle: its curvature

@@ -42,7 +42,11 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
         Some(&edge(1.18e-3, 0.1, 120)),
     );
     assert!(ok.is_ok(), "{ok:?}");
-    let why = |apex: [f64; 2], e: EdgeFit| g.check(300.0, apex, [0.5, 0.02], Some(&e)).unwrap_err();
+    let why = |apex: [f64; 2], e: EdgeFit| {
+        g.check(300.0, apex, [0.5, 0.02], Some(&e))
+            .unwrap_err()
+            .to_string()
+    };
     assert!(why([100.0, 201.0], edge(1e-3, 0.1, 120)).contains("clamp plane"));
     assert!(why([100.0, 152.0], edge(1e-3, 0.1, 120)).contains("against the pressure"));
     assert!(
