@@ -7,6 +7,9 @@ SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
 TARGET := $(or $(CARGO_TARGET_DIR),target)
+# A build from scratch (CI, a new clone) is faster without incremental
+# compilation's bookkeeping; set CARGO_INCREMENTAL=1 to keep it.
+export CARGO_INCREMENTAL ?= 0
 # The demo uses the test build (dependencies optimised, bulge at opt-level 1):
 # `cargo test --no-run` builds target/debug/bulge with the same dependency
 # features as the tests (a plain `cargo build` would not unify them with the
