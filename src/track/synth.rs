@@ -35,7 +35,7 @@ pub mod trial;
 mod write;
 use draw::densify;
 pub use draw::{coverage, gaussian_blur, render};
-pub use look::{Framing, Look, Psf, vignette};
+pub use look::{Framing, FramingError, Look, Psf, vignette};
 pub use sequence::{
     Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_toml, random_camera,
     render_frame, template_size,

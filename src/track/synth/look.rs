@@ -150,6 +150,27 @@ impl Extras {
     }
 }
 
+/// A framing given by hand that leaves part of the scene out of the
+/// picture.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "the framing (scale {metres_per_pixel:.4e} m/px, axis at column {axis_x_px:.1}, clamp plane at row {clamp_row_px:.1}) leaves {what} out of the {width}x{height} px picture: change --metres-per-pixel, --axis-x-px or --clamp-row-px"
+)]
+pub struct FramingError {
+    /// The scale, m/px.
+    pub metres_per_pixel: f64,
+    /// The axis's column.
+    pub axis_x_px: f64,
+    /// The clamp plane's row.
+    pub clamp_row_px: f64,
+    /// The picture's width, px.
+    pub width: usize,
+    /// The picture's height, px.
+    pub height: usize,
+    /// What is left out.
+    pub what: &'static str,
+}
+
 /// The highest point of a silhouette seen from elevation `e`, m above the
 /// clamp ring's centre: `max(z cos e + rho sin e)` over the profile.
 pub fn silhouette_top_m(s: &Silhouette, elevation_rad: f64) -> f64 {
@@ -182,7 +203,7 @@ impl Scene {
         framing: &Framing,
         look: Look,
         reach_m: [f64; 2],
-    ) -> Result<Scene, String> {
+    ) -> Result<Scene, FramingError> {
         let [top_m, rho_max_m] = reach_m;
         let mut sc = Scene::new(width, height, radius_m, seed);
         sc.look = look;
@@ -232,11 +253,15 @@ impl Scene {
             sc.clamp_row_px,
         );
         if !framing.is_default() {
-            let out = |what: &str| {
-                Err(format!(
-                    "the framing (scale {:.4e} m/px, axis at column {:.1}, clamp plane at row {:.1}) leaves {what} out of the {width}x{height} px picture: change --metres-per-pixel, --axis-x-px or --clamp-row-px",
-                    mpp, sc.axis_x_px, sc.clamp_row_px
-                ))
+            let out = |what: &'static str| {
+                Err(FramingError {
+                    metres_per_pixel: mpp,
+                    axis_x_px: sc.axis_x_px,
+                    clamp_row_px: sc.clamp_row_px,
+                    width,
+                    height,
+                    what,
+                })
             };
             if sc.axis_x_px - half(mpp) < 0.0 || sc.axis_x_px + half(mpp) > wf - 1.0 {
                 return out("a side of the bubble");
@@ -282,7 +307,7 @@ impl Scene {
         framing: &Framing,
         look: Look,
         frames: &[&Silhouette],
-    ) -> Result<Scene, String> {
+    ) -> Result<Scene, FramingError> {
         let e = look.elevation_deg.to_radians();
         let top = frames
             .iter()

@@ -68,7 +68,7 @@ impl SequenceSpec {
     }
 
     /// The scene of this sequence drawing `frames` (see [`Scene::framed`]).
-    pub fn scene(&self, frames: &[SynthFrame]) -> Result<Scene, String> {
+    pub fn scene(&self, frames: &[SynthFrame]) -> Result<Scene, FramingError> {
         let s: Vec<&Silhouette> = frames.iter().map(|f| &f.silhouette).collect();
         Scene::for_frames(
             self.width,

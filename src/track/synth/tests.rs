@@ -183,9 +183,12 @@ fn random_framing_keeps_the_bubble_and_the_ring_in_the_picture() {
         ..Framing::default()
     };
     let e = Scene::framed(640, 480, 0.0375, 1, &by_hand, look, [0.02, 0.0375]).unwrap_err();
+    assert_eq!(e.what, "a side of the bubble");
+    assert_eq!(e.axis_x_px, 20.0);
+    let m = e.to_string();
     assert!(
-        e.contains("side of the bubble") && e.contains("--axis-x-px"),
-        "{e}"
+        m.contains("side of the bubble") && m.contains("--axis-x-px"),
+        "{m}"
     );
 }
 

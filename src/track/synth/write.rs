@@ -20,9 +20,9 @@ pub fn write_sequence(
             message: "no frames to draw: give at least one pressure".into(),
         });
     }
-    let scene = spec.scene(frames).map_err(|message| TrackError::Config {
+    let scene = spec.scene(frames).map_err(|e| TrackError::Config {
         path: out.to_path_buf(),
-        message,
+        message: e.to_string(),
     })?;
     let hmax = frames
         .iter()
@@ -176,9 +176,9 @@ pub fn write_video(
             });
         }
     };
-    let scene = spec.scene(frames).map_err(|message| TrackError::Config {
+    let scene = spec.scene(frames).map_err(|e| TrackError::Config {
         path: path.to_path_buf(),
-        message,
+        message: e.to_string(),
     })?;
     let n = frames.len();
     let write = |tmp: &Path| -> Result<(), TrackError> {
