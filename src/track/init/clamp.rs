@@ -392,17 +392,10 @@ type Family = (Vec<(f64, f64, f64)>, usize);
 /// far side), and the lower edge is taken.
 fn top_family([rising, falling]: [Family; 2], needed: usize, floor: f64) -> Family {
     let enough = |f: &Family| f.0.len() >= needed;
-    match (enough(&rising), enough(&falling)) {
-        (true, false) => return rising,
-        (false, true) => return falling,
-        (false, false) => {
-            return if rising.0.len() >= falling.0.len() {
-                rising
-            } else {
-                falling
-            };
-        }
-        (true, true) => {}
+    // Without two edges to compare: the polarity seen in more columns.
+    let larger = |r: Family, f: Family| if r.0.len() >= f.0.len() { r } else { f };
+    if !(enough(&rising) && enough(&falling)) {
+        return larger(rising, falling);
     }
     // The band's thickness in the columns where both polarities have an
     // edge: `lower - upper`, as a function of d^2.
@@ -415,11 +408,7 @@ fn top_family([rising, falling]: [Family; 2], needed: usize, floor: f64) -> Fami
         })
         .collect();
     if pairs.len() < needed {
-        return if rising.0.len() >= falling.0.len() {
-            rising
-        } else {
-            falling
-        };
+        return larger(rising, falling);
     }
     let mut gaps: Vec<f64> = pairs.iter().map(|p| p.1).collect();
     let rising_upper = quantile(&mut gaps, 0.5) > 0.0;
