@@ -134,6 +134,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         response: args.response,
         lens,
         camera_distance_m: args.camera_distance_m,
+        distance_from_focal: !args.orthographic,
     };
     let found = init::find_in(&frames, args.radius_m, given).map_err(Failure::of::<TrackError>)?;
     let base = args
@@ -167,6 +168,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let e = found.elevation_deg.map_or(String::new(), |e| {
         format!(", elevation {:.2} +- {:.2} deg", e.value, e.std)
     });
+    let e = match (found.camera_distance_m, found.camera_distance_from_focal) {
+        (Some(d), true) => {
+            format!("{e}, camera {d:.4} m from the axis (the lens's focal length times the scale)")
+        }
+        _ => e,
+    };
     println!(
         "{} {} {}x{} px: clamp row {:.3} +- {:.3} px, axis {:.2} px{a}, {:.5e} m/px{e}; apex rows {:.0} to {:.0} -> {}, {}",
         frames.len(),

@@ -101,6 +101,10 @@ pub struct Given {
     /// circle seen from it, and the scale at the ring's centre from the
     /// opening's tangent points ([`ring`](self)). `None`: orthographic.
     pub camera_distance_m: Option<f64>,
+    /// Without `camera_distance_m`, find the distance from the lens's focal
+    /// length and the scale ([`ring::distance_from_focal`]); `false`: the
+    /// camera is taken as orthographic (a telecentric lens).
+    pub distance_from_focal: bool,
 }
 
 /// Where the scale came from.
@@ -123,9 +127,12 @@ pub struct Found {
     pub response: crate::camera::Response,
     /// The lens given (copied into the experiment file's `[camera]`).
     pub lens: Option<super::lens::Lens>,
-    /// The pinhole camera's distance from the axis given, m (written into
-    /// `[camera] distance_m`).
+    /// The pinhole camera's distance from the axis, m, given or found from
+    /// the lens's focal length (written into `[camera] distance_m`).
     pub camera_distance_m: Option<f64>,
+    /// `camera_distance_m` was found from the lens's focal length and the
+    /// scale, not given.
+    pub camera_distance_from_focal: bool,
     /// The bubble's axis, image column.
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
@@ -534,9 +541,52 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     let principal_row = given.lens.as_ref().map_or((h as f64 - 1.0) / 2.0, |l| l.cy);
     let mut clamp = clamp;
     let mut elevation_deg = elevation_deg;
-    if let Some(d) = given.camera_distance_m {
+    // Without the distance, a calibrated lens gives it: the scale at the
+    // ring's centre is the slant distance over the focal length
+    // ([`ring::distance_from_focal`]), so the distance follows from the
+    // scale found, and is found again with it.
+    let focal_px = given
+        .lens
+        .as_ref()
+        .filter(|_| given.camera_distance_m.is_none() && given.distance_from_focal)
+        .map(|l| l.fy);
+    let distance_of = |f: f64, mpp: f64, e: Option<Estimate>, row: f64| {
+        let e = e.map_or(0.0, |e| e.value.to_radians());
+        ring::distance_from_focal(f, e, row, mpp, principal_row)
+    };
+    let mut camera_distance_m = given.camera_distance_m.or_else(|| {
+        let mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
+        focal_px.map(|f| distance_of(f, mpp, elevation_deg, clamp.row.value))
+    });
+    // The opening's half-width from the sides, less the bias of their
+    // orthographic extrapolation seen through the pinhole ([`ring::opening_bias_px`]).
+    let unbiased = |o: &scale::Opening, d: f64, e: f64, mpp: f64, in_photo: &Clamp| {
+        let p = ring::camera(d, e, in_photo.row.value, mpp, x0, principal_row);
+        let bias = ring::opening_bias_px(
+            &p,
+            radius_m,
+            mpp,
+            o,
+            in_photo.row.value,
+            e.max(0.0).sin(),
+            a0,
+        );
+        o.a.value - bias.unwrap_or(0.0)
+    };
+    if let Some(mut d) = camera_distance_m {
         let mut mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
-        for _ in 0..2 {
+        let rounds = if focal_px.is_some() { 5 } else { 2 };
+        for _ in 0..rounds {
+            if !(d.is_finite() && d > 2.0 * radius_m) {
+                return Err(TrackError::NotFound {
+                    what: "the camera's distance".into(),
+                    detail: format!(
+                        "the lens's focal length {:.1} px and the scale {mpp:.4e} m/px put the camera {d:.4} m from the axis, within the opening's diameter: the lens was calibrated at another zoom or photo size",
+                        focal_px.unwrap_or(f64::NAN)
+                    ),
+                    keys: "[camera] distance_m (give --camera-distance-m)",
+                });
+            }
             let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);
             if let (Some(e), Some(a_f)) = (raised, clamp.half_width_px) {
                 let start = [clamp.row.value, e.value.to_radians(), a_f * mpp];
@@ -562,11 +612,15 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 let mut in_photo = clamp.clone();
                 in_photo.row.value =
                     super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
-                let (a, _) = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin())?;
-                mpp =
-                    ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row);
+                let o = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin())?;
+                let a = unbiased(&o, d, e, mpp, &in_photo);
+                mpp = ring::centre_scale(radius_m, a, d, e, clamp.row.value, x0, principal_row);
+            }
+            if let Some(f) = focal_px {
+                d = distance_of(f, mpp, elevation_deg, clamp.row.value);
             }
         }
+        camera_distance_m = Some(d);
     }
     let sin_e = elevation_deg.map_or(0.0, |e| e.value.max(0.0).to_radians().sin());
 
@@ -583,17 +637,15 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             let mut in_photo = clamp.clone();
             in_photo.row.value =
                 super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
-            let (a, sides) = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
-            let mpp = match given.camera_distance_m {
-                Some(d) => ring::centre_scale(
-                    radius_m,
-                    a.value,
-                    d,
-                    elevation_deg.map_or(0.0, |e| e.value.to_radians()),
-                    clamp.row.value,
-                    x0,
-                    principal_row,
-                ),
+            let o = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
+            let (mut a, sides) = (o.a, o.sides.clone());
+            let mpp = match camera_distance_m {
+                Some(d) => {
+                    let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
+                    let start = radius_m / a.value;
+                    a.value = unbiased(&o, d, e, start, &in_photo);
+                    ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row)
+                }
                 None => radius_m / a.value,
             };
             (
@@ -708,7 +760,8 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         height: h,
         response: given.response,
         lens: given.lens,
-        camera_distance_m: given.camera_distance_m,
+        camera_distance_m,
+        camera_distance_from_focal: focal_px.is_some(),
         axis_x_px,
         clamp_row_px,
         elevation_deg,

@@ -83,10 +83,18 @@ pub struct Args {
     /// m, for a pinhole camera at that distance (written into [camera]
     /// distance_m): the clamp ring's centre row and the elevation are fitted
     /// to the ring's far side seen from it, and the scale at the ring's
-    /// centre from the opening's tangent points (without it the camera is
-    /// taken as orthographic: the scale comes out a^2 / (2 D^2) small).
+    /// centre from the opening's tangent points. Without it, a lens given
+    /// by --camera gives it: its focal length times the scale found at the
+    /// ring's centre. Without either the camera is taken as orthographic
+    /// (the scale then comes out about a^2 / (2 D^2) small).
     #[arg(long, value_name = "M")]
     pub camera_distance_m: Option<f64>,
+
+    /// Take the camera as orthographic although --camera gives a focal
+    /// length (a telecentric lens, or photos drawn by an orthographic
+    /// renderer through a lens map): no distance is found from it.
+    #[arg(long, conflicts_with = "camera_distance_m", requires = "camera")]
+    pub orthographic: bool,
 
     /// The camera's tone curve from light to grey levels: `srgb` (ordinary
     /// 8-bit JPEG or PNG photos), `linear` (raw or linearised photos), or a
@@ -97,7 +105,9 @@ pub struct Args {
 
     /// The lens, a `[camera]` table written by `bulge calibrate`: the
     /// clamp row, the axis and the scale are measured in the undistorted
-    /// image, and the table is copied into the experiment file.
+    /// image, the camera's distance from the axis follows from its focal
+    /// length (unless --camera-distance-m or --orthographic), and the table
+    /// is copied into the experiment file.
     #[arg(long)]
     pub camera: Option<PathBuf>,
 

@@ -60,6 +60,11 @@ pub(super) fn check(args: &Args) -> Result<Encoding, Failure> {
             2.0 * args.radius_m
         )));
     }
+    if let (Some(d), Some(f)) = (args.look.camera_distance_m, args.look.focal_px) {
+        return Err(bad(format!(
+            "--focal-px {f} with --camera-distance-m {d}: a pinhole camera's focal length follows from its distance and the scale at the ring's centre (the lens gets that focal length); leave out --focal-px, or set the scale with --metres-per-pixel"
+        )));
+    }
     if !(args.look.elevation_deg.is_finite() && (0.0..=30.0).contains(&args.look.elevation_deg)) {
         return Err(bad(format!(
             "--elevation-deg {}: give the camera's elevation above the clamp plane, 0 to 30 degrees",

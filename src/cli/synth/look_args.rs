@@ -109,7 +109,9 @@ pub struct LookFlags {
     pub lens_k2: f64,
 
     /// Focal length of the lens with --lens-k1, px (default: the photo's
-    /// width; the principal point is the photo's centre).
+    /// width; the principal point is the photo's centre). With
+    /// --camera-distance-m the lens is the pinhole camera's: its focal
+    /// length and principal point are the camera's (this flag is refused).
     #[arg(long, requires = "lens_k1")]
     pub focal_px: Option<f64>,
 }

@@ -81,9 +81,14 @@ impl Found {
              response = {}\n{}{}\n",
             toml::Value::try_from(self.response).map_or_else(|_| quoted("srgb"), |v| v.to_string()),
             self.camera_distance_m.map_or_else(String::new, |d| format!(
-                "# a pinhole camera this far from the bubble's axis, m (given): clamp_row_px is the image of\n\
+                "# a pinhole camera this far from the bubble's axis, m ({}): clamp_row_px is the image of\n\
                  # the ring's centre and the scale is the one at it, both found through this camera\n\
-                 distance_m = {d:?}\n"
+                 distance_m = {d:?}\n",
+                if self.camera_distance_from_focal {
+                    "found: the lens's focal length times the scale at the ring's centre"
+                } else {
+                    "given"
+                }
             )),
             super::super::lens::lens_keys_toml(self.lens.as_ref()),
         ));

@@ -153,6 +153,122 @@ pub(super) fn fit_ring(
     })
 }
 
+/// The camera's horizontal distance from the axis, m, for a lens of focal
+/// length `f_px` (px, from a calibration) that sees the ring's centre at
+/// row `v0` with the scale `mpp` there (m per px), looking down at it at
+/// `e` rad, the principal point at row `principal_row`: the inverse of
+/// [`Pinhole::from_view`]'s scale `s = (D cos theta + H sin theta) / f`
+/// with `H = D tan e` and the pitch `theta = e + atan((c_v - v0) / f)`,
+/// `D = f s / (cos theta + tan e sin theta)`.
+pub(super) fn distance_from_focal(f_px: f64, e: f64, v0: f64, mpp: f64, principal_row: f64) -> f64 {
+    let theta = e + ((principal_row - v0) / f_px).atan();
+    f_px * mpp / (theta.cos() + e.tan() * theta.sin())
+}
+
+/// The bias, px, of the opening's half-width found from the sides
+/// ([`super::scale::opening_from_sides`], whose extrapolation to the plane
+/// takes the camera as orthographic at one elevation) against the image of
+/// the opening's tangent points seen through the pinhole `p`: the sides of
+/// the meridian that the fit describes (`rho^2 = a^2 + beta z + gamma z^2`,
+/// `a` the opening's `radius_m`, `beta = B s`, `gamma = C` from the fitted
+/// `W^2 = A + B u + C u^2` at the scale `s`), drawn through the pinhole at
+/// the same rows (`c` the clamp row) and fitted the same way. From a raised
+/// pinhole each latitude is seen from its own elevation, `atan((H - z) /
+/// D)`, lower the higher it lies, while the orthographic extrapolation takes
+/// the ring's elevation for all: uncorrected, the opening comes out
+/// `0.03 e / D` % narrow (e in degrees, D in m).
+pub(super) fn opening_bias_px(
+    p: &Pinhole,
+    radius_m: f64,
+    mpp: f64,
+    opening: &super::scale::Opening,
+    c: f64,
+    sin_e: f64,
+    a0: f64,
+) -> Option<f64> {
+    let [_, b, gamma] = opening.coef;
+    let beta = b * mpp;
+    let rho = |z: f64| {
+        let v = radius_m * radius_m + beta * z + gamma * z * z;
+        (v > 0.0).then(|| v.sqrt())
+    };
+    let u_top = opening.us.iter().copied().fold(0.0, f64::max);
+    let z_max = 2.0 * (u_top + 10.0) * mpp;
+    let pts: Vec<(f64, f64)> = opening
+        .us
+        .iter()
+        .filter_map(|&u| outline_half_width(p, &rho, z_max, c - u).map(|w| (u, w)))
+        .collect();
+    if pts.len() < 5 {
+        return None;
+    }
+    let fit = super::scale::opening_from_sides(&pts, sin_e, a0).ok()?;
+    Some(fit.a - p.opening_half_width_px(radius_m))
+}
+
+/// The half-width, px from the principal point's column, at image row `v`
+/// of the outline of the surface of revolution whose latitude at height
+/// `z` (`0..z_max`, m) has the radius `rho(z)`, seen through `p`: the
+/// widest of the latitudes' images at that row. `None` when no latitude
+/// reaches the row.
+fn outline_half_width(
+    p: &Pinhole,
+    rho: &impl Fn(f64) -> Option<f64>,
+    z_max: f64,
+    v: f64,
+) -> Option<f64> {
+    use std::f64::consts::PI;
+    let x0 = p.principal_px[0];
+    // The column where the latitude at `z` crosses row `v` on the right:
+    // its image's row runs monotonically from the nearest point (psi = 0)
+    // to the farthest (psi = pi), the plane through the camera and the
+    // axis being a plane of symmetry.
+    let at = |z: f64| -> Option<f64> {
+        let r = rho(z)?;
+        let pt = |psi: f64| p.project([r * psi.sin(), -r * psi.cos(), z]);
+        let f0 = pt(0.0)[1] - v;
+        if f0 * (pt(PI)[1] - v) > 0.0 {
+            return None;
+        }
+        let (mut lo, mut hi) = (0.0, PI);
+        for _ in 0..60 {
+            let m = 0.5 * (lo + hi);
+            if ((pt(m)[1] - v) > 0.0) == (f0 > 0.0) {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        Some(pt(0.5 * (lo + hi))[0] - x0)
+    };
+    let n = 200;
+    let z_of = |i: usize| z_max * i as f64 / n as f64;
+    let (i, _) = (0..=n)
+        .filter_map(|i| at(z_of(i)).map(|w| (i, w)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    // Golden-section search for the widest latitude within the grid's
+    // bracket (the width is smooth and single-peaked there).
+    let g = |z: f64| at(z).unwrap_or(f64::NEG_INFINITY);
+    let (mut lo, mut hi) = (z_of(i.saturating_sub(1)), z_of((i + 1).min(n)));
+    let k = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut z1, mut z2) = (hi - k * (hi - lo), lo + k * (hi - lo));
+    let (mut g1, mut g2) = (g(z1), g(z2));
+    for _ in 0..60 {
+        if g1 >= g2 {
+            hi = z2;
+            (z2, g2) = (z1, g1);
+            z1 = hi - k * (hi - lo);
+            g1 = g(z1);
+        } else {
+            lo = z1;
+            (z1, g1) = (z2, g2);
+            z2 = lo + k * (hi - lo);
+            g2 = g(z2);
+        }
+    }
+    Some(g1.max(g2).max(at(z_of(i))?))
+}
+
 /// The scale at the ring's centre, m per px, from the opening's half-width
 /// `a_px` (its tangent points) for the camera `D` from the axis at the
 /// elevation `e` with the centre at row `v0`: `a / a_px` times the

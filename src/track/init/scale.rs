@@ -9,13 +9,26 @@ const MODEL_REL: f64 = 8e-4;
 
 /// Step 4: the silhouette's half-width at the clamp plane, px, with the
 /// points located on its sides.
+/// The silhouette's half-width at the clamp plane found by [`find_radius`].
+#[derive(Debug, Clone)]
+pub(super) struct Opening {
+    /// The half-width, px.
+    pub(super) a: Estimate,
+    /// The points located on the sides, `[column, row]`.
+    pub(super) sides: Vec<[f64; 2]>,
+    /// The rows the sides were located in, as heights above the clamp row, px.
+    pub(super) us: Vec<f64>,
+    /// The squared half-width's quadratic `W^2 = A + B u + C u^2`.
+    pub(super) coef: [f64; 3],
+}
+
 pub(super) fn find_radius(
     last: &Plane,
     x0: f64,
     a0: f64,
     clamp: &Clamp,
     sin_e: f64,
-) -> Result<(Estimate, Vec<[f64; 2]>), TrackError> {
+) -> Result<Opening, TrackError> {
     let (w, h) = (last.w as i64, last.h as i64);
     let c = clamp.row.value;
     // From a raised camera the clamp's top face (outer radius `A`) is seen
@@ -72,6 +85,46 @@ pub(super) fn find_radius(
             keys: "metres_per_pixel (or points_px with distance_m), or give --metres-per-pixel",
         });
     }
+    let fit = opening_from_sides(&pts, sin_e, a0)?;
+    let a = fit.a;
+    // A clamp row off by dc moves the plane along the sides:
+    // d a / d c = B / (2 a (1 + s^2 C)).
+    let [_, big_b, big_c] = fit.coef;
+    let f = 1.0 + sin_e * sin_e * big_c;
+    let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
+    // The meridian departs from the conic over the fitted rows: on exact
+    // neo-Hookean meridians (apex 0.26-0.53 a, rows from 0.03 a or 0.08 a
+    // up, 0.15 a tall) the conic met the rim 0.01-0.07 % wide.
+    let var_model = (MODEL_REL * a).powi(2);
+    Ok(Opening {
+        a: Estimate {
+            value: a,
+            std: (fit.var + var_row + var_model).sqrt(),
+        },
+        sides,
+        us: pts.iter().map(|p| p.0).collect(),
+        coef: fit.coef,
+    })
+}
+
+/// The fit of [`opening_from_sides`].
+pub(super) struct SidesFit {
+    /// The half-width at the plane, px.
+    pub(super) a: f64,
+    /// Its variance from the fit, px^2.
+    pub(super) var: f64,
+    /// `[A, B, C]` of `W^2 = A + B u + C u^2`.
+    pub(super) coef: [f64; 3],
+}
+
+/// The silhouette's half-width at the clamp plane from its half-widths
+/// `(u, W)` at heights `u` above the clamp row (px), seen from the
+/// elevation `asin(sin_e)` by an orthographic camera.
+pub(super) fn opening_from_sides(
+    pts: &[(f64, f64)],
+    sin_e: f64,
+    a0: f64,
+) -> Result<SidesFit, TrackError> {
     // The squared half-width, W^2 = A + B u + C u^2. Near its rim the
     // meridian is close to a conic about the axis, rho^2 = alpha + beta z +
     // gamma z^2 (exact for a sphere, gamma = -1; an inflated membrane is
@@ -109,18 +162,9 @@ pub(super) fn find_radius(
     ]
     .map(|v| v / (2.0 * a));
     let var_fit = super::super::matcher::quad_form(&cov, &g) * infl * infl;
-    // A clamp row off by dc moves the plane along the sides:
-    // d a / d c = B / (2 a (1 + s^2 C)).
-    let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
-    // The meridian departs from the conic over the fitted rows: on exact
-    // neo-Hookean meridians (apex 0.26-0.53 a, rows from 0.03 a or 0.08 a
-    // up, 0.15 a tall) the conic met the rim 0.01-0.07 % wide.
-    let var_model = (MODEL_REL * a).powi(2);
-    Ok((
-        Estimate {
-            value: a,
-            std: (var_fit + var_row + var_model).sqrt(),
-        },
-        sides,
-    ))
+    Ok(SidesFit {
+        a,
+        var: var_fit,
+        coef: [big_a, big_b, big_c],
+    })
 }

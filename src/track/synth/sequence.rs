@@ -70,7 +70,7 @@ impl SequenceSpec {
     /// The scene of this sequence drawing `frames` (see [`Scene::framed`]).
     pub fn scene(&self, frames: &[SynthFrame]) -> Result<Scene, FramingError> {
         let s: Vec<&Silhouette> = frames.iter().map(|f| &f.silhouette).collect();
-        Scene::for_frames(
+        let mut scene = Scene::for_frames(
             self.width,
             self.height,
             self.specimen.radius_m,
@@ -78,7 +78,15 @@ impl SequenceSpec {
             &self.framing,
             self.look,
             &s,
-        )
+        )?;
+        // One camera: a lens on a pinhole camera has the pinhole's focal
+        // length and principal point (the ones that give the scene's scale
+        // at the ring's centre from its distance).
+        if let (Some(p), Some(l)) = (scene.pinhole(), scene.look.lens.as_mut()) {
+            (l.fx, l.fy) = (p.focal_px, p.focal_px);
+            (l.cx, l.cy) = (p.principal_px[0], p.principal_px[1]);
+        }
+        Ok(scene)
     }
 }
 
@@ -298,7 +306,7 @@ pub fn experiment_toml(
         layout.apex_in_template_px[1],
         toml::Value::try_from(spec.look.response)
             .map_or_else(|_| "\"srgb\"".into(), |v| v.to_string()),
-        spec.look.lens.map_or_else(String::new, |l| lens_toml(&l)),
+        scene.look.lens.map_or_else(String::new, |l| lens_toml(&l)),
         if spec.look.camera_distance_m > 0.0 {
             format!(
                 "# a pinhole camera this far from the axis, m (elevation_deg: the angle it looks down at the ring's centre)\ndistance_m = {:?}\n",

@@ -66,9 +66,10 @@ pub fn init_and_track(
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
         response: spec.look.response,
-        lens: spec.look.lens,
+        lens: w.scene.look.lens,
         camera_distance_m: (spec.look.camera_distance_m > 0.0)
             .then_some(spec.look.camera_distance_m),
+        distance_from_focal: false,
     };
     let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
     let toml = found.experiment_toml(

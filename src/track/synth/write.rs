@@ -120,7 +120,7 @@ pub fn write_sequence(
     let apexes: Vec<[f64; 2]> = truth
         .iter()
         .map(|t| [t.apex_x_px, t.apex_y_px])
-        .map(|p| spec.look.lens.map_or(p, |l| l.distort(p)))
+        .map(|p| scene.look.lens.map_or(p, |l| l.distort(p)))
         .collect();
     let layout = Layout::around(
         &apexes,
