@@ -560,17 +560,9 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     });
     // The opening's half-width from the sides, less the bias of their
     // orthographic extrapolation seen through the pinhole ([`ring::opening_bias_px`]).
-    let unbiased = |o: &scale::Opening, d: f64, e: f64, mpp: f64, in_photo: &Clamp| {
-        let p = ring::camera(d, e, in_photo.row.value, mpp, x0, principal_row);
-        let bias = ring::opening_bias_px(
-            &p,
-            radius_m,
-            mpp,
-            o,
-            in_photo.row.value,
-            e.max(0.0).sin(),
-            a0,
-        );
+    let unbiased = |o: &scale::Opening, d: f64, e: f64, mpp: f64, row: f64| {
+        let p = ring::camera(d, e, row, mpp, x0, principal_row);
+        let bias = ring::opening_bias_px(&p, radius_m, mpp, o, row, e.max(0.0).sin(), a0);
         o.a.value - bias.unwrap_or(0.0)
     };
     if let Some(mut d) = camera_distance_m {
@@ -611,9 +603,18 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
                 let mut in_photo = clamp.clone();
                 in_photo.row.value =
-                    super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
+                    super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
                 let o = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin())?;
-                let a = unbiased(&o, d, e, mpp, &in_photo);
+                let a = unbiased(&o, d, e, mpp, clamp.row.value);
+                // in the undistorted image, as the scale at the end of step 4
+                let a = super::lens::undistort_opening(
+                    given.lens.as_ref(),
+                    x0,
+                    clamp.row.value,
+                    Some(a),
+                )
+                .1
+                .unwrap_or(a);
                 mpp = ring::centre_scale(radius_m, a, d, e, clamp.row.value, x0, principal_row);
             }
             if let Some(f) = focal_px {
@@ -636,14 +637,14 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             // The sides are read in the photo's rows.
             let mut in_photo = clamp.clone();
             in_photo.row.value =
-                super::lens::clamp_row_in_photo(given.lens.as_ref(), x0, clamp.row.value);
+                super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
             let o = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
             let (mut a, sides) = (o.a, o.sides.clone());
             let mpp = match camera_distance_m {
                 Some(d) => {
                     let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
                     let start = radius_m / a.value;
-                    a.value = unbiased(&o, d, e, start, &in_photo);
+                    a.value = unbiased(&o, d, e, start, clamp.row.value);
                     ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row)
                 }
                 None => radius_m / a.value,

@@ -335,10 +335,17 @@ pub(super) fn undistort_clamp(
     (pts, ends)
 }
 
-/// The clamp's row in the photo at the axis `x0`, for the search of the
-/// sides, which reads the photo's rows (`row_u` without a lens).
-pub(super) fn clamp_row_in_photo(lens: Option<&Lens>, x0: f64, row_u: f64) -> f64 {
-    lens.map_or(row_u, |l| photo_row(l, x0, row_u))
+/// The clamp's row in the photo at the opening's sides, columns `x0 - a`
+/// and `x0 + a` (their mean), for the search of the sides, which reads the
+/// photo's rows and extrapolates them to this row (`row_u` without a
+/// lens). A lens bends the plane's row: with a barrel distortion of 0.2 %
+/// at the sides the row there lies a pixel or two above the axis's, and
+/// extrapolating the sides to the axis's row had the opening 0.1-0.2 %
+/// wide.
+pub(super) fn clamp_row_at_sides(lens: Option<&Lens>, x0: f64, a: f64, row_u: f64) -> f64 {
+    lens.map_or(row_u, |l| {
+        0.5 * (photo_row(l, x0 - a, row_u) + photo_row(l, x0 + a, row_u))
+    })
 }
 
 /// The lens keys of `[camera]` as `bulge init` writes them (empty without a
