@@ -9,9 +9,10 @@
 //! row error, elevation error, the largest height error of each experiment;
 //! with the scale found, and given.
 //!
-//! Run: `cargo run --release --example init_accuracy [-- --seeds N] [--verbose]`
+//! Run: `cargo run --release --features harness --example init_accuracy [-- --seeds N] [--verbose]`
 
-use bulge::track::synth::trial::{InitTrial, init_and_track, neo_hookean_bubble};
+use bulge::track::synth::neo_hookean_bubble;
+use bulge::track::synth::trial::{InitTrial, init_and_track};
 use bulge::track::synth::{self, Look};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

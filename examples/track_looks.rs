@@ -56,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut z2 = 0.0;
         for seed in first..first + seeds {
             let spec = synth::random_camera(seed, &[(640, 480), (1024, 768), (1280, 960)], look);
-            let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6)?;
+            let frames = synth::neo_hookean_bubble(&spec.specimen, 6)?;
             let dir = tempfile::tempdir()?;
             let w = synth::write_sequence(dir.path(), &spec, &frames)?;
             let e = Experiment::read(dir.path().join("experiment.toml"))?;

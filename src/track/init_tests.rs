@@ -3,7 +3,8 @@
 //! benchmark (`cargo run --release --example init_accuracy`) uses 1..=N.
 
 use super::init::{self, Given};
-use super::synth::trial::{InitTrial, init_and_track, neo_hookean_bubble as bubble};
+use super::synth::neo_hookean_bubble as bubble;
+use super::synth::trial::{InitTrial, init_and_track};
 use super::synth::{self, Look, SequenceSpec};
 use super::*;
 use crate::experiment::Experiment;

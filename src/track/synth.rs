@@ -31,14 +31,15 @@ mod look;
 pub mod pinhole;
 mod sequence;
 pub mod sweep;
+#[cfg(any(test, feature = "harness"))]
 pub mod trial;
 mod write;
 use draw::densify;
 pub use draw::{coverage, gaussian_blur, render};
 pub use look::{Framing, FramingError, Look, Psf, vignette};
 pub use sequence::{
-    Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_toml, random_camera,
-    render_frame, template_size,
+    Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_toml,
+    neo_hookean_bubble, random_camera, render_frame, template_size,
 };
 pub use write::{pressure_log_csv, pressure_ramp, write_sequence, write_video};
 

@@ -134,6 +134,26 @@ pub struct SynthFrame {
     pub silhouette: Silhouette,
 }
 
+/// The exact neo-Hookean bubble (C1 = 0.2 MPa, Poisson 0.45) of `specimen`
+/// at `n` pressures evenly up to 3.7 kPa (an apex height of about 0.53 a on
+/// the default disc and its scaled copies).
+pub fn neo_hookean_bubble(
+    specimen: &Specimen,
+    n: usize,
+) -> Result<Vec<SynthFrame>, crate::axisym::AxisymError> {
+    let material = crate::material::Material {
+        model: crate::material::Model::NeoHookean { c1_pa: 0.2e6 },
+        poisson: 0.45,
+        fit: None,
+    };
+    (1..=n)
+        .map(|k| {
+            let p = 3700.0 * k as f64 / n as f64;
+            axisym_frame(&material, specimen, p, p)
+        })
+        .collect()
+}
+
 /// The frame of the exact axisymmetric bubble of `material` on `specimen` at
 /// `pressure_pa` (default [`crate::axisym::Options`]), labelled `label_pa`
 /// in `pressure.csv` (the pressure itself, or a gauge's reading of it).

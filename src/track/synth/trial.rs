@@ -1,35 +1,15 @@
 //! One synthetic experiment through `bulge init` and `bulge track`: the
 //! photos written, the set-up found from them alone, the heights tracked
 //! with the experiment file it wrote, and every figure against the truth.
-//! The tests and `cargo run --release --example init_accuracy` share it.
+//! The tests and `cargo run --release --features harness --example
+//! init_accuracy` share it; built only for them (the `harness` feature).
 
 use std::path::Path;
 
-use super::{SequenceSpec, SynthFrame, axisym_frame, write_sequence};
-use crate::experiment::{Experiment, Specimen};
-use crate::material::{Material, Model};
+use super::{SequenceSpec, SynthFrame, write_sequence};
+use crate::experiment::Experiment;
 use crate::track::init::{self, Given, Sources};
 use crate::track::{Options, list_photos, setup_from_experiment, track};
-
-/// The exact neo-Hookean bubble (C1 = 0.2 MPa, Poisson 0.45) of `specimen`
-/// at `n` pressures evenly up to 3.7 kPa (an apex height of about 0.53 a on
-/// the default disc and its scaled copies).
-pub fn neo_hookean_bubble(
-    specimen: &Specimen,
-    n: usize,
-) -> Result<Vec<SynthFrame>, crate::axisym::AxisymError> {
-    let material = Material {
-        model: Model::NeoHookean { c1_pa: 0.2e6 },
-        poisson: 0.45,
-        fit: None,
-    };
-    (1..=n)
-        .map(|k| {
-            let p = 3700.0 * k as f64 / n as f64;
-            axisym_frame(&material, specimen, p, p)
-        })
-        .collect()
-}
 
 /// What one experiment gives against its truth.
 #[derive(Debug, Clone, PartialEq)]

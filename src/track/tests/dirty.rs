@@ -81,7 +81,7 @@ fn a_template_match_without_the_bubbles_edge_is_left_out_by_name() {
         ..synth::Look::default()
     };
     let spec = synth::random_camera(336, &[(640, 480), (1024, 768)], look);
-    let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
+    let frames = synth::neo_hookean_bubble(&spec.specimen, 6).unwrap();
     let (t, truth) = written_and_tracked(&spec, &frames, true);
     let t = t.unwrap();
     let skipped = t.skipped.iter().find(|s| s.file == "frame_002.jpg");
@@ -117,7 +117,7 @@ fn clutter_on_the_emptiest_photos_top_is_left_out_by_name() {
     // within 4 stated standard deviations.
     let tracked = |seed: u64| {
         let spec = synth::random_camera(seed, &[(640, 480), (1024, 768)], look);
-        let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
+        let frames = synth::neo_hookean_bubble(&spec.specimen, 6).unwrap();
         let (t, truth) = written_and_tracked(&spec, &frames, true);
         let t = t.unwrap();
         assert!(t.rows.len() >= 3, "seed {seed}: {:?}", t.skipped);
@@ -159,7 +159,7 @@ fn a_highlight_on_small_photos_is_tracked_within_its_uncertainty() {
     let (mut errors, mut total) = (Vec::new(), 0);
     for seed in 401..=410 {
         let spec = synth::random_camera(seed, &[(640, 480)], look);
-        let frames = synth::trial::neo_hookean_bubble(&spec.specimen, 6).unwrap();
+        let frames = synth::neo_hookean_bubble(&spec.specimen, 6).unwrap();
         let (t, truth) = written_and_tracked(&spec, &frames, true);
         total += truth.len();
         errors.extend(kept_within_4_sd(
