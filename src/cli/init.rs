@@ -200,6 +200,19 @@ pub fn run(args: Args) -> Result<(), Failure> {
         args.output.display(),
         png.display()
     );
+    if found.camera_distance_m.is_none()
+        && !args.orthographic
+        && found.scale_from == init::ScaleSource::ClampOpening
+    {
+        eprintln!(
+            "note: the camera is read as orthographic (no --camera-distance-m, no lens with a focal length): a camera D from the bubble's axis sees the opening through its tangent points, so the scale comes out about a^2 / (2 D^2) small (0.35 % at 0.45 m){}; give --camera-distance-m D or --camera camera.toml (bulge calibrate)",
+            if found.elevation_deg.is_some_and(|e| e.value > 0.5) {
+                ", and from above the ring its centre's row comes out a few pixels off (3 px at 0.45 m and 3 degrees, 1280x960)"
+            } else {
+                ""
+            }
+        );
+    }
     if args.pressure.is_none() {
         eprintln!(
             "note: no --pressure given: fill in [pressure] csv in {} before `bulge track`",
