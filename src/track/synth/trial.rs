@@ -47,9 +47,12 @@ pub fn init_and_track(
         elevation_deg: None,
         response: spec.look.response,
         lens: w.scene.look.lens,
-        camera_distance_m: (spec.look.camera_distance_m > 0.0)
+        // With a lens on a pinhole camera the distance is found from its
+        // focal length, as `bulge init --camera` finds it; without one, it
+        // is given.
+        camera_distance_m: (spec.look.camera_distance_m > 0.0 && w.scene.look.lens.is_none())
             .then_some(spec.look.camera_distance_m),
-        distance_from_focal: false,
+        distance_from_focal: true,
     };
     let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
     let toml = found.experiment_toml(
