@@ -302,15 +302,29 @@ fn init_sets_up_a_pinhole_camera_at_a_given_distance() {
         (0.25, 5.0, (1024, 768)),
         (1.0, 5.0, (1024, 768)),
     ];
+    pinhole_cases(261, &cases, None);
+}
+
+/// Init and track on `cases` (distance m, elevation deg, photo size) of
+/// random framings from seed `first` on, the axis in the middle, through
+/// `lens` when given (the distance then found from its focal length, as
+/// `synth::trial` lets init do): every photo tracked, the scale within 0.3 %,
+/// the ring centre's row within 0.5 px and the heights within 0.3 %.
+fn pinhole_cases(
+    first: u64,
+    cases: &[(f64, f64, (usize, usize))],
+    lens: Option<crate::track::lens::Lens>,
+) {
     let mut out = Vec::new();
     for (k, &(d, e, size)) in cases.iter().enumerate() {
-        let seed = 261 + k as u64;
+        let seed = first + k as u64;
         let mut s = synth::random_camera(
             seed,
             &[size],
             Look {
                 elevation_deg: e,
                 camera_distance_m: d,
+                lens,
                 ..Look::default()
             },
         );
@@ -318,7 +332,7 @@ fn init_sets_up_a_pinhole_camera_at_a_given_distance() {
         let dir = tempfile::tempdir().unwrap();
         let frames = bubble(&s.specimen, 4).unwrap();
         let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e}"));
-        eprintln!("D {d} m, e {e} deg: {o:?}");
+        eprintln!("D {d} m, e {e} deg, lens {}: {o:?}", lens.is_some());
         out.push((d, e, o));
     }
     for (d, e, o) in &out {
@@ -344,33 +358,8 @@ fn init_finds_the_distance_from_a_calibrated_lens() {
         // the focal length and principal point become the pinhole's
         ..crate::track::lens::Lens::pinhole(1000.0, 1000.0, 511.5, 383.5)
     };
-    let cases = [(0.25, 5.0), (0.45, 0.0), (1.0, 3.0)];
-    let mut out = Vec::new();
-    for (k, &(d, e)) in cases.iter().enumerate() {
-        let seed = 281 + k as u64;
-        let mut s = synth::random_camera(
-            seed,
-            &[size],
-            Look {
-                elevation_deg: e,
-                camera_distance_m: d,
-                lens: Some(lens),
-                ..Look::default()
-            },
-        );
-        s.framing.axis_x_px = Some(0.5 * (s.width as f64 - 1.0));
-        let dir = tempfile::tempdir().unwrap();
-        let frames = bubble(&s.specimen, 4).unwrap();
-        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e}"));
-        eprintln!("D {d} m, e {e} deg, lens: {o:?}");
-        out.push((d, e, o));
-    }
-    for (d, e, o) in &out {
-        assert_eq!(o.tracked[0], o.tracked[1], "D {d} e {e}: {o:?}");
-        assert!(o.scale.abs() <= 0.003, "D {d} e {e}: scale {o:?}");
-        assert!(o.clamp_px.abs() <= 0.5, "D {d} e {e}: clamp row {o:?}");
-        assert!(o.heights <= 0.003, "D {d} e {e}: heights {o:?}");
-    }
+    let cases = [(0.25, 5.0, size), (0.45, 0.0, size), (1.0, 3.0, size)];
+    pinhole_cases(281, &cases, Some(lens));
 }
 
 /// A raised camera over a ring whose top face is lit lighter than both the
