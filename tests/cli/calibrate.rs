@@ -45,20 +45,7 @@ fn calibrate_recovers_the_lens_and_writes_a_camera_table() {
     let blank = bulge::track::image::Gray::new(640, 480, vec![128; 640 * 480]);
     let bytes = bulge::track::image::encode(&blank, bulge::track::image::Encoding::Png).unwrap();
     std::fs::write(d.path().join("board/board_00_blank.png"), bytes).unwrap();
-    let r = bulge_in(
-        d.path(),
-        &[
-            "calibrate",
-            "board",
-            "--square-m",
-            "0.005",
-            "--inner-corners",
-            "9x6",
-            "-o",
-            "camera.toml",
-        ],
-    )
-    .ok();
+    let r = calibrate_board(d.path());
     assert!(
         r.stderr.contains("skipped board_00_blank.png"),
         "{}",
@@ -195,20 +182,7 @@ fn a_calibrated_camera_at_mid_height_needs_only_the_opening() {
         5,
     )
     .unwrap();
-    bulge_in(
-        d.path(),
-        &[
-            "calibrate",
-            "board",
-            "--square-m",
-            "0.005",
-            "--inner-corners",
-            "9x6",
-            "-o",
-            "camera.toml",
-        ],
-    )
-    .ok();
+    calibrate_board(d.path());
     let r = bulge_in(
         d.path(),
         &[
@@ -234,13 +208,29 @@ fn a_calibrated_camera_at_mid_height_needs_only_the_opening() {
     let dist = found["camera"]["distance_m"].as_float().unwrap();
     assert!((dist / 0.45 - 1.0).abs() < 0.02, "distance {dist} m");
     bulge_in(d.path(), &["track", "setup.toml", "-o", "h.csv"]).ok();
-    let (head, rows) = read_csv(&d.path().join("h.csv"));
-    let (_, truth) = read_csv(&d.path().join("exp/truth.csv"));
-    let col = head.iter().position(|h| h == "height_m").unwrap();
-    assert_eq!(rows.len(), truth.len());
-    for (r, t) in rows.iter().zip(&truth) {
-        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
-        eprintln!("{} {:+.3} %", t[0], 100.0 * (h / ht - 1.0));
-        assert!((h / ht - 1.0).abs() < 0.003, "{h} against {ht}");
-    }
+    assert_heights_within(
+        &d.path().join("h.csv"),
+        &d.path().join("exp/truth.csv"),
+        0.003,
+    );
+}
+
+/// `bulge calibrate board --square-m 0.005 --inner-corners 9x6 -o
+/// camera.toml` in `dir` (the boards of [`write_board_photos`] with a 9x6
+/// board of 5 mm squares), which must succeed.
+fn calibrate_board(dir: &std::path::Path) -> Run {
+    bulge_in(
+        dir,
+        &[
+            "calibrate",
+            "board",
+            "--square-m",
+            "0.005",
+            "--inner-corners",
+            "9x6",
+            "-o",
+            "camera.toml",
+        ],
+    )
+    .ok()
 }

@@ -3,7 +3,7 @@
 
 use std::fs;
 
-use crate::util::{bulge_in, read_csv, repo, tempdir};
+use crate::util::{assert_heights_within, bulge_in, repo, tempdir};
 
 /// The demo's photos alone: the experiment file written, commented, close
 /// to the synthetic truth (clamp row 384.4156 px, 1.674107e-4 m/px), and
@@ -50,14 +50,11 @@ fn init_then_track_the_demo() {
         &["track", out.to_str().unwrap(), "-o", "heights.csv"],
     )
     .ok();
-    let (head, rows) = read_csv(&dir.path().join("heights.csv"));
-    let (_, truth) = read_csv(&demo.join("truth.csv"));
-    let col = head.iter().position(|h| h == "height_m").unwrap();
-    assert_eq!(rows.len(), truth.len());
-    for (r, t) in rows.iter().zip(&truth) {
-        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
-        assert!((h / ht - 1.0).abs() < 0.005, "{h} against {ht}");
-    }
+    assert_heights_within(
+        &dir.path().join("heights.csv"),
+        &demo.join("truth.csv"),
+        0.005,
+    );
     // An existing experiment file is not replaced without --force; an
     // input is never an output.
     let photos = demo.join("photos");
@@ -197,14 +194,11 @@ fn init_from_a_video() {
         &["track", "setup/experiment.toml", "-o", "h.csv"],
     )
     .ok();
-    let (head, rows) = read_csv(&dir.path().join("h.csv"));
-    let (_, truth) = read_csv(&dir.path().join("exp/truth.csv"));
-    let col = head.iter().position(|h| h == "height_m").unwrap();
-    assert_eq!(rows.len(), truth.len());
-    for (r, t) in rows.iter().zip(&truth) {
-        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
-        assert!((h / ht - 1.0).abs() < 0.005, "{h} against {ht}");
-    }
+    assert_heights_within(
+        &dir.path().join("h.csv"),
+        &dir.path().join("exp/truth.csv"),
+        0.005,
+    );
     bulge_in(
         dir.path(),
         &[

@@ -97,3 +97,18 @@ pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
         .collect();
     (head, rows)
 }
+
+/// Every height of the tracked `heights` CSV (`height_m`) within the
+/// relative `tol` of the synthetic `truth` CSV's (its third column,
+/// `height_m`), row by row, and as many rows; each relative error printed.
+pub fn assert_heights_within(heights: &Path, truth: &Path, tol: f64) {
+    let (head, rows) = read_csv(heights);
+    let (_, truth) = read_csv(truth);
+    let col = head.iter().position(|h| h == "height_m").unwrap();
+    assert_eq!(rows.len(), truth.len());
+    for (r, t) in rows.iter().zip(&truth) {
+        let (h, ht): (f64, f64) = (r[col].parse().unwrap(), t[2].parse().unwrap());
+        eprintln!("{} {:+.3} %", t[0], 100.0 * (h / ht - 1.0));
+        assert!((h / ht - 1.0).abs() < tol, "{h} against {ht}");
+    }
+}
