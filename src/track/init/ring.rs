@@ -13,6 +13,7 @@
 //! its tangent points ([`Pinhole::opening_scale_factor`]).
 
 use super::*;
+use crate::numerics::roots::{brent_min, brent_zero};
 use crate::track::persp::Pinhole;
 use crate::track::synth::pinhole::circle_rows;
 
@@ -226,47 +227,28 @@ fn outline_half_width(
     let at = |z: f64| -> Option<f64> {
         let r = rho(z)?;
         let pt = |psi: f64| p.project([r * psi.sin(), -r * psi.cos(), z]);
-        let f0 = pt(0.0)[1] - v;
-        if f0 * (pt(PI)[1] - v) > 0.0 {
+        let (f0, f1) = (pt(0.0)[1] - v, pt(PI)[1] - v);
+        if f0 * f1 > 0.0 {
             return None;
         }
-        let (mut lo, mut hi) = (0.0, PI);
-        for _ in 0..60 {
-            let m = 0.5 * (lo + hi);
-            if ((pt(m)[1] - v) > 0.0) == (f0 > 0.0) {
-                lo = m;
-            } else {
-                hi = m;
-            }
-        }
-        Some(pt(0.5 * (lo + hi))[0] - x0)
+        let row = |psi: f64| Ok::<f64, ()>(pt(psi)[1] - v);
+        let psi = brent_zero(row, 0.0, f0, PI, f1, 1e-13, 1e-9, 200).ok()?.x;
+        Some(pt(psi)[0] - x0)
     };
     let n = 200;
     let z_of = |i: usize| z_max * i as f64 / n as f64;
-    let (i, _) = (0..=n)
+    let (i, w_grid) = (0..=n)
         .filter_map(|i| at(z_of(i)).map(|w| (i, w)))
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    // Golden-section search for the widest latitude within the grid's
-    // bracket (the width is smooth and single-peaked there).
-    let g = |z: f64| at(z).unwrap_or(f64::NEG_INFINITY);
-    let (mut lo, mut hi) = (z_of(i.saturating_sub(1)), z_of((i + 1).min(n)));
-    let k = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut z1, mut z2) = (hi - k * (hi - lo), lo + k * (hi - lo));
-    let (mut g1, mut g2) = (g(z1), g(z2));
-    for _ in 0..60 {
-        if g1 >= g2 {
-            hi = z2;
-            (z2, g2) = (z1, g1);
-            z1 = hi - k * (hi - lo);
-            g1 = g(z1);
-        } else {
-            lo = z1;
-            (z1, g1) = (z2, g2);
-            z2 = lo + k * (hi - lo);
-            g2 = g(z2);
-        }
-    }
-    Some(g1.max(g2).max(at(z_of(i))?))
+    // The widest latitude within the grid's bracket (the width is smooth
+    // and single-peaked there; a latitude that misses the row counts as
+    // narrowest).
+    let narrowness = |z: f64| Ok::<f64, ()>(at(z).map_or(f64::MAX, |w| -w));
+    let (lo, hi) = (z_of(i.saturating_sub(1)), z_of((i + 1).min(n)));
+    let z = brent_min(narrowness, lo, hi, 1e-12, 1e-12 * z_max, 200)
+        .ok()?
+        .x;
+    Some(at(z).unwrap_or(w_grid).max(w_grid))
 }
 
 /// The scale at the ring's centre, m per px, from the opening's half-width
