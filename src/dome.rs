@@ -339,34 +339,14 @@ where
         let i = list.iter().position(|x| *x == v).unwrap_or(0);
         (list[i.saturating_sub(1)], list[(i + 1).min(list.len() - 1)])
     };
+    // the best of a golden-section search and the grid point it started at
     let golden = |lo: f64, hi: f64, g: &dyn Fn(f64) -> f64, x0: f64, q0: f64| -> (f64, f64) {
-        let r = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut lo, mut hi) = (lo, hi);
-        let (mut x1, mut x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        let (mut f1, mut f2) = (g(x1), g(x2));
-        let (mut bx, mut bq) = (x0, q0);
-        for _ in 0..SECTIONS {
-            for (x, v) in [(x1, f1), (x2, f2)] {
-                if v < bq {
-                    (bx, bq) = (x, v);
-                }
-            }
-            if f1 < f2 {
-                (hi, x2, f2) = (x2, x1, f1);
-                x1 = hi - r * (hi - lo);
-                f1 = g(x1);
-            } else {
-                (lo, x1, f1) = (x1, x2, f2);
-                x2 = lo + r * (hi - lo);
-                f2 = g(x2);
-            }
+        let b = crate::numerics::golden::golden_section(lo, hi, SECTIONS, |x| (g(x), ()));
+        if b.score < q0 {
+            (b.x, b.score)
+        } else {
+            (x0, q0)
         }
-        for (x, v) in [(x1, f1), (x2, f2)] {
-            if v < bq {
-                (bx, bq) = (x, v);
-            }
-        }
-        (bx, bq)
     };
     let (flo, fhi) = neighbours(f, &F_GRID);
     (f, qbest) = golden(flo, fhi, &|x| q(z, x), f, qbest);

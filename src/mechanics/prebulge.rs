@@ -104,7 +104,7 @@ pub fn estimate(
         0.999 * pts.iter().map(|q| q.1).fold(f64::INFINITY, f64::min)
     };
     let f = |h0: f64| ssr(spec, &pts, h0, scale, relative);
-    // A scan for the basin, then golden sections inside it.
+    // A scan for the basin, then golden sections inside it (to 1e-12 a).
     let grid = 200;
     let (mut best, mut best_f) = (0, f64::INFINITY);
     for k in 0..=grid {
@@ -120,23 +120,12 @@ pub fn estimate(
         });
     }
     let step = top / grid as f64;
-    let (mut lo, mut hi) = (
+    let (lo, hi) = (
         (best as f64 - 1.0).max(0.0) * step,
         (best as f64 + 1.0) * step,
     );
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..100 {
-        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if f(x1) < f(x2) {
-            hi = x2;
-        } else {
-            lo = x1;
-        }
-        if hi - lo < 1e-12 * a {
-            break;
-        }
-    }
-    let h0 = 0.5 * (lo + hi);
+    let sections = crate::numerics::golden::sections_for(hi - lo, 1e-12 * a);
+    let h0 = crate::numerics::golden::golden_section(lo, hi, sections, |x| (f(x), ())).x;
     // Curvature of the residual by central differences.
     let d = 1e-3 * step.max(1e-9 * a);
     let (fm, f0, fp) = (f((h0 - d).max(0.0)), f(h0), f(h0 + d));

@@ -30,7 +30,7 @@ pub fn refine_with_prebulge(
     } else {
         0.999 * lowest
     };
-    let (mut lo, mut hi) = (0.8 * start_m, (1.25 * start_m).min(top));
+    let (lo, hi) = (0.8 * start_m, (1.25 * start_m).min(top));
     if !(start_m > 0.0 && lo < hi) {
         return Err(FitError::Unsupported(format!(
             "prebulge_height_m: the estimate {start_m} m leaves no range below the lowest measured height {lowest} m"
@@ -53,25 +53,11 @@ pub fn refine_with_prebulge(
             .and_then(|r| Refined::rms(&r.after).map(|e| (e, r)))
     };
     let score = |r: &Option<(f64, Refined)>| r.as_ref().map_or(f64::INFINITY, |v| v.0);
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
-    let (mut f1, mut f2) = (at(x1), at(x2));
-    for _ in 0..PREBULGE_SECTIONS {
-        if score(&f1) < score(&f2) {
-            (hi, x2, f2) = (x2, x1, f1);
-            x1 = hi - g * (hi - lo);
-            f1 = at(x1);
-        } else {
-            (lo, x1, f1) = (x1, x2, f2);
-            x2 = lo + g * (hi - lo);
-            f2 = at(x2);
-        }
-    }
-    let (h0, best) = if score(&f1) < score(&f2) {
-        (x1, f1)
-    } else {
-        (x2, f2)
-    };
+    let found = crate::numerics::golden::golden_section(lo, hi, PREBULGE_SECTIONS, |x| {
+        let r = at(x);
+        (score(&r), r)
+    });
+    let (h0, best) = (found.x, found.value);
     let (rms0, mut r) = best.ok_or_else(|| {
         FitError::Solver(format!(
             "the law could not be corrected to the heights for any stress-free dome height near {start_m} m"
