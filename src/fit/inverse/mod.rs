@@ -433,6 +433,63 @@ pub fn height_errors(
     Ok(problem.errors(&x0))
 }
 
+/// The correction's parameters, the errors there and the iterations taken.
+struct Corrected {
+    x: Vec<f64>,
+    after: Vec<Option<f64>>,
+    iterations: u64,
+}
+
+/// The correction's two passes, shared by the axisymmetric and the
+/// membrane paths: first one factor on the stress parameters from `start`
+/// (`with_scale`: `problem` fitting that factor; a start 20-40 % too stiff
+/// or soft, as other stress conventions give, is mostly a scale), then
+/// every parameter from there. The starting law `x0` is kept, with its
+/// errors `before`, when the correction does not improve the rms error (a
+/// start without an equilibrium everywhere is beaten by any law that has
+/// one).
+#[allow(clippy::too_many_arguments)]
+fn scale_then_all<P>(
+    problem: &P,
+    with_scale: P,
+    params: &Params,
+    x0: Vec<f64>,
+    start: f64,
+    before: &[Option<f64>],
+    errors: impl Fn(&[f64]) -> Vec<Option<f64>>,
+    max_iterations: u64,
+) -> Result<Corrected, FitError>
+where
+    P: Clone
+        + Operator<Param = DVector<f64>, Output = DVector<f64>>
+        + Jacobian<Param = DVector<f64>, Jacobian = DMatrix<f64>>,
+{
+    let solver = |e: ArgminError| FitError::Solver(e.to_string());
+    let scale =
+        lm::minimize(with_scale, DVector::from_vec(vec![start]), max_iterations).map_err(solver)?;
+    let x1 = params.scaled(&x0, scale.x[0]);
+    let r = lm::minimize(problem.clone(), DVector::from_vec(x1), max_iterations).map_err(solver)?;
+    let after = errors(r.x.as_slice());
+    let better = match (Refined::rms(&after), Refined::rms(before)) {
+        (Some(a), Some(b)) => a < b,
+        (Some(_), None) => true,
+        _ => false,
+    };
+    Ok(if better {
+        Corrected {
+            x: r.x.as_slice().to_vec(),
+            after,
+            iterations: scale.iterations + r.iterations,
+        }
+    } else {
+        Corrected {
+            x: x0,
+            after: before.to_vec(),
+            iterations: scale.iterations + r.iterations,
+        }
+    })
+}
+
 /// Corrects `material`'s parameters so that the axisymmetric inflation of
 /// `specimen` reproduces `measured` (see the module documentation).
 ///
@@ -497,30 +554,23 @@ pub fn refine(
         weights: weights.as_deref(),
         ..problem
     };
-    // First one factor on the stress parameters (a start 20-40 % too stiff
-    // or soft, as other stress conventions give, is mostly a scale), then
-    // every parameter from there.
-    let scale = lm::minimize(
+    let Corrected {
+        x,
+        after,
+        iterations,
+    } = scale_then_all(
+        &problem,
         Problem {
             scale_of: Some(x0.clone()),
             ..problem.clone()
         },
-        DVector::from_vec(vec![1.0]),
+        &problem.params,
+        x0,
+        1.0,
+        &before,
+        |x| problem.errors(x),
         opts.max_iterations,
-    )
-    .map_err(|e| FitError::Solver(e.to_string()))?;
-    let x1 = problem.params.scaled(&x0, scale.x[0]);
-    let r = lm::minimize(problem.clone(), DVector::from_vec(x1), opts.max_iterations)
-        .map_err(|e| FitError::Solver(e.to_string()))?;
-    let (x, iterations) = (r.x, scale.iterations + r.iterations);
-    let after = problem.errors(x.as_slice());
-    // Keep the starting law if the correction did not improve the fit.
-    let better = match (Refined::rms(&after), Refined::rms(&before)) {
-        (Some(a), Some(b)) => a < b,
-        _ => false,
-    };
-    let x = if better { x.as_slice().to_vec() } else { x0 };
-    let after = if better { after } else { before.clone() };
+    )?;
     let sigma = match sigma0 {
         Some(s) => Some(s),
         None => independent_std(&problem, &x, sources),

@@ -175,29 +175,23 @@ pub fn refine_in_scene(
         start *= 2.0;
         at_start = problem.errors(&problem.params.scaled(&x0, start));
     }
-    let scale = lm::minimize(
+    let Corrected {
+        x,
+        after,
+        iterations,
+    } = scale_then_all(
+        &problem,
         SceneProblem {
             scale_of: Some(x0.clone()),
             ..problem.clone()
         },
-        DVector::from_vec(vec![start]),
+        &problem.params,
+        x0,
+        start,
+        &before,
+        |x| problem.errors(x),
         opts.max_iterations,
-    )
-    .map_err(|e| FitError::Solver(e.to_string()))?;
-    let x1 = problem.params.scaled(&x0, scale.x[0]);
-    let r = lm::minimize(problem.clone(), DVector::from_vec(x1), opts.max_iterations)
-        .map_err(|e| FitError::Solver(e.to_string()))?;
-    let (x, iterations) = (r.x, scale.iterations + r.iterations);
-    let after = problem.errors(x.as_slice());
-    // better than the start (a start without equilibrium everywhere is beaten
-    // by any law that has one)
-    let better = match (Refined::rms(&after), Refined::rms(&before)) {
-        (Some(a), Some(b)) => a < b,
-        (Some(_), None) => true,
-        _ => false,
-    };
-    let x = if better { x.as_slice().to_vec() } else { x0 };
-    let after = if better { after } else { before.clone() };
+    )?;
     Ok(Refined {
         material: Material {
             model: problem.params.model(&x),
