@@ -67,6 +67,7 @@ pub(crate) mod numerics;
 pub mod pipeline;
 pub mod pressure_log;
 pub mod report;
+pub mod setting;
 pub mod sim;
 #[cfg(feature = "opencv")]
 pub mod study;

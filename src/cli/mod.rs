@@ -129,6 +129,26 @@ impl<T, E: Into<anyhow::Error>> Classify<T> for Result<T, E> {
     }
 }
 
+/// The flag that sets each setting a library message may name.
+pub fn flag_of(s: bulge::setting::Setting) -> &'static str {
+    use bulge::setting::Setting;
+    match s {
+        Setting::Fit => "--fit",
+        Setting::MaxSamples => "--max-samples",
+        Setting::Model => "--model",
+        Setting::Solver => "--solver",
+        Setting::InnerCorners => "--inner-corners",
+        Setting::MinScore => "--min-score",
+        Setting::SkipBadFrames => "--skip-bad-frames",
+        Setting::Refine => "--refine",
+        Setting::CameraDistance => "--camera-distance-m",
+        Setting::MetresPerPixel => "--metres-per-pixel",
+        Setting::AxisX => "--axis-x-px",
+        Setting::ClampRow => "--clamp-row-px",
+        Setting::PressureMax => "--pressure-max-pa",
+    }
+}
+
 /// Runs a parsed command line.
 pub fn dispatch(cli: Cli) -> Result<(), Failure> {
     match cli.command {

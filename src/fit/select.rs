@@ -559,7 +559,8 @@ pub fn choose(rows: Vec<LawRow>, sigma_known: bool) -> Result<Selection, FitErro
                 .collect::<Vec<_>>()
                 .join("; ");
             return Err(FitError::Unsupported(format!(
-                "no law could be fitted, corrected to the heights and kept positive in stiffness ({why}); force one with --fit MODEL"
+                "no law could be fitted, corrected to the heights and kept positive in stiffness ({why}); force one with {} (a law's name)",
+                crate::setting::Setting::Fit
             )));
         }
     };

@@ -160,12 +160,13 @@ pub(super) fn choose_law(
     if !settings.refine || !settings.window.is_circle() {
         let mut f = fit_material(data, fit_settings, source)?;
         f.warn(format!(
-            "the law was not chosen by the heights ({}): the quartic is used; name a law with --fit to fit another",
+            "the law was not chosen by the heights ({}): the quartic is used; name a law with {} to fit another",
             if settings.refine {
                 "the window is not circular, and the choice corrects every law through the exact axisymmetric inflation"
             } else {
                 "the correction to the heights is off"
-            }
+            },
+            crate::setting::Setting::Fit
         ));
         return Ok((f, None));
     }

@@ -328,10 +328,11 @@ impl RunOptions {
         let max = self.max_samples.unwrap_or(MAX_SAMPLES);
         if s.samples > max {
             return bad(format!(
-                "samples = {}: each sample corrects the law to the heights once (0.1-0.5 s each), so {} would take about {} hours on two cores; take at most {max} (1000 give the intervals to a few per cent), or raise the bound with --max-samples (max_samples in [run])",
+                "samples = {}: each sample corrects the law to the heights once (0.1-0.5 s each), so {} would take about {} hours on two cores; take at most {max} (1000 give the intervals to a few per cent), or raise the bound with {} (max_samples in [run])",
                 s.samples,
                 s.samples,
-                (s.samples as f64 * 0.3 / 2.0 / 3600.0).ceil()
+                (s.samples as f64 * 0.3 / 2.0 / 3600.0).ceil(),
+                crate::setting::Setting::MaxSamples
             ));
         }
         if s.models.is_empty() && !s.axisym {

@@ -87,8 +87,9 @@ pub fn mesh_warnings(
         let neg = k.iter().filter(|&&k| k < 0.0).count();
         if neg > 0 {
             out.push(format!(
-                "{neg} of {} springs of the van-gelder model have a negative stiffness (eq 1's nu term (a^2 + b^2 - c^2) / (8 |T|) is negative opposite an obtuse angle): the lattice may have no stable equilibrium; re-mesh with acute triangles or use --model tp",
-                k.len()
+                "{neg} of {} springs of the van-gelder model have a negative stiffness (eq 1's nu term (a^2 + b^2 - c^2) / (8 |T|) is negative opposite an obtuse angle): the lattice may have no stable equilibrium; re-mesh with acute triangles or use {} tp",
+                k.len(),
+                crate::setting::Setting::Model
             ));
         }
     }

@@ -491,9 +491,10 @@ pub fn newton_with(
                 let floor = roundoff_floor(m, x, &r, ws)?;
                 if rn > 10.0 * floor {
                     return Err(fail(format!(
-                        "the line search stalled at relative residual {:.3e}, above the tolerance and above the round-off floor here ({:.3e}): the tangent does not lead down; try --solver dr",
+                        "the line search stalled at relative residual {:.3e}, above the tolerance and above the round-off floor here ({:.3e}): the tangent does not lead down; try {} dr",
                         rn / load,
-                        floor / load
+                        floor / load,
+                        crate::setting::Setting::Solver
                     )));
                 }
                 // ... unless the load itself is below that floor: then

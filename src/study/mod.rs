@@ -78,11 +78,12 @@ where
         return Err(InputError::file(
             &m.exp.path,
             format!(
-                "specimen {} fits {} but {} fits {}: a study fits one law to every specimen; set `fit` in the study file's [run] table or give --fit",
+                "specimen {} fits {} but {} fits {}: a study fits one law to every specimen; set `fit` in the study file's [run] table or give {}",
                 m.name,
                 m.settings.fit.label(),
                 first.name,
-                first.settings.fit.label()
+                first.settings.fit.label(),
+                crate::setting::Setting::Fit
             ),
         )
         .into());

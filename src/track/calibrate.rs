@@ -168,7 +168,7 @@ pub fn calibrate_folder(dir: &Path, board: &Board) -> Result<LensCalibration, Tr
         return Err(TrackError::Config {
             path: dir.to_path_buf(),
             message: format!(
-                "the board ({}x{} inner corners) was found in {} of {} photos{}, and the calibration needs at least {MIN_PHOTOS}: photograph the whole board (every square in the picture, sharp and evenly lit) at 10-20 poses, tilted by 10-40 degrees, reaching the corners of the picture; check --inner-corners (columns x rows of corners where four squares meet, not of squares)",
+                "the board ({}x{} inner corners) was found in {} of {} photos{}, and the calibration needs at least {MIN_PHOTOS}: photograph the whole board (every square in the picture, sharp and evenly lit) at 10-20 poses, tilted by 10-40 degrees, reaching the corners of the picture; check {} (columns x rows of corners where four squares meet, not of squares)",
                 board.inner[0],
                 board.inner[1],
                 used.len(),
@@ -177,7 +177,8 @@ pub fn calibrate_folder(dir: &Path, board: &Board) -> Result<LensCalibration, Tr
                     String::new()
                 } else {
                     format!(" (not found in {})", skipped.join(", "))
-                }
+                },
+                crate::setting::Setting::InnerCorners
             ),
         });
     }

@@ -195,8 +195,10 @@ pub(super) fn match_frames(
         // searched again near the position the frames before predict.
         let verdict = if low {
             Err(format!(
-                "score {:.3} < --min-score {}",
-                loc.m.score, opts.min_score
+                "score {:.3} < {} {}",
+                loc.m.score,
+                crate::setting::Setting::MinScore,
+                opts.min_score
             ))
         } else {
             let (apex, std) = state.apex(&loc);

@@ -154,8 +154,10 @@ pub enum TrackError {
     },
     /// The template was not found well enough in a frame.
     #[error(
-        "{}: frame {frame}: the best template match scores {score:.3} < --min-score {min:.3}; the apex is not where the template says, or the photo is damaged (open it to check), or lower --min-score, or pass --skip-bad-frames to leave such frames out",
-        path.display()
+        "{}: frame {frame}: the best template match scores {score:.3} < {min_score} {min:.3}; the apex is not where the template says, or the photo is damaged (open it to check), or lower {min_score}, or use {skip} to leave such frames out",
+        path.display(),
+        min_score = crate::setting::Setting::MinScore,
+        skip = crate::setting::Setting::SkipBadFrames
     )]
     LowScore {
         /// The photo.
@@ -170,8 +172,9 @@ pub enum TrackError {
     /// The apex found in a frame is not plausible, even when searched again
     /// near the position predicted from the frames before.
     #[error(
-        "{}: frame {frame}: {why}; or pass --skip-bad-frames to leave such frames out",
-        path.display()
+        "{}: frame {frame}: {why}; or use {} to leave such frames out",
+        path.display(),
+        crate::setting::Setting::SkipBadFrames
     )]
     Implausible {
         /// The photo.

@@ -49,7 +49,8 @@ use super::types::Elevation;
 pub(crate) enum Implausible {
     /// No edge at the template's match.
     #[error(
-        "no edge of the bubble's top was found at the template's match (the top is hidden, outside the region, too faint, or level with something behind it): check the region and the template on this photo, or track with --refine quadratic"
+        "no edge of the bubble's top was found at the template's match (the top is hidden, outside the region, too faint, or level with something behind it): check the region and the template on this photo, or track with {} quadratic",
+        crate::setting::Setting::Refine
     )]
     NoEdge,
     /// A line just above the top on the emptiest photo.

@@ -573,10 +573,11 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 return Err(TrackError::NotFound {
                     what: "the camera's distance".into(),
                     detail: format!(
-                        "the lens's focal length {:.1} px and the scale {mpp:.4e} m/px put the camera {d:.4} m from the axis, within the opening's diameter: the lens was calibrated at another zoom or photo size",
-                        focal_px.unwrap_or(f64::NAN)
+                        "the lens's focal length {:.1} px and the scale {mpp:.4e} m/px put the camera {d:.4} m from the axis, within the opening's diameter: the lens was calibrated at another zoom or photo size; or give the distance ({})",
+                        focal_px.unwrap_or(f64::NAN),
+                        crate::setting::Setting::CameraDistance
                     ),
-                    keys: "[camera] distance_m (give --camera-distance-m)",
+                    keys: "[camera] distance_m",
                 });
             }
             let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);

@@ -21,8 +21,9 @@ pub(super) fn check(d: &Dynamics) -> Result<(), DynError> {
         SpringModel::VanGelder | SpringModel::Lloyd
     ) {
         return Err(DynError::BadParameter(format!(
-            "xpbd projects distance constraints with a fixed compliance 1/k per spring; the {} model's spring stiffness depends on the other sides of its triangles, so it has no such form: use --model van-gelder or lloyd with xpbd, or another integrator",
-            d.membrane.model.name()
+            "xpbd projects distance constraints with a fixed compliance 1/k per spring; the {} model's spring stiffness depends on the other sides of its triangles, so it has no such form: use {} van-gelder or lloyd with xpbd, or another integrator",
+            d.membrane.model.name(),
+            crate::setting::Setting::Model
         )));
     }
     if !d.membrane.law.is_constant() {

@@ -79,10 +79,11 @@ pub(super) fn find_radius(
         return Err(TrackError::NotFound {
             what: "the scale".into(),
             detail: format!(
-                "the bubble's sides above the clamp plane (rows {r_top}-{r_bot}) were found in {} rows only",
-                pts.len()
+                "the bubble's sides above the clamp plane (rows {r_top}-{r_bot}) were found in {} rows only; or give the scale ({})",
+                pts.len(),
+                crate::setting::Setting::MetresPerPixel
             ),
-            keys: "metres_per_pixel (or points_px with distance_m), or give --metres-per-pixel",
+            keys: "metres_per_pixel (or points_px with distance_m)",
         });
     }
     let fit = opening_from_sides(&pts, sin_e, a0)?;

@@ -154,7 +154,10 @@ impl Extras {
 /// picture.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error(
-    "the framing (scale {metres_per_pixel:.4e} m/px, axis at column {axis_x_px:.1}, clamp plane at row {clamp_row_px:.1}) leaves {what} out of the {width}x{height} px picture: change --metres-per-pixel, --axis-x-px or --clamp-row-px"
+    "the framing (scale {metres_per_pixel:.4e} m/px, axis at column {axis_x_px:.1}, clamp plane at row {clamp_row_px:.1}) leaves {what} out of the {width}x{height} px picture: change {}, {} or {}",
+    crate::setting::Setting::MetresPerPixel,
+    crate::setting::Setting::AxisX,
+    crate::setting::Setting::ClampRow
 )]
 pub struct FramingError {
     /// The scale, m/px.

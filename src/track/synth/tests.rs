@@ -187,7 +187,7 @@ fn random_framing_keeps_the_bubble_and_the_ring_in_the_picture() {
     assert_eq!(e.axis_x_px, 20.0);
     let m = e.to_string();
     assert!(
-        m.contains("side of the bubble") && m.contains("--axis-x-px"),
+        m.contains("side of the bubble") && m.contains("axis_x_px"),
         "{m}"
     );
 }
