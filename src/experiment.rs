@@ -35,8 +35,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::io::{BadValue, InputError, read_toml};
 
+mod tables;
 #[cfg(test)]
 mod tests;
+mod write;
+
+pub use tables::{
+    CalibrationConfig, CameraConfig, HeightsConfig, HeightsOrigin, PhotosConfig, PressureConfig,
+};
+pub use write::{Commented, Draft, Place};
 
 /// The clamped disc under test. All lengths in metres.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -50,27 +57,53 @@ pub struct Specimen {
     pub poisson: f64,
     /// Height `h0` of the stress-free shape over the clamp plane, m (>= 0,
     /// default 0: a flat disc; a slack membrane's stress-free shape is a
-    /// spherical cap of this height). In an experiment file `"fit"` asks
-    /// `bulge run` to estimate it from the heights (read as NaN here until
-    /// [`Experiment::read`] takes it out).
-    #[serde(default, deserialize_with = "height_or_fit")]
+    /// spherical cap of this height). An experiment file may ask for it to
+    /// be estimated instead ([`PrebulgeHeight::Fit`]); the specimen then
+    /// holds 0 until it is.
+    #[serde(default)]
     pub prebulge_height_m: f64,
 }
 
-/// A height in metres, or the word `fit` (as NaN).
-fn height_or_fit<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum HeightOrFit {
-        Number(f64),
-        Word(String),
+/// `[specimen] prebulge_height_m` as an experiment file gives it: a height,
+/// or `"fit"`, estimated from the heights by `bulge run`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PrebulgeHeight {
+    /// A height in metres.
+    Metres(f64),
+    /// `"fit"`: to be estimated from the heights.
+    Fit,
+}
+
+impl Default for PrebulgeHeight {
+    fn default() -> Self {
+        PrebulgeHeight::Metres(0.0)
     }
-    match HeightOrFit::deserialize(d)? {
-        HeightOrFit::Number(v) => Ok(v),
-        HeightOrFit::Word(w) if w == "fit" => Ok(f64::NAN),
-        HeightOrFit::Word(w) => Err(serde::de::Error::custom(format!(
-            "prebulge_height_m = \"{w}\": give a height in metres (e.g. 0.0035) or \"fit\" (estimated from the heights by bulge run)"
-        ))),
+}
+
+impl Serialize for PrebulgeHeight {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            PrebulgeHeight::Metres(v) => s.serialize_f64(*v),
+            PrebulgeHeight::Fit => s.serialize_str("fit"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for PrebulgeHeight {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum HeightOrWord {
+            Number(f64),
+            Word(String),
+        }
+        match HeightOrWord::deserialize(d)? {
+            HeightOrWord::Number(v) => Ok(PrebulgeHeight::Metres(v)),
+            HeightOrWord::Word(w) if w == "fit" => Ok(PrebulgeHeight::Fit),
+            HeightOrWord::Word(w) => Err(serde::de::Error::custom(format!(
+                "prebulge_height_m = \"{w}\": give a height in metres (e.g. 0.0035) or \"fit\" (estimated from the heights by bulge run)"
+            ))),
+        }
     }
 }
 
@@ -131,29 +164,51 @@ impl Window {
     }
 }
 
-/// `[specimen]` as the file has it: the specimen and the standard
-/// deviations of its dimensions.
-#[derive(Debug, Clone, Copy, Deserialize)]
+/// `[specimen]` as the file has it: the specimen, its dome height or
+/// `"fit"`, and the standard deviations of its dimensions.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct SpecimenFile {
-    radius_m: f64,
-    thickness_m: f64,
-    poisson: f64,
-    #[serde(default, deserialize_with = "height_or_fit")]
-    prebulge_height_m: f64,
+pub struct SpecimenTable {
+    /// Free radius `a`, m.
+    pub radius_m: f64,
+    /// Initial thickness `t`, m.
+    pub thickness_m: f64,
+    /// Poisson ratio.
+    pub poisson: f64,
+    /// The stress-free dome height, or `"fit"`.
     #[serde(default)]
-    thickness_std_m: Option<f64>,
-    #[serde(default)]
-    radius_std_m: Option<f64>,
+    pub prebulge_height_m: PrebulgeHeight,
+    /// Standard deviation of the thickness, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub thickness_std_m: Option<f64>,
+    /// Standard deviation of the free radius, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius_std_m: Option<f64>,
 }
 
-impl SpecimenFile {
-    fn specimen(&self) -> Specimen {
+impl SpecimenTable {
+    /// The table of a specimen whose dimensions are exact.
+    pub fn of(s: &Specimen) -> Self {
+        SpecimenTable {
+            radius_m: s.radius_m,
+            thickness_m: s.thickness_m,
+            poisson: s.poisson,
+            prebulge_height_m: PrebulgeHeight::Metres(s.prebulge_height_m),
+            thickness_std_m: None,
+            radius_std_m: None,
+        }
+    }
+
+    /// The specimen (a dome height to be fitted is 0 until it is).
+    pub fn specimen(&self) -> Specimen {
         Specimen {
             radius_m: self.radius_m,
             thickness_m: self.thickness_m,
             poisson: self.poisson,
-            prebulge_height_m: self.prebulge_height_m,
+            prebulge_height_m: match self.prebulge_height_m {
+                PrebulgeHeight::Metres(h) => h,
+                PrebulgeHeight::Fit => 0.0,
+            },
         }
     }
 
@@ -192,7 +247,7 @@ pub struct SpecimenStd {
 }
 
 fn specimen_of_file<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Specimen, D::Error> {
-    SpecimenFile::deserialize(d).map(|f| f.specimen())
+    SpecimenTable::deserialize(d).map(|f| f.specimen())
 }
 
 /// A `[specimen]` field out of its range.
@@ -263,237 +318,11 @@ impl Specimen {
         if !(poisson.is_finite() && (0.0..0.5).contains(&poisson)) {
             return Err(SpecimenError::Poisson(poisson));
         }
-        if prebulge_height_m.is_nan() {
-            return Err(SpecimenError::PrebulgeToFit);
-        }
         if !(prebulge_height_m.is_finite() && prebulge_height_m >= 0.0) {
             return Err(SpecimenError::Prebulge(prebulge_height_m));
         }
         Ok(())
     }
-}
-
-/// `[photos]`: where the photos are and what to look for in them: a folder
-/// of photos (`dir`, `glob`) or a video (`video`, with `every` or `times_s`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PhotosConfig {
-    /// Folder of the photos, relative to the experiment file.
-    #[serde(default)]
-    pub dir: Option<PathBuf>,
-    /// File-name pattern, e.g. `*.png` (default `*`); files are taken in
-    /// natural sort order.
-    #[serde(default)]
-    pub glob: Option<String>,
-    /// Or a video file, relative to the experiment file (read with OpenCV's
-    /// video module).
-    #[serde(default)]
-    pub video: Option<PathBuf>,
-    /// Video only: take every N-th frame (frames 0, N, 2N, ...; default 1).
-    #[serde(default)]
-    pub every: Option<usize>,
-    /// Video only: take the frame nearest each of these times, s.
-    #[serde(default)]
-    pub times_s: Option<Vec<f64>>,
-    /// Photo folder only: time between consecutive photos (in file-name
-    /// order), s; gives each photo a time for a pressure log by time.
-    #[serde(default)]
-    pub interval_s: Option<f64>,
-    /// Photo folder only: time of the first photo, s (default 0; with
-    /// `interval_s`).
-    #[serde(default)]
-    pub start_s: Option<f64>,
-    /// Region where the apex can move: `[x, y, width, height]` in pixels.
-    pub roi_px: [i32; 4],
-    /// Template image file, relative to the experiment file.
-    #[serde(default)]
-    pub template: Option<PathBuf>,
-    /// Or the template cut from the reference frame: `[x, y, width, height]`.
-    #[serde(default)]
-    pub template_rect_px: Option<[i32; 4]>,
-    /// Index of the reference frame (default 0).
-    #[serde(default)]
-    pub reference_frame: usize,
-    /// Apex position inside the template, `[dx, dy]` px (default: its centre).
-    #[serde(default)]
-    pub apex_in_template_px: Option<[f64; 2]>,
-}
-
-impl PhotosConfig {
-    /// The file-name pattern of a photo folder (`*` when not given).
-    pub fn glob(&self) -> &str {
-        self.glob.as_deref().unwrap_or("*")
-    }
-}
-
-/// `[calibration]`: pixels to metres and the clamp plane.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct CalibrationConfig {
-    /// Scale, m per pixel.
-    #[serde(default)]
-    pub metres_per_pixel: Option<f64>,
-    /// Or two image points a known distance apart.
-    #[serde(default)]
-    pub points_px: Option<[[f64; 2]; 2]>,
-    /// Distance between `points_px`, m.
-    #[serde(default)]
-    pub distance_m: Option<f64>,
-    /// Image row of the clamp plane, px, when known (with a camera above
-    /// the clamp plane, the row of the clamp ring's centre).
-    #[serde(default)]
-    pub clamp_row_px: Option<f64>,
-    /// Elevation of the camera above the clamp plane, degrees (0 to 30;
-    /// absent: a level camera): the heights are corrected for it.
-    #[serde(default)]
-    pub elevation_deg: Option<f64>,
-    /// Standard deviation of the scale, m per pixel (however the scale is
-    /// given): every height is wrong in the same proportion.
-    #[serde(default)]
-    pub metres_per_pixel_std: Option<f64>,
-    /// Standard deviation of the clamp row, px (or, without `clamp_row_px`,
-    /// of the reference photo's apex): every height is wrong by the same
-    /// offset.
-    #[serde(default)]
-    pub clamp_row_std_px: Option<f64>,
-}
-
-impl CalibrationConfig {
-    /// The scale, m per pixel, from `metres_per_pixel` or from the two
-    /// points and their distance; `None` when neither is complete.
-    pub fn scale(&self) -> Option<f64> {
-        match (self.metres_per_pixel, self.points_px, self.distance_m) {
-            (Some(s), _, _) => Some(s),
-            (None, Some([p, q]), Some(d)) => {
-                let len = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt();
-                (len > 0.0).then(|| d / len)
-            }
-            _ => None,
-        }
-    }
-}
-
-/// `[camera]`: what the camera does to the light before the photo is written.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-pub struct CameraConfig {
-    /// The tone curve from light to pixel values: `"srgb"` (the default:
-    /// ordinary 8-bit photos), `"linear"` (raw or 16-bit photos), or a gamma
-    /// such as 2.2. Edges are located in linear light.
-    #[serde(default)]
-    pub response: Option<crate::camera::Response>,
-    /// Focal lengths `[fx, fy]`, px, from `bulge calibrate` (with
-    /// `principal_point_px` and `distortion`: the tracker and `bulge init`
-    /// undistort the points they measure, and heights are in the
-    /// undistorted pinhole image's pixels).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub focal_px: Option<[f64; 2]>,
-    /// Principal point `[cx, cy]`, px (image coordinates of the photos).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub principal_point_px: Option<[f64; 2]>,
-    /// Distortion coefficients `[k1, k2, p1, p2, k3]` (OpenCV's order).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub distortion: Option<[f64; 5]>,
-    /// The photo size the calibration was made at, `[width, height]` px:
-    /// photos of another size are refused.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub image_size_px: Option<[usize; 2]>,
-    /// The calibration's RMS reprojection error, px (for the record).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub reprojection_rms_px: Option<f64>,
-    /// Horizontal distance from the bubble's axis to the camera's centre
-    /// (the lens's entrance pupil), m: the camera is a pinhole at that
-    /// distance, `[calibration] elevation_deg` the angle at which it looks
-    /// down at the clamp ring's centre, and the apex height is read from the
-    /// silhouette's top through the ray tangent to the dome
-    /// (docs/theory.md, section 10). Absent: an orthographic camera.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub distance_m: Option<f64>,
-}
-
-impl CameraConfig {
-    /// The tone curve (sRGB when not given).
-    pub fn response(&self) -> crate::camera::Response {
-        self.response.unwrap_or_default()
-    }
-
-    /// Whether a lens calibration is given (any of its keys).
-    pub fn has_lens(&self) -> bool {
-        self.focal_px.is_some() || self.principal_point_px.is_some() || self.distortion.is_some()
-    }
-
-    /// The lens calibration's keys checked: `Ok(None)` without one, an error
-    /// naming the missing or bad key and the fix.
-    #[allow(clippy::type_complexity)]
-    pub fn lens_keys(&self) -> Result<Option<([f64; 2], [f64; 2], [f64; 5])>, String> {
-        if !self.has_lens() {
-            return Ok(None);
-        }
-        let (Some(f), Some(c), Some(d)) = (self.focal_px, self.principal_point_px, self.distortion)
-        else {
-            return Err("[camera] gives part of a lens calibration: focal_px, principal_point_px and distortion go together; paste the whole [camera] table written by `bulge calibrate`".into());
-        };
-        if !(f[0].is_finite() && f[1].is_finite() && f[0] > 0.0 && f[1] > 0.0) {
-            return Err(format!(
-                "[camera] focal_px = {f:?}: the focal lengths must be positive, px; calibrate again with `bulge calibrate`"
-            ));
-        }
-        if !(c.iter().chain(d.iter()).all(|v| v.is_finite())) {
-            return Err(format!(
-                "[camera] principal_point_px = {c:?} or distortion = {d:?} is not finite; calibrate again with `bulge calibrate`"
-            ));
-        }
-        Ok(Some((f, c, d)))
-    }
-}
-
-/// `[pressure]`: the pressure log, joined per photo (columns
-/// `file,pressure_pa`) or by time (columns `time_s,pressure_pa`, interpolated
-/// linearly at each frame's time).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PressureConfig {
-    /// The CSV, relative to the experiment file.
-    pub csv: PathBuf,
-    /// Clock offset of a log by time, s: logger time = frame time +
-    /// `offset_s` (the logger's clock reads `offset_s` when the camera's
-    /// reads 0). Default 0.
-    #[serde(default)]
-    pub offset_s: Option<f64>,
-    /// Standard deviation of each reading's noise, Pa, independent from
-    /// reading to reading (default 0).
-    #[serde(default)]
-    pub std_pa: Option<f64>,
-    /// Standard deviation of the gauge's gain, as a fraction of the reading
-    /// (a gauge "accurate to 0.25 % of the reading": 0.0025), one factor
-    /// shared by every reading (default 0).
-    #[serde(default)]
-    pub relative_std: Option<f64>,
-}
-
-/// `[heights]`: measured apex heights instead of photos (a laser gauge,
-/// 3D digital image correlation): a CSV with columns `pressure_pa`,
-/// `height_m` and optionally `height_std_m` ([`crate::heights`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct HeightsConfig {
-    /// The CSV, relative to the experiment file.
-    pub csv: PathBuf,
-    /// What the heights are measured from (default the clamp plane).
-    #[serde(default)]
-    pub origin: HeightsOrigin,
-}
-
-/// What the heights of a `[heights]` file are measured from.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum HeightsOrigin {
-    /// Above the clamp plane (a flat disc is at 0).
-    #[default]
-    Clamp,
-    /// Above a reference state of the stress-free (possibly slack, domed)
-    /// membrane: the apex stands at `height + prebulge_height_m`.
-    Reference,
 }
 
 /// A whole experiment file. Stages read the tables they need and ignore the
@@ -544,13 +373,11 @@ impl Experiment {
     pub fn read(path: impl AsRef<Path>) -> Result<Self, InputError> {
         let path = path.as_ref();
         let mut e: Experiment = read_toml(path)?;
-        if e.specimen.prebulge_height_m.is_nan() {
-            e.prebulge_fit = true;
-            e.specimen.prebulge_height_m = 0.0;
-        }
+        let table = read_specimen_file(path)?;
+        e.prebulge_fit = table.prebulge_height_m == PrebulgeHeight::Fit;
         e.specimen
             .validate()
-            .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
+            .map_err(|m| specimen_refused(path, m))?;
         e.window
             .validate()
             .map_err(|m| InputError::from_value(path, m))?;
@@ -576,7 +403,7 @@ impl Experiment {
                 }
             }
         }
-        e.specimen_std = read_specimen_file(path)?
+        e.specimen_std = table
             .std()
             .map_err(|m| InputError::file(path, format!("[specimen] {m}")))?;
         let positive = |table: &str, key: &str, v: Option<f64>, example: &str| match v {
@@ -614,9 +441,13 @@ impl Experiment {
     /// not read, so a file for a simulation or a fit needs no photos).
     pub fn read_specimen(path: impl AsRef<Path>) -> Result<Specimen, InputError> {
         let path = path.as_ref();
-        let spec = read_specimen_file(path)?.specimen();
-        spec.validate()
-            .map_err(|e| InputError::file(path, format!("[specimen] {e}")))?;
+        let table = read_specimen_file(path)?;
+        let spec = table.specimen();
+        let checked = match table.prebulge_height_m {
+            PrebulgeHeight::Fit => Err(SpecimenError::PrebulgeToFit),
+            PrebulgeHeight::Metres(_) => spec.validate(),
+        };
+        checked.map_err(|e| specimen_refused(path, e))?;
         Ok(spec)
     }
 
@@ -703,11 +534,22 @@ impl Experiment {
     }
 }
 
+/// A `[specimen]` value refused, located to its line in the file.
+fn specimen_refused(path: &Path, e: SpecimenError) -> InputError {
+    let line = std::fs::read_to_string(path)
+        .ok()
+        .and_then(|text| crate::io::key_line(&text, "specimen", e.field()));
+    InputError {
+        line,
+        ..InputError::file(path, format!("[specimen] {e}"))
+    }
+}
+
 /// The `[specimen]` table of an experiment file, its other tables not read.
-fn read_specimen_file(path: &Path) -> Result<SpecimenFile, InputError> {
+fn read_specimen_file(path: &Path) -> Result<SpecimenTable, InputError> {
     #[derive(Deserialize)]
     struct Only {
-        specimen: Option<SpecimenFile>,
+        specimen: Option<SpecimenTable>,
     }
     let only: Only = crate::io::read_toml(path)?;
     only.specimen.ok_or_else(|| {

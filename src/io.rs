@@ -524,6 +524,14 @@ pub(crate) fn parse_toml<T: serde::de::DeserializeOwned>(
     })
 }
 
+/// 1-based line of `key` in `[table]` of the TOML `text`, from the
+/// parser's spans (`None` when the file does not parse or has no such key).
+pub(crate) fn key_line(text: &str, table: &str, key: &str) -> Option<u64> {
+    let doc = toml_edit::Document::parse(text).ok()?;
+    let (k, _) = doc.get(table)?.as_table_like()?.get_key_value(key)?;
+    Some(line_at(text, k.span()?.start, false))
+}
+
 /// 1-based line of byte `at` of `text` (past the whitespace there when
 /// `skip_space`).
 fn line_at(text: &str, at: usize, skip_space: bool) -> u64 {

@@ -36,18 +36,6 @@ pub fn with_flags(e: bulge::io::InputError, flags: &[(&str, &str)]) -> bulge::io
     }
 }
 
-/// 1-based line of `field = ...` in a TOML file, when it can be found.
-pub fn field_line(path: &Path, field: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(path).ok()?;
-    text.lines()
-        .position(|l| {
-            let l = l.trim_start();
-            l.strip_prefix(field)
-                .is_some_and(|rest| rest.trim_start().starts_with('='))
-        })
-        .map(|i| i as u64 + 1)
-}
-
 /// Refuses an output file path that names a folder (the user's mistake,
 /// exit 2), before any work.
 pub fn output_file(path: &Path, flag: &str) -> Result<(), Failure> {

@@ -15,8 +15,8 @@ use super::{Classify, Failure};
 use bulge::experiment::{Experiment, Specimen};
 use bulge::fit::uncertainty::Sources;
 use bulge::io::OutputPlan;
-use bulge::io::{InputError, Table, read_toml};
-use bulge::mechanics::{self, Options, StressError};
+use bulge::io::Table;
+use bulge::mechanics::Options;
 use bulge::pipeline;
 
 mod args;
@@ -58,28 +58,23 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let table = Table::read(&args.heights)?;
     let both =
         "--height-std-m: drop the flag to use the column, or drop the column to use the flag";
-    let points = pipeline::heights_points(&table, args.height_std_m)
-        .map_err(|e| super::with_flags(e, &[("height_std_m", both)]))?;
-    let rows = mechanics::stress_strain(&spec, &opts, &points).map_err(|e| match e {
-        StressError::Point { index, problem } => Failure::BadInput(
-            table
-                .error_at(index, problem.column(), problem.to_string())
-                .into(),
-        ),
-        StressError::Specimen(m) => Failure::BadInput(anyhow!("invalid specimen: {m}")),
-    })?;
-    let with_std = points.iter().any(|p| p.height_std_m.is_some());
-    let warnings = pipeline::check_stress_rows(&spec, &points, &rows)
-        .map_err(|(i, col, m)| table.error_at(i, col, m))?;
-    let out = pipeline::stress_csv_of_table(&table, &points, &rows, args.height_std_m.is_some())?;
-    let shifts = pipeline::point_shifts(&spec, &opts, &points, &sources)
-        .map_err(|e| anyhow!("{e}"))
-        .failed()?;
-    let shift_table = pipeline::shifts_csv(&points, &shifts);
-    out.write(&args.output)
+    let tables = pipeline::stress_of_table(&spec, &opts, &table, args.height_std_m, &sources)
+        .map_err(|e| match e {
+            pipeline::StressTableError::Input(e) => {
+                pipeline::StressTableError::Input(super::with_flags(e, &[("height_std_m", both)]))
+            }
+            e => e,
+        })
+        .map_err(Failure::of)?;
+    let rows = tables.rows;
+    let with_std = tables.with_std;
+    let warnings = tables.warnings;
+    tables
+        .csv
+        .write(&args.output)
         .with_context(|| format!("cannot write {}", args.output.display()))
         .failed()?;
-    if let Some(t) = shift_table {
+    if let Some(t) = tables.sources_csv {
         t.write(&sources_path)
             .with_context(|| format!("cannot write {}", sources_path.display()))
             .failed()?;
@@ -90,7 +85,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     }
     eprintln!(
         "bulge stress: {} rows -> {} (strain {}, true stress {}, modulus {} on {} stress{})",
-        rows.len(),
+        rows,
         args.output.display(),
         opts.strain.name(),
         opts.true_stress.name(),
@@ -98,7 +93,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         opts.modulus_stress.name(),
         if with_std { ", with *_std columns" } else { "" }
     );
-    for w in warnings {
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
     Ok(())
@@ -109,21 +104,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
 /// errors name the file and the line of the offending field, or the flag.
 fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
     if let Some(path) = &args.experiment {
-        // Read without the lead's validation first, so that a bad field can
-        // be located to its line in the file.
-        let exp: Experiment = read_toml(path)?;
-        if let Err(m) = exp.specimen.validate() {
-            let line = super::field_line(path, m.field());
-            return Err(InputError {
-                path: path.clone(),
-                line,
-                column: None,
-                message: format!("[specimen] {m}"),
-                setting: None,
-            }
-            .into());
-        }
-        // The standard deviations, checked, of the whole file.
+        // The specimen as a number (a dome height to fit is refused), its
+        // bad field located to its line; then the standard deviations, checked,
+        // of the whole file.
+        let specimen = Experiment::read_specimen(path)?;
         let whole = Experiment::read(path)?;
         // Every key that shapes the membrane is honoured or said: the cap
         // formulas hold for a circular opening only, so through another
@@ -137,7 +121,7 @@ fn specimen(args: &Args) -> Result<(Specimen, Sources), Failure> {
             );
         }
         let sources = whole.uncertainty();
-        return Ok((exp.specimen, sources));
+        return Ok((specimen, sources));
     }
     let missing = |flag: &str| anyhow!("{flag} is required without --experiment");
     let spec = Specimen {

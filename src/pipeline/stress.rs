@@ -383,3 +383,71 @@ pub fn stress_csv_of_table(
     }
     Ok(out)
 }
+
+/// What `bulge stress` writes for a heights table: `stress_strain.csv`,
+/// the shift table when the experiment states errors besides the heights',
+/// and the warnings about points that cannot be trusted.
+pub struct StressTables {
+    /// `stress_strain.csv` ([`stress_csv_of_table`]).
+    pub csv: CsvOut,
+    /// `*_sources.csv` ([`shifts_csv`]); `None` without stated errors.
+    pub sources_csv: Option<CsvOut>,
+    /// Said, not refused: heights at round-off level.
+    pub warnings: Vec<String>,
+    /// Rows written.
+    pub rows: usize,
+    /// Whether the points have standard deviations (the `*_std` columns).
+    pub with_std: bool,
+}
+
+/// Why a heights table gave no stress table.
+#[derive(Debug, thiserror::Error)]
+pub enum StressTableError {
+    /// A cell, a column or the specimen refused: the message names the
+    /// file, the line and the fix.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The formulas refused the specimen.
+    #[error("invalid specimen: {0}")]
+    Specimen(String),
+    /// A point's shift under an input's error could not be computed.
+    #[error("the change of a point under an input's error: {0}")]
+    Shifts(mechanics::StressError),
+}
+
+impl crate::Refusal for StressTableError {
+    fn is_bad_input(&self) -> bool {
+        !matches!(self, StressTableError::Shifts(_))
+    }
+}
+
+/// `bulge stress`: the points of a heights `table` (`height_std_m`, when
+/// given, every point's standard deviation), their stress and strain under
+/// `opts`, checked, as `stress_strain.csv`, with the shift of each point
+/// under each of `sources`' errors. A bad cell is refused at its line.
+pub fn stress_of_table(
+    spec: &Specimen,
+    opts: &mechanics::Options,
+    table: &Table,
+    height_std_m: Option<f64>,
+    sources: &Sources,
+) -> Result<StressTables, StressTableError> {
+    let points = heights_points(table, height_std_m)?;
+    let rows = mechanics::stress_strain(spec, opts, &points).map_err(|e| match e {
+        mechanics::StressError::Point { index, problem } => {
+            StressTableError::Input(table.error_at(index, problem.column(), problem.to_string()))
+        }
+        mechanics::StressError::Specimen(m) => StressTableError::Specimen(m.to_string()),
+    })?;
+    let warnings =
+        check_stress_rows(spec, &points, &rows).map_err(|(i, col, m)| table.error_at(i, col, m))?;
+    let csv = stress_csv_of_table(table, &points, &rows, height_std_m.is_some())?;
+    let shifts = point_shifts(spec, opts, &points, sources).map_err(StressTableError::Shifts)?;
+    Ok(StressTables {
+        csv,
+        sources_csv: shifts_csv(&points, &shifts),
+        warnings,
+        rows: rows.len(),
+        with_std: points.iter().any(|p| p.height_std_m.is_some()),
+    })
+}

@@ -19,8 +19,8 @@ fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec)>, n: usize, heights
         .map(|(seed, spec)| {
             let dir = tempfile::tempdir().unwrap();
             let frames = bubble(&spec.specimen, n).unwrap();
-            let o =
-                init_and_track(dir.path(), spec, &frames, false).unwrap_or_else(|e| panic!("{e}"));
+            let o = init_and_track(dir.path(), spec, &frames, false)
+                .unwrap_or_else(|e| panic!("{e:#}"));
             if !spec.look.clutter {
                 assert_eq!(o.tracked[0], o.tracked[1], "seed {seed}: {o:?}");
             }
@@ -331,7 +331,7 @@ fn pinhole_cases(
         s.framing.axis_x_px = Some(0.5 * (s.width as f64 - 1.0));
         let dir = tempfile::tempdir().unwrap();
         let frames = bubble(&s.specimen, 4).unwrap();
-        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e}"));
+        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"));
         eprintln!("D {d} m, e {e} deg, lens {}: {o:?}", lens.is_some());
         out.push((d, e, o));
     }

@@ -348,20 +348,6 @@ pub(super) fn clamp_row_at_sides(lens: Option<&Lens>, x0: f64, a: f64, row_u: f6
     })
 }
 
-/// The lens keys of `[camera]` as `bulge init` writes them (empty without a
-/// lens): clamp_row_px, the axis and the scale are then the undistorted
-/// image's.
-pub(super) fn lens_keys_toml(lens: Option<&Lens>) -> String {
-    let Some(l) = lens else {
-        return String::new();
-    };
-    let body = toml::to_string(&l.to_config(None)).unwrap_or_default();
-    format!(
-        "# the lens (bulge calibrate): the tracker undistorts the apex, and clamp_row_px and the\n\
-         # scale below are in the undistorted image's pixels (roi_px and the template in the photo's)\n{body}"
-    )
-}
-
 /// The photo size against the calibration's: an error naming both and the
 /// fix when they differ.
 pub(super) fn check_size(

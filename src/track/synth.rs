@@ -38,7 +38,7 @@ use draw::densify;
 pub use draw::{coverage, gaussian_blur, render};
 pub use look::{Framing, FramingError, Look, Psf, vignette};
 pub use sequence::{
-    Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_toml,
+    Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_file,
     neo_hookean_bubble, random_camera, render_frame, template_size,
 };
 pub use write::{pressure_log_csv, pressure_ramp, write_sequence, write_video};

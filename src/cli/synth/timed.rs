@@ -4,7 +4,7 @@
 
 use super::super::Failure;
 use anyhow::anyhow;
-use bulge::experiment::Specimen;
+use bulge::experiment::{PhotosConfig, Place, PressureConfig, Specimen};
 use bulge::material::Material;
 use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
 
@@ -35,19 +35,23 @@ pub(super) fn write_timed(
     let bytes = log.into_bytes();
     let rows = bytes.iter().filter(|&&b| b == b'\n').count() - 1;
     write("pressure_log.csv", &bytes)?;
-    let pressure = format!(
-        "csv = \"pressure_log.csv\" # columns time_s,pressure_pa\noffset_s = {offset:?} # logger time = frame time + offset_s\n"
-    );
+    let pressure = PressureConfig {
+        offset_s: Some(offset),
+        ..PressureConfig::file("pressure_log.csv")
+    };
+    let with_log = |photos: PhotosConfig| {
+        let mut file = synth::experiment_file(spec, &w.scene, &w.layout, photos, pressure.clone());
+        file.note(Place::Key("pressure", "csv"), "columns time_s,pressure_pa")
+            .note(
+                Place::Key("pressure", "offset_s"),
+                "logger time = frame time + offset_s",
+            );
+        file.render()
+    };
     let ext = spec.encoding.extension();
-    let toml = synth::experiment_toml(
-        spec,
-        &w.scene,
-        &w.layout,
-        &format!(
-            "dir = \"photos\"\nglob = \"*.{ext}\"\ninterval_s = {interval:?} # photo k at start_s + k * interval_s\n"
-        ),
-        &pressure,
-    );
+    let mut photos = PhotosConfig::folder("photos", &format!("*.{ext}"));
+    photos.interval_s = Some(interval);
+    let toml = with_log(photos);
     write("experiment_log.toml", toml.as_bytes())?;
     let mut extra = format!(
         ", pressure_log.csv ({rows} rows at {rate} Hz, logger time = camera time + {offset} s), experiment_log.toml"
@@ -57,13 +61,7 @@ pub(super) fn write_timed(
         let bytes = synth::write_video(&args.out_dir.join(v), spec, frames, args.fps, quality)
             .map_err(failed)?;
         let name = v.to_string_lossy();
-        let toml = synth::experiment_toml(
-            spec,
-            &w.scene,
-            &w.layout,
-            &format!("video = \"{name}\"\nevery = 1\n"),
-            &pressure,
-        );
+        let toml = with_log(PhotosConfig::video(v, Some(1)));
         write("experiment_video.toml", toml.as_bytes())?;
         extra += &format!(
             ", {name} ({:.2} MB, {} frames at {} frames/s), experiment_video.toml",

@@ -24,10 +24,11 @@
 
 use std::path::{Path, PathBuf};
 
+use anyhow::{Context, anyhow};
 use rayon::prelude::*;
 
 use super::{Coverage, Judged, Rng};
-use crate::experiment::{Experiment, Specimen, Window};
+use crate::experiment::{Experiment, PhotosConfig, PressureConfig, Specimen, Window};
 use crate::fit::FitModel;
 use crate::fit::inverse;
 use crate::fit::uncertainty::Sources;
@@ -112,7 +113,7 @@ pub struct Drawn {
 
 /// Writes experiment `index` of `plan` into the folder `out` (photos,
 /// `pressure.csv`, `truth.csv`, `experiment.toml`).
-pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> Result<Drawn, String> {
+pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> anyhow::Result<Drawn> {
     let seed = plan.seed.wrapping_add(index as u64);
     let mut rng = Rng::new(seed);
     let s = &plan.sources;
@@ -128,7 +129,7 @@ pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> Result<Dr
         let reading = p * gain + s.pressure_std_pa * rng.normal();
         frames.push(
             synth::axisym_frame(&plan.truth, &real, p, reading)
-                .map_err(|e| format!("the true law at {p} Pa: {e}"))?,
+                .with_context(|| format!("the true law at {p} Pa"))?,
         );
     }
     let c = &plan.camera;
@@ -145,46 +146,34 @@ pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> Result<Dr
         framing: Framing::default(),
         look: Look::default(),
     };
-    let w = synth::write_sequence(out, &spec, &frames).map_err(|e| e.to_string())?;
+    let w = synth::write_sequence(out, &spec, &frames)?;
     // The calibration as measured: a scale off by `scale`, a clamp row off
     // by `offset_m` (in the heights it gives).
     let mpp = w.scene.metres_per_pixel * scale;
     let mut stated = w.scene.clone();
     stated.metres_per_pixel = mpp;
     stated.clamp_row_px += offset_m / mpp;
-    let text = synth::experiment_toml(
+    let mut file = synth::experiment_file(
         &spec,
         &stated,
         &w.layout,
-        &format!(
-            "dir = \"photos\"\nglob = \"*.{}\"\n",
-            c.encoding.extension()
-        ),
-        "csv = \"pressure.csv\"\n",
+        PhotosConfig::folder("photos", &format!("*.{}", c.encoding.extension())),
+        PressureConfig {
+            std_pa: Some(s.pressure_std_pa),
+            relative_std: Some(s.pressure_relative_std),
+            ..PressureConfig::file("pressure.csv")
+        },
     );
-    let mut toml: toml::Table = text.parse().map_err(|e| format!("{e}"))?;
-    let mut put = |table: &str, key: &str, v: f64| {
-        if let Some(toml::Value::Table(t)) = toml.get_mut(table) {
-            t.insert(key.into(), v.into());
-        }
-    };
-    put("specimen", "thickness_std_m", s.thickness_std_m);
-    put("specimen", "radius_std_m", s.radius_std_m);
-    put("pressure", "std_pa", s.pressure_std_pa);
-    put("pressure", "relative_std", s.pressure_relative_std);
-    put(
-        "calibration",
-        "metres_per_pixel_std",
-        s.scale_relative_std * mpp,
-    );
-    put(
-        "calibration",
-        "clamp_row_std_px",
-        s.height_offset_std_m / mpp,
-    );
+    let d = &mut file.draft;
+    d.specimen.thickness_std_m = Some(s.thickness_std_m);
+    d.specimen.radius_std_m = Some(s.radius_std_m);
+    if let Some(cal) = &mut d.calibration {
+        cal.metres_per_pixel_std = Some(s.scale_relative_std * mpp);
+        cal.clamp_row_std_px = Some(s.height_offset_std_m / mpp);
+    }
     let path = out.join("experiment.toml");
-    crate::io::write_atomic(&path, toml.to_string().as_bytes())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    crate::io::write_atomic(&path, file.render().as_bytes())
+        .with_context(|| format!("{}: cannot write", path.display()))?;
     let true_heights_m: Vec<f64> = w.truth.iter().map(|t| t.height_m).collect();
     let ideal_readings_m = true_heights_m
         .iter()
@@ -203,11 +192,11 @@ type One = (Judged, f64, usize, f64);
 
 /// Experiment `index`: written into `dir/experiment_<index>`, run through
 /// the pipeline, judged, and its folder removed.
-fn one(plan: &PhotoPlan, theta: &[f64], index: usize, dir: &Path) -> Result<One, String> {
+fn one(plan: &PhotoPlan, theta: &[f64], index: usize, dir: &Path) -> anyhow::Result<One> {
     let folder = dir.join(format!("experiment_{index}"));
     let result = (|| {
         let drawn = write_experiment(plan, index, &folder)?;
-        let exp = Experiment::read(&drawn.experiment_toml).map_err(|e| e.to_string())?;
+        let exp = Experiment::read(&drawn.experiment_toml)?;
         let settings = Settings {
             fit: plan.fit,
             models: vec![],
@@ -217,18 +206,18 @@ fn one(plan: &PhotoPlan, theta: &[f64], index: usize, dir: &Path) -> Result<One,
             ..Settings::default()
         };
         let out = pipeline::run(&exp, &settings)
-            .map_err(|e| format!("{} stage: {}", e.stage.name(), e.error))?;
+            .map_err(|e| anyhow!("{} stage: {}", e.stage.name(), e.error))?;
         let u = out
             .fit
             .refined
             .as_ref()
             .and_then(|r| r.uncertainty.as_ref())
-            .ok_or_else(|| format!("no covariance: {}", out.fit.warnings.join("; ")))?;
+            .ok_or_else(|| anyhow!("no covariance: {}", out.fit.warnings.join("; ")))?;
         let band = out.band.as_deref().unwrap_or_default();
         let rows = &out
             .tracking
             .as_ref()
-            .ok_or("the run tracked no photos")?
+            .ok_or_else(|| anyhow!("the run tracked no photos"))?
             .tracked
             .rows;
         let mut pairs = Vec::with_capacity(rows.len());
@@ -250,9 +239,9 @@ fn one(plan: &PhotoPlan, theta: &[f64], index: usize, dir: &Path) -> Result<One,
 /// Runs `plan` with the experiments' folders made (and removed) inside
 /// `dir`, `threads` experiments at a time (0: as many as rayon's global
 /// pool has threads).
-pub fn run(plan: &PhotoPlan, dir: &Path, threads: usize) -> Result<PhotoCoverage, String> {
+pub fn run(plan: &PhotoPlan, dir: &Path, threads: usize) -> anyhow::Result<PhotoCoverage> {
     let (names, theta, _) = inverse::law_parameters(&plan.truth.model)
-        .ok_or_else(|| "the true law has no parameters".to_string())?;
+        .ok_or_else(|| anyhow!("the true law has no parameters"))?;
     let threads = if threads == 0 {
         rayon::current_num_threads()
     } else {
@@ -261,8 +250,8 @@ pub fn run(plan: &PhotoPlan, dir: &Path, threads: usize) -> Result<PhotoCoverage
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| format!("cannot start {threads} threads: {e}"))?;
-    let all: Vec<Result<One, String>> = pool.install(|| {
+        .with_context(|| format!("cannot start {threads} threads"))?;
+    let all: Vec<anyhow::Result<One>> = pool.install(|| {
         (0..plan.experiments)
             .into_par_iter()
             .map(|i| one(plan, &theta, i, dir))
@@ -279,7 +268,7 @@ pub fn run(plan: &PhotoPlan, dir: &Path, threads: usize) -> Result<PhotoCoverage
                 photos += n;
                 sd += s;
             }
-            Err(e) => failed.push((i, e)),
+            Err(e) => failed.push((i, format!("{e:#}"))),
         }
     }
     let n = photos.max(1) as f64;

@@ -252,6 +252,16 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// Sets `[photos]`'s region, template and reference frame to this
+    /// layout's.
+    pub fn apply(&self, photos: &mut crate::experiment::PhotosConfig, reference_frame: usize) {
+        let px = |v: [i64; 4]| v.map(|x| i32::try_from(x).unwrap_or(i32::MAX));
+        photos.roi_px = px(self.roi_px);
+        photos.template_rect_px = Some(px(self.template_rect_px));
+        photos.reference_frame = reference_frame;
+        photos.apex_in_template_px = Some(self.apex_in_template_px);
+    }
+
     /// The template (`size` = width, height px) centred on the apex of
     /// photo `reference` and a region three template widths wide covering
     /// every apex with a template's height above and below, inside a photo
@@ -283,88 +293,61 @@ impl Layout {
     }
 }
 
-/// The text of an experiment file for a synthetic sequence; `photos` and
-/// `pressure` are the lines saying where the frames and the pressures are
-/// (e.g. `dir = "photos"\nglob = "*.png"\n` and `csv = "pressure.csv"\n`).
-pub fn experiment_toml(
+/// The experiment file of a synthetic sequence: `photos` says where the
+/// frames are (its region and template are set here, from `layout`),
+/// `pressure` where the pressures are.
+pub fn experiment_file(
     spec: &SequenceSpec,
     scene: &Scene,
     layout: &Layout,
-    photos: &str,
-    pressure: &str,
-) -> String {
-    let s = spec.specimen;
-    let (elevation, elevation_key) = if spec.look.elevation_deg != 0.0 {
-        (
+    mut photos: crate::experiment::PhotosConfig,
+    pressure: crate::experiment::PressureConfig,
+) -> crate::experiment::Commented {
+    use crate::experiment::{CalibrationConfig, Commented, Draft, Place, SpecimenTable};
+    layout.apply(&mut photos, 0);
+    let mut camera = scene
+        .look
+        .lens
+        .map_or_else(Default::default, |l| l.to_config(None));
+    camera.response = Some(spec.look.response);
+    let elevated = spec.look.elevation_deg != 0.0;
+    if spec.look.camera_distance_m > 0.0 {
+        camera.distance_m = Some(spec.look.camera_distance_m);
+    }
+    let mut draft = Draft::new(SpecimenTable::of(&spec.specimen));
+    draft.photos = Some(photos);
+    draft.camera = Some(camera);
+    draft.calibration = Some(CalibrationConfig {
+        metres_per_pixel: Some(scene.metres_per_pixel),
+        clamp_row_px: Some(scene.clamp_row_px),
+        elevation_deg: elevated.then_some(spec.look.elevation_deg),
+        ..CalibrationConfig::default()
+    });
+    draft.pressure = Some(pressure);
+    draft.window = spec.window;
+    let mut file = Commented::new(draft);
+    file.note(
+        Place::Head,
+        "A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
+         Image coordinates: the centre of the top-left pixel is (0, 0), y down.",
+    );
+    if elevated {
+        file.note(
+            Place::Key("calibration", "elevation_deg"),
             format!(
-                "# The camera is {:?} degrees above the clamp plane: clamp_row_px is the row of the\n\
-                 # clamp ring's centre, and elevation_deg corrects the heights for it.\n",
+                "The camera is {:?} degrees above the clamp plane: clamp_row_px is the row of the\n\
+                 clamp ring's centre, and elevation_deg corrects the heights for it.",
                 spec.look.elevation_deg
             ),
-            format!("elevation_deg = {:?}\n", spec.look.elevation_deg),
-        )
-    } else {
-        (String::new(), String::new())
-    };
-    let [rx, ry, rw, rh] = layout.roi_px;
-    let [tx, ty, tw, th] = layout.template_rect_px;
-    format!(
-        "# A synthetic experiment written by `bulge synth` (truth in truth.csv).\n\
-         # Image coordinates: the centre of the top-left pixel is (0, 0), y down.\n\
-         {elevation}[specimen]\nradius_m = {:?}\nthickness_m = {:?}\npoisson = {:?}\nprebulge_height_m = {:?}\n\n\
-         [photos]\n{photos}roi_px = [{rx}, {ry}, {rw}, {rh}]\n\
-         template_rect_px = [{tx}, {ty}, {tw}, {th}]\nreference_frame = 0\n\
-         apex_in_template_px = [{:?}, {:?}]\n\n\
-         [camera]\nresponse = {}\n{}{}\n\
-         [calibration]\nmetres_per_pixel = {:?}\nclamp_row_px = {:?}\n{elevation_key}\n\
-         [pressure]\n{pressure}{}",
-        s.radius_m,
-        s.thickness_m,
-        s.poisson,
-        s.prebulge_height_m,
-        layout.apex_in_template_px[0],
-        layout.apex_in_template_px[1],
-        toml::Value::try_from(spec.look.response)
-            .map_or_else(|_| "\"srgb\"".into(), |v| v.to_string()),
-        scene.look.lens.map_or_else(String::new, |l| lens_toml(&l)),
-        if spec.look.camera_distance_m > 0.0 {
-            format!(
-                "# a pinhole camera this far from the axis, m (elevation_deg: the angle it looks down at the ring's centre)\ndistance_m = {:?}\n",
-                spec.look.camera_distance_m
-            )
-        } else {
-            String::new()
-        },
-        scene.metres_per_pixel,
-        scene.clamp_row_px,
-        window_toml(&spec.window),
-    )
-}
-
-/// The lens keys of `[camera]` (the lens the photos were drawn through).
-fn lens_toml(l: &super::super::lens::Lens) -> String {
-    let c = l.to_config(None);
-    let mut t = toml::to_string(&c).unwrap_or_default();
-    if !t.is_empty() {
-        t.insert_str(
-            0,
-            "# the lens the photos were drawn through (as `bulge calibrate` writes it)\n",
         );
     }
-    t
-}
-
-/// The `[window]` table of a non-circular window (empty for the circle).
-fn window_toml(w: &crate::experiment::Window) -> String {
-    use crate::experiment::Window;
-    match w {
-        Window::Circle => String::new(),
-        Window::Ellipse { semi_axes_m } => format!(
-            "\n[window]\nshape = \"ellipse\"\nsemi_axes_m = [{:?}, {:?}]\n",
-            semi_axes_m[0], semi_axes_m[1]
-        ),
-        Window::Rectangle { length_m, width_m } => format!(
-            "\n[window]\nshape = \"rectangle\"\nlength_m = {length_m:?}\nwidth_m = {width_m:?}\n"
-        ),
-    }
+    file.note(
+        Place::Key("camera", "focal_px"),
+        "the lens the photos were drawn through (as `bulge calibrate` writes it)",
+    )
+    .note(
+        Place::Key("camera", "distance_m"),
+        "a pinhole camera this far from the axis, m (elevation_deg: the angle it looks down at the ring's centre)",
+    );
+    file
 }

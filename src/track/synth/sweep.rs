@@ -85,10 +85,23 @@ pub const FACTORS: [&str; 14] = [
     "top pressure",
 ];
 
+/// The law drawn for a sweep's case whose bubble cannot be solved.
+#[derive(Debug, thiserror::Error)]
+#[error("seed {seed}, {law}: {source}")]
+pub struct DrawError {
+    /// The case's seed.
+    pub seed: u64,
+    /// The law drawn, as the sweep's table names it.
+    pub law: String,
+    /// Why the axisymmetric solution failed.
+    #[source]
+    pub source: crate::axisym::AxisymError,
+}
+
 /// Draws the experiment of `seed` (`dirty`: with clutter, a highlight and
 /// uneven light) at one of `sizes`. Fails, saying why, when the law's
 /// bubble cannot be solved.
-pub fn draw(seed: u64, dirty: bool, sizes: &[(usize, usize)]) -> Result<Case, String> {
+pub fn draw(seed: u64, dirty: bool, sizes: &[(usize, usize)]) -> Result<Case, DrawError> {
     let mut rng = Rng::new(seed ^ 0x5EE9_0D1E);
     let mut pick = |n: u64| (rng.next_u64() % n) as usize;
     let ring = pick(3);
@@ -170,7 +183,11 @@ pub fn draw(seed: u64, dirty: bool, sizes: &[(usize, usize)]) -> Result<Case, St
         fit: None,
     };
     let opts = crate::axisym::Options::default();
-    let why = |e: crate::axisym::AxisymError| format!("seed {seed}, {law_name}: {e}");
+    let why = |source| DrawError {
+        seed,
+        law: law_name.to_string(),
+        source,
+    };
     let limit = match crate::axisym::limit_point(&material, &spec.specimen, &opts).map_err(why)? {
         Some(s) => s.pressure_pa,
         None => {

@@ -6,6 +6,8 @@
 
 use std::path::Path;
 
+use anyhow::Context;
+
 use super::{SequenceSpec, SynthFrame, write_sequence};
 use crate::experiment::Experiment;
 use crate::track::init::{self, Given, Sources};
@@ -37,11 +39,11 @@ pub fn init_and_track(
     spec: &SequenceSpec,
     frames: &[SynthFrame],
     scale_given: bool,
-) -> Result<InitTrial, String> {
+) -> anyhow::Result<InitTrial> {
     let seed = spec.seed;
-    let err = |e: &dyn std::fmt::Display| format!("seed {seed}: {e}");
-    let w = write_sequence(dir, spec, frames).map_err(|e| err(&e))?;
-    let photos = list_photos(&dir.join("photos"), "*.jpg").map_err(|e| err(&e))?;
+    let at = || format!("seed {seed}");
+    let w = write_sequence(dir, spec, frames).with_context(at)?;
+    let photos = list_photos(&dir.join("photos"), "*.jpg").with_context(at)?;
     let given = Given {
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
@@ -54,7 +56,7 @@ pub fn init_and_track(
             .then_some(spec.look.camera_distance_m),
         distance_from_focal: true,
     };
-    let found = init::find(&photos, spec.specimen.radius_m, given).map_err(|e| err(&e))?;
+    let found = init::find(&photos, spec.specimen.radius_m, given).with_context(at)?;
     let toml = found.experiment_toml(
         &spec.specimen,
         &Sources {
@@ -67,22 +69,23 @@ pub fn init_and_track(
         },
     );
     let path = dir.join("init.toml");
-    std::fs::write(&path, &toml).map_err(|e| err(&e))?;
-    let e = Experiment::read(&path).map_err(|e| err(&format!("{e}\n{toml}")))?;
+    std::fs::write(&path, &toml).with_context(at)?;
+    let with_file = || format!("seed {seed}, with this experiment file:\n{toml}");
+    let e = Experiment::read(&path).with_context(with_file)?;
     let opts = Options {
         skip_bad_frames: spec.look.clutter,
         ..Options::default()
     };
     // `track` decodes on rayon's pool itself: never call it from inside it.
-    let setup = setup_from_experiment(&e).map_err(|e| err(&e))?;
-    let t = track(&setup, &opts, &|| {}).map_err(|e| err(&format!("{e}\n{toml}")))?;
+    let setup = setup_from_experiment(&e).with_context(at)?;
+    let t = track(&setup, &opts, &|| {}).with_context(with_file)?;
     let mut heights = 0.0f64;
     for r in &t.rows {
         let tr = w
             .truth
             .iter()
             .find(|x| x.file == r.file)
-            .ok_or_else(|| err(&format!("no truth for {}", r.file)))?;
+            .ok_or_else(|| anyhow::anyhow!("seed {seed}: no truth for {}", r.file))?;
         heights = heights.max((r.height_m / tr.height_m - 1.0).abs());
     }
     Ok(InitTrial {

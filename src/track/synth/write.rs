@@ -53,9 +53,11 @@ pub fn write_sequence(
         return Err(TrackError::Config {
             path: out.to_path_buf(),
             message: format!(
-                "the opening is {:.1} px wide and the tallest bubble {h_px:.2} px tall at {:.3e} m per px: the tracker needs an opening of at least 32 px and a bubble of at least 3 px; give a finer --metres-per-pixel or a higher --pressure-max-pa",
+                "the opening is {:.1} px wide and the tallest bubble {h_px:.2} px tall at {:.3e} m per px: the tracker needs an opening of at least 32 px and a bubble of at least 3 px; give a finer {} or a higher {}",
                 2.0 * a_px,
-                scene.metres_per_pixel
+                scene.metres_per_pixel,
+                crate::setting::Setting::MetresPerPixel,
+                crate::setting::Setting::PressureMax
             ),
         });
     }
@@ -128,13 +130,14 @@ pub fn write_sequence(
         template_size(spec.width),
         (spec.width, spec.height),
     );
-    let toml = experiment_toml(
+    let toml = experiment_file(
         spec,
         &scene,
         &layout,
-        &format!("dir = \"photos\"\nglob = \"*.{ext}\"\n"),
-        "csv = \"pressure.csv\"\n",
-    );
+        crate::experiment::PhotosConfig::folder("photos", &format!("*.{ext}")),
+        crate::experiment::PressureConfig::file("pressure.csv"),
+    )
+    .render();
     let p = out.join("experiment.toml");
     crate::io::write_atomic(&p, toml.as_bytes()).map_err(|e| write_err(&p, e))?;
     Ok(Written {
