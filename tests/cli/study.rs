@@ -295,3 +295,63 @@ fn experiment_files_directly_and_bad_study_files() {
         assert!(help.stdout.contains(f), "--help lacks {f}");
     }
 }
+
+/// Labs with a gauge or DIC bring heights, not photos: experiment files
+/// with `[heights]` are specimens of a study too. Both specimens here carry
+/// the exact heights of the demo's neo-Hookean bubble (C1 = 200 kPa, t =
+/// 0.35 mm); the second file states a thickness 2 % larger, and since a
+/// neo-Hookean membrane's pressure scales with `C1 t`, its law must come out
+/// at 200 / 1.02 = 196.08 kPa.
+#[test]
+fn measured_heights_are_specimens_of_a_study() {
+    let dir = tempdir();
+    let d = dir.path();
+    let (_, truth) = read_csv(&crate::util::repo().join("data/demo/truth.csv"));
+    let mut csv = String::from("pressure_pa,height_m\n");
+    for r in &truth {
+        // file,pressure_pa,height_m,...
+        csv.push_str(&format!("{},{}\n", r[1], r[2]));
+    }
+    fs::write(d.join("heights.csv"), csv).unwrap();
+    for (name, t) in [("a", 0.00035), ("b", 0.00035 * 1.02)] {
+        fs::write(
+            d.join(format!("{name}.toml")),
+            format!(
+                "[specimen]\nradius_m = 0.0375\nthickness_m = {t}\npoisson = 0.45\n\n[heights]\ncsv = \"heights.csv\"\n"
+            ),
+        )
+        .unwrap();
+    }
+    bulge_in(
+        d,
+        &[
+            "study",
+            "a.toml",
+            "b.toml",
+            "--out",
+            "out",
+            "--fit",
+            "neo-hookean",
+        ],
+    )
+    .ok();
+    let (header, rows) = read_csv(&d.join("out/study.csv"));
+    let c1 = header.iter().position(|h| h == "c1_pa").unwrap();
+    let of = |name: &str| -> f64 {
+        rows.iter().find(|r| r[0] == name).unwrap()[c1]
+            .parse()
+            .unwrap()
+    };
+    for (name, want) in [("a", 200e3), ("b", 200e3 / 1.02)] {
+        let got = of(name);
+        assert!(
+            (got / want - 1.0).abs() < 0.002,
+            "{name}: C1 {got} Pa against {want} Pa"
+        );
+    }
+    let mean = of("mean");
+    assert!(
+        (mean / (0.5 * (200e3 + 200e3 / 1.02)) - 1.0).abs() < 0.002,
+        "{mean}"
+    );
+}
