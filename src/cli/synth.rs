@@ -2,13 +2,13 @@
 
 use anyhow::anyhow;
 
-use super::{Classify, Failure};
+use super::Failure;
 use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::track::synth::{self, Framing, Look, SequenceSpec};
 
 mod timed;
-use timed::{window_frames, write_timed};
+use timed::write_timed;
 
 mod args;
 mod checks;
@@ -71,27 +71,10 @@ pub fn run(args: Args) -> Result<(), Failure> {
         )));
     }
     let n = args.frames;
-    let pressures: Vec<f64> = (0..n)
-        .map(|k| {
-            if n == 1 {
-                p_max
-            } else {
-                p_min + (p_max - p_min) * k as f64 / (n - 1) as f64
-            }
-        })
-        .collect();
-    let mut frames = Vec::with_capacity(n);
+    let pressures = synth::pressure_steps(p_min, p_max, n);
     let pb = super::progress(n as u64, "solve");
-    if !window.is_circle() {
-        frames = window_frames(&specimen, &window, &material, &pressures).bad_input()?;
-    }
-    for &p in pressures.iter().filter(|_| window.is_circle()) {
-        let frame = synth::axisym_frame(&material, &specimen, p, p)
-            .map_err(|e| anyhow!("the bubble at {p} Pa: {e}"))
-            .bad_input()?;
-        frames.push(frame);
-        pb.inc(1);
-    }
+    let frames = synth::bubble_frames(&material, &specimen, &window, &pressures, &|| pb.inc(1))
+        .map_err(Failure::of)?;
     pb.finish_and_clear();
     let spec = SequenceSpec {
         width: args.width,

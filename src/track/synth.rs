@@ -26,6 +26,7 @@ use crate::experiment::Specimen;
 use crate::io::{CsvOut, fmt_num};
 
 mod draw;
+mod frames;
 pub mod lens;
 mod look;
 pub mod pinhole;
@@ -36,6 +37,7 @@ pub mod trial;
 mod write;
 use draw::densify;
 pub use draw::{coverage, gaussian_blur, render};
+pub use frames::{FramesError, bubble_frames, pressure_steps};
 pub use look::{Framing, FramingError, Look, Psf, vignette};
 pub use sequence::{
     Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_file,

@@ -1,12 +1,10 @@
 //! The outputs joined by time: the pressure log of --log-rate-hz and the video
-//! of --video, each with its experiment file; and the frames of a
-//! non-circular window from the membrane model.
+//! of --video, each with its experiment file.
 
 use super::super::Failure;
 use anyhow::anyhow;
-use bulge::experiment::{PhotosConfig, Place, PressureConfig, Specimen};
-use bulge::material::Material;
-use bulge::track::synth::{self, SequenceSpec, Silhouette, SynthFrame};
+use bulge::experiment::{PhotosConfig, Place, PressureConfig};
+use bulge::track::synth::{self, SequenceSpec, SynthFrame};
 
 use super::*;
 
@@ -71,40 +69,4 @@ pub(super) fn write_timed(
         );
     }
     Ok(extra)
-}
-
-/// The frames of a non-circular window: the membrane model swept over the
-/// pressures, and at each its section through the long axis (the nodes on
-/// `y = 0`, `x >= 0`, which stay on that mirror plane), pole first.
-pub(super) fn window_frames(
-    specimen: &Specimen,
-    window: &bulge::experiment::Window,
-    material: &Material,
-    pressures: &[f64],
-) -> anyhow::Result<Vec<SynthFrame>> {
-    use bulge::sim::scene::Scene;
-    use bulge::sim::{SceneSolver, SpringModel};
-    let scene = Scene::from_window(specimen, window, material.clone(), pressures.to_vec());
-    let mesh = scene.build_mesh()?;
-    let section: Vec<usize> = (0..mesh.nodes.len())
-        .filter(|&i| mesh.nodes[i].y.abs() < 1e-12 && mesh.nodes[i].x >= 0.0)
-        .collect();
-    let mut s = SceneSolver::on_mesh(&scene, mesh, SpringModel::Membrane)?;
-    let mut frames = Vec::with_capacity(pressures.len());
-    let done = s.sweep(pressures, |solver, q| {
-        let x = solver.positions();
-        let mut pts: Vec<(f64, f64)> = section.iter().map(|&i| (x[i].x, x[i].z)).collect();
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        frames.push(SynthFrame {
-            pressure_pa: q.pressure_pa,
-            silhouette: Silhouette {
-                rho_m: pts.iter().map(|p| p.0).collect(),
-                z_m: pts.iter().map(|p| p.1).collect(),
-            },
-        });
-    });
-    if let Err((_, stop)) = done {
-        anyhow::bail!("the bubble at {} Pa: {}", stop.pressure_pa, stop.error);
-    }
-    Ok(frames)
 }
