@@ -1,14 +1,52 @@
 //! The decoding pipeline: photos decoded in parallel (rayon) over the
 //! region only, matched in order by the [`super::tracker`] as they arrive.
+//! Here the reference photo, the template and the frames where the bubble
+//! is largest and smallest are prepared and checked; `locate` locates every
+//! frame with the plausibility guards, `heights` turns the apexes into
+//! heights through the camera.
 
 use std::path::Path;
 
 pub(super) use super::guards::Guard;
 use super::image::{Decoded, Gray};
 use super::matcher::{EdgeFit, EdgeSettings, Extremes};
-use super::tracker::{Located, Tracker};
+use super::tracker::Tracker;
 use super::*;
 use crate::io::fmt_short;
+
+mod heights;
+mod locate;
+
+/// The decoded photos, taken in frame order as they arrive from the
+/// decoders (a photo decoded before its turn waits in `early`).
+pub(super) struct InOrder<'a> {
+    setup: &'a Setup,
+    rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
+    early: std::collections::BTreeMap<usize, Result<Decoded, TrackError>>,
+}
+
+impl InOrder<'_> {
+    /// Frame `i`'s photo, decoded.
+    pub(super) fn take(&mut self, i: usize) -> Result<Decoded, TrackError> {
+        if let Some(d) = self.early.remove(&i) {
+            return d;
+        }
+        loop {
+            match self.rx.recv() {
+                Ok((k, d)) if k == i => return d,
+                Ok((k, d)) => {
+                    self.early.insert(k, d);
+                }
+                Err(_) => {
+                    return Err(TrackError::OpenCv(format!(
+                        "the decoding of photo {} stopped early",
+                        self.setup.frames[i].path.display()
+                    )));
+                }
+            }
+        }
+    }
+}
 
 /// The sequential half of [`track`]: the reference photo, the template, then
 /// every frame's region in order from `rx`.
@@ -20,30 +58,14 @@ pub(super) fn match_frames(
     rx: std::sync::mpsc::Receiver<(usize, Result<Decoded, TrackError>)>,
 ) -> Result<Tracked, TrackError> {
     let n = setup.frames.len();
-    // Decoded photos that arrived before their turn.
-    let mut early = std::collections::BTreeMap::new();
-    let mut take = |i: usize| -> Result<Decoded, TrackError> {
-        if let Some(d) = early.remove(&i) {
-            return d;
-        }
-        loop {
-            match rx.recv() {
-                Ok((k, d)) if k == i => return d,
-                Ok((k, d)) => {
-                    early.insert(k, d);
-                }
-                Err(_) => {
-                    return Err(TrackError::OpenCv(format!(
-                        "the decoding of photo {} stopped early",
-                        setup.frames[i].path.display()
-                    )));
-                }
-            }
-        }
+    let mut arrivals = InOrder {
+        setup,
+        rx,
+        early: std::collections::BTreeMap::new(),
     };
     // Every crop is read through the camera's tone curve (edges in light).
     let tone = image::Tone::of(setup.response);
-    let full = take(setup.reference_frame)?;
+    let full = arrivals.take(setup.reference_frame)?;
     let (width, height) = (full.width, full.height);
     // The reference arrives cropped to `reference_box` (or whole).
     let [bx, by] = match reference_box(setup) {
@@ -147,9 +169,6 @@ pub(super) fn match_frames(
         prev: None,
         curvature: 0.0,
     };
-    let mut located: Vec<Option<Located>> = Vec::with_capacity(n);
-    let mut skipped = Vec::new();
-    let mut warnings = Vec::new();
     let mut guard = Guard::new(
         match setup.calibration.origin {
             HeightOrigin::ClampRow(r) => Some(r - roi[1] as f64),
@@ -160,252 +179,38 @@ pub(super) fn match_frames(
         opts.refine == Refine::Edge,
     )
     .with_elevation(setup.calibration.elevation);
-    let mut locate_time = 0.0;
-    while located.len() < n {
-        let i = located.len();
-        let f = &setup.frames[i];
-        let crop_owned;
-        let crop: &Gray = if i == setup.reference_frame {
-            &ref_crop
-        } else {
-            let dec = take(i)?;
-            if (dec.width, dec.height) != (width, height) {
-                return Err(TrackError::MixedSizes {
-                    path: f.path.clone(),
-                    width: dec.width,
-                    height: dec.height,
-                    reference: reference.path.clone(),
-                    ref_width: width,
-                    ref_height: height,
-                });
-            }
-            crop_owned = dec.crop.with_tone(tone);
-            &crop_owned
-        };
-        let t0 = std::time::Instant::now();
-        let extremes = Extremes {
-            fullest: fullest.as_ref().filter(|_| i != fullest_frame),
-            emptiest: emptiest.as_ref().filter(|_| i != emptiest_frame),
-            is_emptiest: i == emptiest_frame,
-        };
-        let loc = state.locate(crop, extremes)?;
-        let low = loc.m.score < opts.min_score || !loc.m.score.is_finite();
-        let score = loc.m.score;
-        // A good score, then the plausibility guards; an implausible apex is
-        // searched again near the position the frames before predict.
-        let verdict = if low {
-            Err(format!(
-                "score {:.3} < {} {}",
-                loc.m.score,
-                crate::setting::Setting::MinScore,
-                opts.min_score
-            ))
-        } else {
-            let (apex, std) = state.apex(&loc);
-            let x_std = state.apex_x_std(&loc);
-            match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
-                Ok(()) => Ok(loc),
-                Err(why) => {
-                    // Only the trend rule broken: kept with a warning when
-                    // the search near the prediction finds nothing better.
-                    let only_trend = why.is_trend();
-                    let again = guard
-                        .predict(f.pressure_pa)
-                        .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
-                        .transpose()?
-                        .filter(|l| {
-                            let (a, s) = state.apex(l);
-                            if l.m.score < opts.min_score {
-                                return false;
-                            }
-                            let xs = state.apex_x_std(l);
-                            guard
-                                .check(f.pressure_pa, a, [xs, s], l.edge.as_ref())
-                                .is_ok()
-                        });
-                    match again {
-                        Some(l) => Ok(l),
-                        None if only_trend => {
-                            warnings.push(format!(
-                                "frame {i} ({}): {why}; kept, since no membrane law bounds the height's step between two photos (near the limit pressure the height grows without bound): check this photo's height, or add photos between it and the one before",
-                                f.file
-                            ));
-                            Ok(loc)
-                        }
-                        None => Err(why.to_string()),
-                    }
-                }
-            }
-        };
-        locate_time += t0.elapsed().as_secs_f64();
-        match verdict {
-            Err(why) => {
-                if !opts.skip_bad_frames {
-                    // a video names the frame in it too
-                    let path = match f.video_frame {
-                        Some(_) => format!("{} ({})", f.path.display(), f.file).into(),
-                        None => f.path.clone(),
-                    };
-                    return Err(if low {
-                        TrackError::LowScore {
-                            path,
-                            frame: i,
-                            score,
-                            min: opts.min_score,
-                        }
-                    } else {
-                        TrackError::Implausible {
-                            path,
-                            frame: i,
-                            why,
-                        }
-                    });
-                }
-                skipped.push(Skipped {
-                    frame: i,
-                    file: f.file.clone(),
-                    score,
-                    reason: why,
-                });
-                if low {
-                    state.last = None;
-                    state.prev = None;
-                    state.curvature = 0.0;
-                } else if let Some(pred) = guard.predict(f.pressure_pa) {
-                    // The next search starts from where this apex should be.
-                    state.prev = state.last;
-                    state.last = Some([pred[0] - apex_in_t[0], pred[1] - apex_in_t[1]]);
-                }
-                located.push(None);
-            }
-            Ok(loc) => {
-                // The next search starts from this frame's refined apex (the
-                // template alone slides along a flat top).
-                let (apex, std) = state.apex(&loc);
-                let x_std = state.apex_x_std(&loc);
-                guard.accept(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref());
-                state.prev = state.last;
-                state.last = Some([apex[0] - apex_in_t[0], apex[1] - apex_in_t[1]]);
-                state.curvature = loc.edge.map_or(0.0, |e| e.curvature);
-                located.push(Some(loc));
-            }
-        }
-        tick();
-    }
+    let shared = locate::Shared {
+        reference,
+        ref_crop: &ref_crop,
+        size: (width, height),
+        tone,
+        fullest: (fullest_frame, fullest.as_ref()),
+        emptiest: (emptiest_frame, emptiest.as_ref()),
+        apex_in_t,
+    };
+    let locate::Outcome {
+        located,
+        skipped,
+        warnings,
+        seconds: locate_time,
+    } = locate::every_frame(
+        setup,
+        opts,
+        tick,
+        &shared,
+        &mut arrivals,
+        &mut state,
+        &mut guard,
+    )?;
 
-    // Apex in image coordinates and its statistical uncertainty, px.
-    let apex_of = |l: &Located| -> ([f64; 2], f64, [f64; 2], [f64; 2], Option<EdgeFit>) {
-        let (off_x, off_y) = (roi[0] as f64, roi[1] as f64);
-        let shift = |p: [f64; 2]| [p[0] + off_x, p[1] + off_y];
-        let (apex, std) = state.apex(l);
-        let int = [l.m.integer[0] + apex_in_t[0], l.m.integer[1] + apex_in_t[1]];
-        let quad = [
-            l.m.quadratic[0] + apex_in_t[0],
-            l.m.quadratic[1] + apex_in_t[1],
-        ];
-        let edge = l.edge.map(|e| EdgeFit {
-            y: e.y + off_y,
-            x_vertex: e.x_vertex + off_x,
-            ..e
-        });
-        // Through the lens (when calibrated): heights in the undistorted
-        // image's pixels.
-        let (apex, edge) = super::lens::undistort_tracked(setup.lens.as_ref(), shift(apex), edge);
-        (apex, std, shift(int), shift(quad), edge)
-    };
-    let mpp = setup.calibration.metres_per_pixel;
-    let (origin_row, origin_std, offset_m) = match setup.calibration.origin {
-        HeightOrigin::ClampRow(r) => (r, 0.0, 0.0),
-        HeightOrigin::Reference { prebulge_height_m } => {
-            let l = located[setup.reference_frame].as_ref().ok_or_else(|| TrackError::Config {
-                path: setup.experiment.clone(),
-                message: format!(
-                    "the reference frame {} ({}) was skipped as bad, and heights are measured from it (no clamp_row_px in [calibration]); choose another reference_frame or give clamp_row_px",
-                    setup.reference_frame, reference.file
-                ),
-            })?;
-            let (apex, std, ..) = apex_of(l);
-            (apex[1], std, prebulge_height_m)
-        }
-    };
-    // A camera above the clamp plane: the silhouette's top `t` px above the
-    // clamp ring's centre becomes the apex height (and its deviation, with
-    // the curvature's), px.
-    let elevated = |t: f64, e: Option<&EdgeFit>| -> (f64, f64) {
-        match setup.calibration.elevation {
-            None => (t, 0.0),
-            Some(el) => el.height_px(
-                t,
-                e.map(|e| (e.curvature, e.curvature_std)),
-                el.radius_m / mpp,
-            ),
-        }
-    };
-    let cos_e = setup.calibration.elevation.map_or(1.0, |e| e.radians.cos());
-    // A pinhole camera at a known distance: heights through the ray tangent
-    // to the dome. The principal point is the lens's (or the picture's
-    // centre); the focal length is the one that gives the scale at the
-    // ring's centre from that distance (the heights then share the scale's
-    // error, as an orthographic camera's do).
-    let pinhole = setup.calibration.camera_distance_m.map(|d| {
-        let e = setup.calibration.elevation.map_or(0.0, |e| e.radians);
-        let principal = match &setup.lens {
-            Some(l) => [l.cx, l.cy],
-            None => [(width as f64 - 1.0) / 2.0, (height as f64 - 1.0) / 2.0],
-        };
-        super::persp::Pinhole::from_view(d, e, origin_row, mpp, None, principal)
-    });
-    let mut rows = Vec::with_capacity(n);
-    for (i, l) in located.iter().enumerate() {
-        let Some(l) = l else { continue };
-        let f = &setup.frames[i];
-        let (apex, std, int, quad, edge) = apex_of(l);
-        let is_ref_frame = matches!(setup.calibration.origin, HeightOrigin::Reference { .. })
-            && i == setup.reference_frame;
-        let std_total = if is_ref_frame {
-            0.0
-        } else {
-            std.hypot(origin_std)
-        };
-        let (height_m, height_std_m) = match &pinhole {
-            None => {
-                let (h_px, h_extra) = elevated(origin_row - apex[1], edge.as_ref());
-                let h_std_px = (std_total / cos_e).hypot(h_extra);
-                (h_px * mpp + offset_m, h_std_px * mpp)
-            }
-            Some(p) => p
-                .membrane_height(apex[1], std_total, setup.calibration.opening_radius_m)
-                .ok_or_else(|| TrackError::Config {
-                    path: setup.experiment.clone(),
-                    message: format!(
-                        "the apex of frame {i} ({}) at row {:.2} is not the top of a dome up to 1.5 times the opening's radius seen by a camera {} m from the axis looking down at the clamp ring's centre (row {}) at {:.2} degrees: check [camera] distance_m, [calibration] elevation_deg and clamp_row_px",
-                        f.file,
-                        apex[1],
-                        fmt_short(p.distance_m),
-                        fmt_short(origin_row),
-                        (p.height_m / p.distance_m).atan().to_degrees()
-                    ),
-                })?,
-        };
-        rows.push(FrameResult {
-            frame: i,
-            file: f.file.clone(),
-            pressure_pa: f.pressure_pa,
-            apex_x_px: apex[0],
-            apex_y_px: apex[1],
-            score: l.m.score,
-            height_m,
-            height_std_m,
-            apex_y_std_px: std,
-            apex_integer_px: int,
-            apex_quadratic_px: quad,
-            edge,
-            time_s: f.time_s,
-        });
-    }
-    if let HeightOrigin::ClampRow(clamp) = setup.calibration.origin {
-        check_above_clamp(setup, clamp, &rows)?;
-    }
+    let rows = heights::rows(
+        setup,
+        reference,
+        &state,
+        &located,
+        (roi, apex_in_t),
+        (width, height),
+    )?;
     Ok(Tracked {
         rows,
         skipped,
@@ -467,27 +272,6 @@ fn check_apex_in_template(setup: &Setup, apex: [f64; 2], templ: &Gray) -> Result
             templ.height,
             templ.width - 1,
             templ.height - 1
-        ),
-    })
-}
-
-/// A bubble's apex stands above the clamp plane: a frame whose apex lies
-/// below the clamp row (rows grow downward) by more than three standard
-/// deviations and a pixel means the clamp row is wrong, not a negative height.
-fn check_above_clamp(setup: &Setup, clamp: f64, rows: &[FrameResult]) -> Result<(), TrackError> {
-    let below = rows
-        .iter()
-        .find(|r| r.apex_y_px - clamp > 3.0 * r.apex_y_std_px + 1.0);
-    let Some(r) = below else { return Ok(()) };
-    Err(TrackError::Config {
-        path: setup.experiment.clone(),
-        message: format!(
-            "[calibration] clamp_row_px = {} lies above the apex of frame {} ({}, apex at row {:.1}): its height would be {} m, below the clamp plane. The clamp row is the image row of the clamp plane, below the bubble's top (rows grow downward); measure it on a photo, or remove it to measure heights from the reference frame",
-            fmt_short(clamp),
-            r.frame,
-            r.file,
-            r.apex_y_px,
-            fmt_short(r.height_m)
         ),
     })
 }
