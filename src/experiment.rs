@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::io::{BadValue, InputError, read_toml};
+use crate::io::{BadValue, InputError};
 
 mod tables;
 #[cfg(test)]
@@ -372,12 +372,15 @@ impl Experiment {
     /// Reads and validates an experiment file.
     pub fn read(path: impl AsRef<Path>) -> Result<Self, InputError> {
         let path = path.as_ref();
-        let mut e: Experiment = read_toml(path)?;
-        let table = read_specimen_file(path)?;
+        // One read of the file: the whole, then its `[specimen]` as written
+        // (the dome height's "fit", the standard deviations).
+        let text = crate::io::read_text(path)?;
+        let mut e: Experiment = crate::io::parse_toml(path, &text)?;
+        let table = specimen_table(path, &text)?;
         e.prebulge_fit = table.prebulge_height_m == PrebulgeHeight::Fit;
         e.specimen
             .validate()
-            .map_err(|m| specimen_refused(path, m))?;
+            .map_err(|m| specimen_refused(path, &text, m))?;
         e.window
             .validate()
             .map_err(|m| InputError::from_value(path, m))?;
@@ -441,13 +444,14 @@ impl Experiment {
     /// not read, so a file for a simulation or a fit needs no photos).
     pub fn read_specimen(path: impl AsRef<Path>) -> Result<Specimen, InputError> {
         let path = path.as_ref();
-        let table = read_specimen_file(path)?;
+        let text = crate::io::read_text(path)?;
+        let table = specimen_table(path, &text)?;
         let spec = table.specimen();
         let checked = match table.prebulge_height_m {
             PrebulgeHeight::Fit => Err(SpecimenError::PrebulgeToFit),
             PrebulgeHeight::Metres(_) => spec.validate(),
         };
-        checked.map_err(|e| specimen_refused(path, e))?;
+        checked.map_err(|e| specimen_refused(path, &text, e))?;
         Ok(spec)
     }
 
@@ -534,24 +538,23 @@ impl Experiment {
     }
 }
 
-/// A `[specimen]` value refused, located to its line in the file.
-fn specimen_refused(path: &Path, e: SpecimenError) -> InputError {
-    let line = std::fs::read_to_string(path)
-        .ok()
-        .and_then(|text| crate::io::key_line(&text, "specimen", e.field()));
+/// A `[specimen]` value refused, located to its line in the file's `text`.
+fn specimen_refused(path: &Path, text: &str, e: SpecimenError) -> InputError {
+    let line = crate::io::key_line(text, "specimen", e.field());
     InputError {
         line,
         ..InputError::file(path, format!("[specimen] {e}"))
     }
 }
 
-/// The `[specimen]` table of an experiment file, its other tables not read.
-fn read_specimen_file(path: &Path) -> Result<SpecimenTable, InputError> {
+/// The `[specimen]` table of an experiment file's `text`, its other tables
+/// not read.
+fn specimen_table(path: &Path, text: &str) -> Result<SpecimenTable, InputError> {
     #[derive(Deserialize)]
     struct Only {
         specimen: Option<SpecimenTable>,
     }
-    let only: Only = crate::io::read_toml(path)?;
+    let only: Only = crate::io::parse_toml(path, text)?;
     only.specimen.ok_or_else(|| {
         InputError::file(
             path,

@@ -496,9 +496,13 @@ impl CsvOut {
 /// A misspelt key or value refused by `T` gets the nearest valid name
 /// suggested ("did you mean `radius_m`?").
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
-    let text = fs::read_to_string(path)
-        .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))?;
-    parse_toml(path, &text)
+    parse_toml(path, &read_text(path)?)
+}
+
+/// The text of a file, a failure to read it named with the file.
+pub(crate) fn read_text(path: &Path) -> Result<String, InputError> {
+    fs::read_to_string(path)
+        .map_err(|e| InputError::file(path, format!("cannot read the file: {e}")))
 }
 
 /// `text`, read from `path`, parsed into `T`; a refusal names the key, its

@@ -163,30 +163,33 @@ impl Commented {
         if !tail.is_empty() {
             doc.set_trailing(RawString::from(format!("\n{tail}")));
         }
+        for (_, item) in doc.iter_mut() {
+            if let Some(table) = item.as_table_mut() {
+                for (_, value) in table.iter_mut() {
+                    scientific(value);
+                }
+            }
+        }
         doc.to_string()
-            .lines()
-            .map(scientific)
-            .fold(String::new(), |mut t, l| {
-                t.push_str(&l);
-                t.push('\n');
-                t
-            })
     }
 }
 
-/// A line `key = value` whose value is a float below 1e-4 or from 1e9 up
-/// (a standard deviation, a fine scale in m/px) with the value in the
-/// exponent's form, the same number: `1.44e-7` rather than `0.000000144`
-/// (a thickness of `0.00035` m stays as it is).
-fn scientific(line: &str) -> String {
-    let Some((key, value)) = line.split_once(" = ").filter(|(k, _)| !k.contains('#')) else {
-        return line.to_string();
+/// A float below 1e-4 or from 1e9 up (a standard deviation, a fine scale in
+/// m/px) written in the exponent's form, the same number: `1.44e-7` rather
+/// than `0.000000144` (a thickness of `0.00035` m stays as it is). Its
+/// decor (the spacing and a trailing comment) is kept.
+fn scientific(item: &mut toml_edit::Item) {
+    let Some(toml_edit::Value::Float(f)) = item.as_value() else {
+        return;
     };
-    match value.parse::<f64>() {
-        Ok(v) if value.contains('.') && v != 0.0 && !(1e-4..1e9).contains(&v.abs()) => {
-            format!("{key} = {v:e}")
-        }
-        _ => line.to_string(),
+    let v = *f.value();
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        return;
+    }
+    let decor = f.decor().clone();
+    if let Ok(mut value) = format!("{v:e}").parse::<toml_edit::Value>() {
+        *value.decor_mut() = decor;
+        *item = toml_edit::Item::Value(value);
     }
 }
 
