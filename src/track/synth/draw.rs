@@ -54,6 +54,7 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
     let background = level(lk.background_grey, BACKGROUND);
     let bubble = level(lk.bubble_grey, BUBBLE);
     let face = level(lk.ring_face_grey, FLANGE);
+    let (face_light, fixture_light) = (light(face), light(FIXTURE));
     let mut img = vec![0.0f64; w * h];
     for y in 0..h {
         let yf = y as f64;
@@ -71,15 +72,15 @@ pub fn render(scene: &Scene, s: &Silhouette, d: &Degradation, noise_seed: u64) -
             // Fixture below the clamp plane (pixel-exact vertical coverage).
             let below = ((yf + 0.5) - fix_back[x]).clamp(0.0, 1.0);
             let in_fixture = ((fixture_half + 0.5) - (xf - scene.axis_x_px).abs()).clamp(0.0, 1.0);
-            let fix_level = if yf - fix_front[x] < flange_rows {
-                face
+            let fix_light = if yf - fix_front[x] < flange_rows {
+                face_light
             } else {
-                FIXTURE
+                fixture_light
             };
             let fixture_cov = below * in_fixture;
             // Levels are the encoded values of the scene's light; a pixel
             // partly covered sums the light of its parts.
-            let base = light(bg) * (1.0 - fixture_cov) + light(fix_level) * fixture_cov;
+            let base = light(bg) * (1.0 - fixture_cov) + fix_light * fixture_cov;
             // Bubble: matte shading darker towards the rim, a soft highlight
             // below the apex.
             let c = cov[y * w + x];
@@ -301,25 +302,121 @@ pub fn gaussian_blur(img: &mut [f64], w: usize, h: usize, sigma: f64) {
         .collect();
     let sum: f64 = k.iter().sum();
     let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
+    // Each pass adds the taps in order to every pixel of a row at once
+    // (a pixel's sum is formed in the same order as tap by tap, so the
+    // result does not depend on the loop order), reading rows whole.
     let mut tmp = vec![0.0; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            let mut acc = 0.0;
-            for (j, kv) in k.iter().enumerate() {
-                let xi = (x as isize + j as isize - r).clamp(0, w as isize - 1) as usize;
-                acc += kv * img[y * w + xi];
-            }
-            tmp[y * w + x] = acc;
+    for (src, dst) in img.chunks_exact(w).zip(tmp.chunks_exact_mut(w)) {
+        for (j, &kv) in k.iter().enumerate() {
+            add_shifted(dst, src, j as isize - r, kv);
         }
     }
-    for y in 0..h {
-        for x in 0..w {
-            let mut acc = 0.0;
-            for (j, kv) in k.iter().enumerate() {
-                let yi = (y as isize + j as isize - r).clamp(0, h as isize - 1) as usize;
-                acc += kv * tmp[yi * w + x];
+    img.fill(0.0);
+    for (y, dst) in img.chunks_exact_mut(w).enumerate() {
+        for (j, &kv) in k.iter().enumerate() {
+            let yi = (y as isize + j as isize - r).clamp(0, h as isize - 1) as usize;
+            for (d, s) in dst.iter_mut().zip(&tmp[yi * w..(yi + 1) * w]) {
+                *d += kv * s;
             }
-            img[y * w + x] = acc;
+        }
+    }
+}
+
+/// `dst[x] += kv * src[clamp(x + shift)]` over a row, the border value
+/// replicated beyond the row's ends.
+pub(super) fn add_shifted(dst: &mut [f64], src: &[f64], shift: isize, kv: f64) {
+    let w = dst.len() as isize;
+    // x + shift within 0..w for x in lo..hi
+    let lo = (-shift).clamp(0, w) as usize;
+    let hi = (w - shift).clamp(0, w) as usize;
+    let (first, last) = (src[0], src[src.len() - 1]);
+    for d in &mut dst[..lo] {
+        *d += kv * first;
+    }
+    if lo < hi {
+        let s0 = (lo as isize + shift) as usize;
+        for (d, s) in dst[lo..hi].iter_mut().zip(&src[s0..s0 + (hi - lo)]) {
+            *d += kv * s;
+        }
+    }
+    for d in &mut dst[hi.max(lo)..] {
+        *d += kv * last;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::look::Psf;
+    use super::*;
+
+    /// A test image with structure on every scale.
+    fn image(w: usize, h: usize) -> Vec<f64> {
+        let mut rng = Rng::new(7);
+        (0..w * h)
+            .map(|i| (i % w) as f64 * 0.7 + (i / w) as f64 * 1.3 + 40.0 * rng.uniform())
+            .collect()
+    }
+
+    /// The direct sum at every pixel, border values replicated:
+    /// `out(x, y) = sum over taps of kv * img(clamp(x + sx), clamp(y + sy))`,
+    /// the taps in order.
+    fn direct(img: &[f64], w: usize, h: usize, taps: &[(isize, isize, f64)]) -> Vec<f64> {
+        let (wi, hi) = (w as isize, h as isize);
+        let mut out = vec![0.0; w * h];
+        for y in 0..hi {
+            for x in 0..wi {
+                let mut acc = 0.0;
+                for &(sx, sy, kv) in taps {
+                    let xs = (x + sx).clamp(0, wi - 1);
+                    let ys = (y + sy).clamp(0, hi - 1);
+                    acc += kv * img[(ys * wi + xs) as usize];
+                }
+                out[(y * wi + x) as usize] = acc;
+            }
+        }
+        out
+    }
+
+    /// The row-wise blurs give the direct per-pixel sums bit for bit
+    /// (each pixel's sum is formed in the same order), on images narrower
+    /// and wider than the kernels.
+    #[test]
+    fn row_wise_blurs_equal_the_direct_sums() {
+        for (w, h) in [(3, 2), (23, 17), (64, 9)] {
+            let img = image(w, h);
+            for sigma in [0.6f64, 1.5, 2.7] {
+                let r = (4.0 * sigma).ceil() as isize;
+                let k: Vec<f64> = (-r..=r)
+                    .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
+                    .collect();
+                let sum: f64 = k.iter().sum();
+                let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
+                let along = |vertical: bool| -> Vec<(isize, isize, f64)> {
+                    k.iter()
+                        .enumerate()
+                        .map(|(j, &kv)| {
+                            let s = j as isize - r;
+                            if vertical { (0, s, kv) } else { (s, 0, kv) }
+                        })
+                        .collect()
+                };
+                let expected = direct(&direct(&img, w, h, &along(false)), w, h, &along(true));
+                let mut got = img.clone();
+                gaussian_blur(&mut got, w, h, sigma);
+                assert_eq!(got, expected, "{w}x{h}, sigma {sigma}");
+            }
+            for psf in [Psf::pillbox(2.3), Psf::line(3.5, 30.0)] {
+                let n = 2 * psf.r + 1;
+                let r = psf.r as isize;
+                let taps: Vec<(isize, isize, f64)> = (0..n * n)
+                    .filter(|&i| psf.k[i] != 0.0)
+                    .map(|i| (r - (i % n) as isize, r - (i / n) as isize, psf.k[i]))
+                    .collect();
+                let expected = direct(&img, w, h, &taps);
+                let mut got = img.clone();
+                psf.apply(&mut got, w, h);
+                assert_eq!(got, expected, "{w}x{h}");
+            }
         }
     }
 }

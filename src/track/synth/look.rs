@@ -529,18 +529,16 @@ impl Psf {
             .map(|i| ((i % n) as isize - r, (i / n) as isize - r, self.k[i]))
             .collect();
         let src = img.to_vec();
-        let (wi, hi) = (w as isize, h as isize);
-        for y in 0..hi {
-            for x in 0..wi {
-                let mut acc = 0.0;
-                // The image of a point at (x + dx, y + dy) spreads to
-                // (x, y) with the weight at (-dx, -dy).
-                for &(dx, dy, kv) in &taps {
-                    let xs = (x - dx).clamp(0, wi - 1);
-                    let ys = (y - dy).clamp(0, hi - 1);
-                    acc += kv * src[(ys * wi + xs) as usize];
-                }
-                img[(y * wi + x) as usize] = acc;
+        let hi = h as isize;
+        // The image of a point at (x + dx, y + dy) spreads to (x, y) with
+        // the weight at (-dx, -dy). The taps are added in order to every
+        // pixel of a row at once (each pixel's sum formed in the same order
+        // as tap by tap).
+        img.fill(0.0);
+        for (y, dst) in img.chunks_exact_mut(w).enumerate() {
+            for &(dx, dy, kv) in &taps {
+                let ys = (y as isize - dy).clamp(0, hi - 1) as usize;
+                super::draw::add_shifted(dst, &src[ys * w..(ys + 1) * w], -dx, kv);
             }
         }
     }
