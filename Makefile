@@ -47,7 +47,7 @@ test: deps
 
 lint: deps
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --locked --all-targets --features harness -- -D warnings
+	$(CARGO) clippy --locked --workspace --all-targets --features bulge/harness -- -D warnings
 
 bench: build-release
 	$(BULGE_RELEASE) bench --out $(OUT)/bench

@@ -1,6 +1,6 @@
 //! One equilibrium of the exact axisymmetric reference, to 1e-8.
 //!
-//! `cargo bench --bench axisym`. The figures are in docs/axisym.md.
+//! `cargo bench -p bulge-bench --bench axisym`. The figures are in docs/axisym.md.
 
 use std::hint::black_box;
 

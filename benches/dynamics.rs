@@ -6,7 +6,7 @@
 //! (Van Gelder) and 1e7 triangle updates/s (TP) on one core; a speed-up on
 //! two cores from 1e4 nodes.
 //!
-//! `cargo bench --bench dynamics` (criterion's "thrpt" is updates per second).
+//! `cargo bench -p bulge-bench --bench dynamics` (criterion's "thrpt" is updates per second).
 
 use std::hint::black_box;
 

@@ -2,7 +2,7 @@
 //! hyperelastic model on Treloar's 17 equibiaxial points (multi-start
 //! included, as `bulge fit` runs it).
 //!
-//!     cargo bench --bench fit
+//!     cargo bench -p bulge-bench --bench fit
 
 use bulge::fit::StressMeasure;
 use bulge::fit::hyperelastic::{self, Equibiaxial, Kind};
@@ -34,7 +34,7 @@ fn quartic_1000(c: &mut Criterion) {
 }
 
 fn hyperelastic_treloar(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/treloar_equibiaxial.csv");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../data/treloar_equibiaxial.csv");
     let t = Table::read(&path).unwrap();
     let data = Equibiaxial {
         stretch: t.numbers("stretch").unwrap(),

@@ -3,7 +3,7 @@
 //! JPEG 90) against tracking the same photos with the experiment file it
 //! wrote; paired runs (printed), then criterion.
 //!
-//! `cargo bench --bench init`; set `BULGE_BENCH_QUICK=1` for fewer samples.
+//! `cargo bench -p bulge-bench --bench init`; set `BULGE_BENCH_QUICK=1` for fewer samples.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 

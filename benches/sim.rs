@@ -7,7 +7,7 @@
 //!   nu = 0.45, linear E = 1 MPa) solved at 5000, 7300 and 8940 Pa from rest,
 //!   per spring model, solver and mesh size.
 //!
-//! `BULGE_SIM_TABLE=1 cargo bench --bench sim` prints instead the tables of
+//! `BULGE_SIM_TABLE=1 cargo bench -p bulge-bench --bench sim` prints instead the tables of
 //! docs/simulate.md: time against mesh size and against the height error
 //! (single timed runs, one core), the reference being the finest mesh of the
 //! same model.

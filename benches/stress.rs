@@ -1,7 +1,7 @@
 //! The stress stage on 10 000 heights (flat start to H = 2a, every branch of
 //! the arc-length formula), without and with uncertainty propagation.
 //!
-//! `cargo bench --bench stress`. The figures are in docs/stress.md.
+//! `cargo bench -p bulge-bench --bench stress`. The figures are in docs/stress.md.
 
 use std::hint::black_box;
 

@@ -9,7 +9,7 @@
 //!    alone (read + OpenCV grayscale decode, in parallel the same way) on the
 //!    same JPEG files, at 640x480 and 4000x3000.
 //!
-//! `cargo bench --bench track`; set `BULGE_BENCH_QUICK=1` for fewer samples.
+//! `cargo bench -p bulge-bench --bench track`; set `BULGE_BENCH_QUICK=1` for fewer samples.
 
 use std::path::PathBuf;
 
