@@ -440,36 +440,78 @@ struct Corrected {
     iterations: u64,
 }
 
+/// What the correction's two passes ([`scale_then_all`]) need of a
+/// least-squares problem of the heights: the axisymmetric one
+/// ([`Problem`]) and the membrane's on a window ([`scene::SceneProblem`]).
+trait Correction:
+    Clone
+    + Operator<Param = DVector<f64>, Output = DVector<f64>>
+    + Jacobian<Param = DVector<f64>, Jacobian = DMatrix<f64>>
+{
+    /// The law's parameters.
+    fn params(&self) -> &Params;
+    /// `h(p_i) / h_i - 1` per point at `x`, `None` where there is no
+    /// equilibrium.
+    fn errors(&self, x: &[f64]) -> Vec<Option<f64>>;
+    /// The same problem with one unknown: a factor on `x0`'s stress
+    /// parameters.
+    fn scaling(&self, x0: &[f64]) -> Self;
+}
+
+impl Correction for Problem<'_> {
+    fn params(&self) -> &Params {
+        &self.params
+    }
+    fn errors(&self, x: &[f64]) -> Vec<Option<f64>> {
+        Problem::errors(self, x)
+    }
+    fn scaling(&self, x0: &[f64]) -> Self {
+        Problem {
+            scale_of: Some(x0.to_vec()),
+            ..self.clone()
+        }
+    }
+}
+
+impl Correction for scene::SceneProblem<'_> {
+    fn params(&self) -> &Params {
+        &self.params
+    }
+    fn errors(&self, x: &[f64]) -> Vec<Option<f64>> {
+        scene::SceneProblem::errors(self, x)
+    }
+    fn scaling(&self, x0: &[f64]) -> Self {
+        scene::SceneProblem {
+            scale_of: Some(x0.to_vec()),
+            ..self.clone()
+        }
+    }
+}
+
 /// The correction's two passes, shared by the axisymmetric and the
-/// membrane paths: first one factor on the stress parameters from `start`
-/// (`with_scale`: `problem` fitting that factor; a start 20-40 % too stiff
-/// or soft, as other stress conventions give, is mostly a scale), then
-/// every parameter from there. The starting law `x0` is kept, with its
-/// errors `before`, when the correction does not improve the rms error (a
-/// start without an equilibrium everywhere is beaten by any law that has
-/// one).
-#[allow(clippy::too_many_arguments)]
-fn scale_then_all<P>(
+/// membrane paths: first one factor on the stress parameters from `x0`
+/// scaled by `start` (a start 20-40 % too stiff or soft, as other stress
+/// conventions give, is mostly a scale), then every parameter from there.
+/// The starting law `x0` is kept, with its errors `before`, when the
+/// correction does not improve the rms error (a start without an
+/// equilibrium everywhere is beaten by any law that has one).
+fn scale_then_all<P: Correction>(
     problem: &P,
-    with_scale: P,
-    params: &Params,
     x0: Vec<f64>,
     start: f64,
     before: &[Option<f64>],
-    errors: impl Fn(&[f64]) -> Vec<Option<f64>>,
     max_iterations: u64,
-) -> Result<Corrected, FitError>
-where
-    P: Clone
-        + Operator<Param = DVector<f64>, Output = DVector<f64>>
-        + Jacobian<Param = DVector<f64>, Jacobian = DMatrix<f64>>,
-{
+) -> Result<Corrected, FitError> {
     let solver = |e: ArgminError| FitError::Solver(e.to_string());
-    let scale =
-        lm::minimize(with_scale, DVector::from_vec(vec![start]), max_iterations).map_err(solver)?;
-    let x1 = params.scaled(&x0, scale.x[0]);
+    let scale = lm::minimize(
+        problem.scaling(&x0),
+        DVector::from_vec(vec![start]),
+        max_iterations,
+    )
+    .map_err(solver)?;
+    let x1 = problem.params().scaled(&x0, scale.x[0]);
     let r = lm::minimize(problem.clone(), DVector::from_vec(x1), max_iterations).map_err(solver)?;
-    let after = errors(r.x.as_slice());
+    let after = problem.errors(r.x.as_slice());
     let better = match (Refined::rms(&after), Refined::rms(before)) {
         (Some(a), Some(b)) => a < b,
         (Some(_), None) => true,
@@ -558,19 +600,7 @@ pub fn refine(
         x,
         after,
         iterations,
-    } = scale_then_all(
-        &problem,
-        Problem {
-            scale_of: Some(x0.clone()),
-            ..problem.clone()
-        },
-        &problem.params,
-        x0,
-        1.0,
-        &before,
-        |x| problem.errors(x),
-        opts.max_iterations,
-    )?;
+    } = scale_then_all(&problem, x0, 1.0, &before, opts.max_iterations)?;
     let sigma = match sigma0 {
         Some(s) => Some(s),
         None => independent_std(&problem, &x, sources),

@@ -179,19 +179,7 @@ pub fn refine_in_scene(
         x,
         after,
         iterations,
-    } = scale_then_all(
-        &problem,
-        SceneProblem {
-            scale_of: Some(x0.clone()),
-            ..problem.clone()
-        },
-        &problem.params,
-        x0,
-        start,
-        &before,
-        |x| problem.errors(x),
-        opts.max_iterations,
-    )?;
+    } = scale_then_all(&problem, x0, start, &before, opts.max_iterations)?;
     Ok(Refined {
         material: Material {
             model: problem.params.model(&x),
