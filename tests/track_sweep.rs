@@ -4,7 +4,7 @@
 //! (size, noise, blur, encoding, ring face, light bubble, side light,
 //! defocus, motion blur, vignetting, law, photo count, top pressure), how
 //! many clean photos are refused, how many are written silently wrong and
-//! whether the stated uncertainty is honest. This test runs ten clean
+//! whether the stated uncertainty is honest. This test runs thirty clean
 //! sequences at 480x360 and asserts only what holds now and must keep
 //! holding: every sequence is tracked, no photo is written more than 4 of
 //! its stated standard deviations off (the tracker refuses a photo rather
@@ -18,7 +18,7 @@ fn no_clean_photo_of_the_sweep_is_written_silently_wrong() {
     let mut written = 0;
     let mut z2 = 0.0;
     let mut refused = Vec::new();
-    for seed in 1..=10u64 {
+    for seed in 1..=30u64 {
         let case = sweep::draw(seed, false, &[(480, 360)]).expect("the law's bubble is solved");
         let dir = tempfile::tempdir().unwrap();
         let photos = sweep::run(&case, dir.path());
