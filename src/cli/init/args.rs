@@ -85,15 +85,18 @@ pub struct Args {
     /// to the ring's far side seen from it, and the scale at the ring's
     /// centre from the opening's tangent points. Without it, a lens given
     /// by --camera gives it: its focal length times the scale found at the
-    /// ring's centre. Without either the camera is taken as orthographic
-    /// (the scale then comes out about a^2 / (2 D^2) small).
+    /// ring's centre. Without either a level camera is taken as
+    /// orthographic (the scale then comes out about a^2 / (2 D^2) small),
+    /// and a camera raised above the clamp plane is refused unless
+    /// --orthographic says it is one.
     #[arg(long, value_name = "M")]
     pub camera_distance_m: Option<f64>,
 
-    /// Take the camera as orthographic although --camera gives a focal
-    /// length (a telecentric lens, or photos drawn by an orthographic
-    /// renderer through a lens map): no distance is found from it.
-    #[arg(long, conflicts_with = "camera_distance_m", requires = "camera")]
+    /// Take the camera as orthographic (a telecentric lens, or photos drawn
+    /// by an orthographic renderer): no distance is found from a focal
+    /// length that --camera gives, and a camera raised above the clamp
+    /// plane is set up without a distance.
+    #[arg(long, conflicts_with = "camera_distance_m")]
     pub orthographic: bool,
 
     /// The camera's tone curve from light to grey levels: `srgb` (ordinary
