@@ -16,15 +16,6 @@ use paths::{default_glob, relative};
 mod args;
 pub use args::*;
 
-/// The elevation above which a camera with no distance is refused rather
-/// than read as orthographic, degrees. From a pinhole raised by `e` the
-/// ring's centre row read orthographically is off by about `e` pixels per
-/// degree at 0.45 m and 1280x960 (3 px at 3 degrees); at half a degree that
-/// is about the level camera's own orthographic error (the grazing ray's
-/// 0.27 px at the apex), which is only noted; above it the raised camera's
-/// error dominates and grows with the elevation.
-const RAISED_DEG: f64 = 0.5;
-
 /// Runs `bulge init`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_file(&args.output, "-o")?;
@@ -146,14 +137,12 @@ pub fn run(args: Args) -> Result<(), Failure> {
         distance_from_focal: !args.orthographic,
     };
     let found = init::find_in(&frames, args.radius_m, given).map_err(Failure::of::<TrackError>)?;
-    if let Some(e) = found.elevation_deg
-        && found.camera_distance_m.is_none()
-        && !args.orthographic
-        && e.value > RAISED_DEG
+    if let Some(why) = found
+        .raised_without_distance()
+        .filter(|_| !args.orthographic)
     {
         return Err(bad(format!(
-            "the camera looks down on the clamp plane from {:.2} +- {:.2} degrees and its distance is not known: read as orthographic, a camera D from the bubble's axis puts the ring's centre row a few pixels off (3 px at 0.45 m and 3 degrees, 1280x960), and the heights off by up to a few per cent (+2.5 % on the first photo at 0.3 m and 3 degrees); give --camera-distance-m D (from the bubble's axis to the lens, m), or --camera camera.toml (bulge calibrate: the distance from its focal length), or --orthographic if the lens is telecentric",
-            e.value, e.std
+            "{why}; give --camera-distance-m D (from the bubble's axis to the lens, m), or --camera camera.toml (bulge calibrate: the distance from its focal length), or --orthographic if the lens is telecentric"
         )));
     }
     let base = args
