@@ -296,12 +296,7 @@ fn draw_line(acc: &mut [f64], w: usize, h: usize, p0: (f64, f64), p1: (f64, f64)
 
 /// Separable Gaussian blur with replicated borders, radius ceil(4 sigma).
 pub fn gaussian_blur(img: &mut [f64], w: usize, h: usize, sigma: f64) {
-    let r = (4.0 * sigma).ceil() as isize;
-    let k: Vec<f64> = (-r..=r)
-        .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
-        .collect();
-    let sum: f64 = k.iter().sum();
-    let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
+    let (r, k) = gaussian_kernel(sigma);
     // Each pass adds the taps in order to every pixel of a row at once
     // (a pixel's sum is formed in the same order as tap by tap, so the
     // result does not depend on the loop order), reading rows whole.
@@ -320,6 +315,17 @@ pub fn gaussian_blur(img: &mut [f64], w: usize, h: usize, sigma: f64) {
             }
         }
     }
+}
+
+/// The normalised Gaussian of `sigma` px sampled at the integers within
+/// `r = ceil(4 sigma)`: `(r, weights from -r to r)`.
+fn gaussian_kernel(sigma: f64) -> (isize, Vec<f64>) {
+    let r = (4.0 * sigma).ceil() as isize;
+    let k: Vec<f64> = (-r..=r)
+        .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let sum: f64 = k.iter().sum();
+    (r, k.iter().map(|v| v / sum).collect())
 }
 
 /// `dst[x] += kv * src[clamp(x + shift)]` over a row, the border value
@@ -385,12 +391,7 @@ mod tests {
         for (w, h) in [(3, 2), (23, 17), (64, 9)] {
             let img = image(w, h);
             for sigma in [0.6f64, 1.5, 2.7] {
-                let r = (4.0 * sigma).ceil() as isize;
-                let k: Vec<f64> = (-r..=r)
-                    .map(|i| (-(i * i) as f64 / (2.0 * sigma * sigma)).exp())
-                    .collect();
-                let sum: f64 = k.iter().sum();
-                let k: Vec<f64> = k.iter().map(|v| v / sum).collect();
+                let (r, k) = gaussian_kernel(sigma);
                 let along = |vertical: bool| -> Vec<(isize, isize, f64)> {
                     k.iter()
                         .enumerate()
