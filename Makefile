@@ -1,8 +1,9 @@
 # bulge: two commands do everything on a fresh Debian/Ubuntu (or macOS) machine.
 #   make demo   install what is missing, build, run the pipeline on data/demo, write out/
 #   make test   install what is missing, run the whole test suite (default
-#               features), then check that the library builds without
-#               OpenCV, plotters and clap
+#               features), check that the library builds without OpenCV,
+#               plotters and clap, then build the Python package and run
+#               its tests against the command line
 SHELL := /bin/bash
 CARGO ?= cargo
 OUT ?= out
@@ -45,6 +46,11 @@ test: deps
 	@# most of it checking the dependencies without the features (the test
 	@# profile shares what it can with the test build).
 	$(CARGO) check --locked --profile test --no-default-features --lib
+	@echo "== the Python package (python/) against the command line"
+	@# It reuses the library and the dependencies built above (same
+	@# workspace, profile and features): about a minute and a half from a
+	@# fresh clone, most of it pip fetching maturin, pandas and pytest.
+	$(MAKE) --no-print-directory python-test
 
 lint: deps
 	$(CARGO) fmt --all -- --check
@@ -64,7 +70,8 @@ bench-peers: build-release
 
 # The Python package (python/, PyO3 + maturin) in a virtual environment
 # under the target folder, built into the same target folder with the dev
-# profile so that the dependencies built by cargo test are reused.
+# profile, so that the library and the dependencies built by cargo test
+# are reused (python/Cargo.toml says how).
 PY_VENV := $(TARGET)/py-venv
 python: deps
 	@test -x $(PY_VENV)/bin/python || python3 -m venv $(PY_VENV) || \

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs what building bulge needs when it is missing: the system OpenCV
 # (libopencv-dev: its pkg-config file is what the opencv crate probes), clang/libclang (the opencv crate generates its
-# bindings with it) and pkg-config. Debian/Ubuntu through apt-get (as root or
+# bindings with it) and pkg-config; and Python 3 with venv, in which the
+# Python package is built and tested. Debian/Ubuntu through apt-get (as root or
 # with sudo), macOS through Homebrew; otherwise it names the packages.
 set -euo pipefail
 
-APT_PACKAGES=(clang libclang-dev pkg-config libopencv-dev)
-BREW_PACKAGES=(opencv llvm pkg-config)
+APT_PACKAGES=(clang libclang-dev pkg-config libopencv-dev python3 python3-venv)
+BREW_PACKAGES=(opencv llvm pkg-config python3)
 
 have_opencv() { command -v pkg-config >/dev/null 2>&1 && pkg-config --exists opencv4; }
 have_libclang() {
@@ -16,14 +17,16 @@ have_libclang() {
     compgen -G '/opt/homebrew/opt/llvm/lib/libclang.dylib' >/dev/null ||
     compgen -G '/usr/local/opt/llvm/lib/libclang.dylib' >/dev/null
 }
+# venv with ensurepip: Debian ships them apart from python3 (python3-venv).
+have_venv() { command -v python3 >/dev/null 2>&1 && python3 -c 'import venv, ensurepip' >/dev/null 2>&1; }
 
 if ! command -v cargo >/dev/null 2>&1; then
   echo "install-deps: cargo is not on PATH; install the Rust toolchain (https://rustup.rs) first." >&2
   exit 1
 fi
 
-if have_opencv && have_libclang; then
-  echo "install-deps: OpenCV $(pkg-config --modversion opencv4) and libclang are present."
+if have_opencv && have_libclang && have_venv; then
+  echo "install-deps: OpenCV $(pkg-config --modversion opencv4), libclang and Python 3 with venv are present."
   exit 0
 fi
 
@@ -43,12 +46,12 @@ elif command -v brew >/dev/null 2>&1; then
   echo "install-deps: installing ${BREW_PACKAGES[*]} with Homebrew"
   brew install "${BREW_PACKAGES[@]}"
 else
-  echo "install-deps: no apt-get or brew here. Install OpenCV 4 (core, imgproc, imgcodecs) with its pkg-config file, clang and libclang, then run make again." >&2
+  echo "install-deps: no apt-get or brew here. Install OpenCV 4 (core, imgproc, imgcodecs) with its pkg-config file, clang and libclang, and Python 3 with venv, then run make again." >&2
   exit 1
 fi
 
-if ! have_opencv || ! have_libclang; then
-  echo "install-deps: OpenCV or libclang still missing after the install; see the messages above." >&2
+if ! have_opencv || ! have_libclang || ! have_venv; then
+  echo "install-deps: OpenCV, libclang or Python 3's venv still missing after the install; see the messages above." >&2
   exit 1
 fi
-echo "install-deps: OpenCV $(pkg-config --modversion opencv4) and libclang are present."
+echo "install-deps: OpenCV $(pkg-config --modversion opencv4), libclang and Python 3 with venv are present."

@@ -14,6 +14,7 @@ exit status 1. Both carry the command line's message.
 from __future__ import annotations
 
 import io
+import os
 import sys
 from dataclasses import dataclass, field
 from typing import Dict, List, Tuple
@@ -28,7 +29,20 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as _toml
 
-__all__ = ["BadInput", "Failure", "RunOutput", "run", "HAS_OPENCV", "__version__"]
+__all__ = [
+    "BadInput",
+    "Failure",
+    "FitOutput",
+    "RunOutput",
+    "StressOutput",
+    "TrackOutput",
+    "fit",
+    "run",
+    "stress",
+    "track",
+    "HAS_OPENCV",
+    "__version__",
+]
 
 __version__ = _native.version()
 
@@ -50,6 +64,214 @@ if not HAS_OPENCV:
 def _table(data: bytes) -> pd.DataFrame:
     """A CSV file of the command line as a DataFrame (its header as columns)."""
     return pd.read_csv(io.BytesIO(data))
+
+
+def _csv_in(table, name: str) -> "Tuple[bytes | None, str]":
+    """A table given as a DataFrame or as a CSV file's path: the DataFrame's
+    CSV bytes and the name messages use (``<name DataFrame>``, whose line
+    ``n`` is row ``n - 2``: the header is line 1), or no bytes and the path,
+    which the library reads as the command line does."""
+    if isinstance(table, pd.DataFrame):
+        return table.to_csv(index=False).encode(), f"<{name} DataFrame>"
+    return None, os.fspath(table)
+
+
+def _path(p):
+    return None if p is None else os.fspath(p)
+
+
+@dataclass
+class StressOutput:
+    """What ``bulge stress`` writes, in memory.
+
+    ``stress_strain`` is stress_strain.csv (the input's other columns first,
+    then ``pressure_pa,height_m,radius_m,...,secant_modulus_pa`` and the
+    ``*_std`` columns when the heights have standard deviations);
+    ``sources`` how every point moves for each input's stated error (when
+    the experiment states errors besides the heights'); ``warnings`` what
+    the command line prints as warnings.
+    """
+
+    stress_strain: pd.DataFrame
+    sources: "pd.DataFrame | None" = None
+    warnings: List[str] = field(default_factory=list)
+
+
+def stress(
+    heights,
+    experiment=None,
+    *,
+    radius_m: "float | None" = None,
+    thickness_m: "float | None" = None,
+    poisson: "float | None" = None,
+    prebulge_height_m: "float | None" = None,
+    strain: str = "engineering",
+    true_stress: str = "paper",
+    modulus: str = "biaxial",
+    modulus_stress: str = "nominal",
+    height_std_m: "float | None" = None,
+) -> StressOutput:
+    """Heights -> stress and strain with the spherical-cap formulas, as
+    ``bulge stress``: ``heights`` a DataFrame (or a CSV path) with
+    ``pressure_pa`` and ``height_m`` (``height_std_m`` optional), the
+    specimen from ``experiment`` (a TOML path) or from ``radius_m``,
+    ``thickness_m``, ``poisson`` and ``prebulge_height_m``. The choices
+    take the command line's names (``strain="log"``, ``modulus="uniaxial"``)."""
+    data, label = _csv_in(heights, "heights")
+    csv, sources, warnings = _native.stress(
+        data,
+        label,
+        _path(experiment),
+        radius_m,
+        thickness_m,
+        poisson,
+        prebulge_height_m,
+        strain,
+        true_stress,
+        modulus,
+        modulus_stress,
+        height_std_m,
+    )
+    return StressOutput(
+        stress_strain=_table(bytes(csv)),
+        sources=None if sources is None else _table(bytes(sources)),
+        warnings=list(warnings),
+    )
+
+
+@dataclass
+class FitOutput:
+    """What ``bulge fit`` writes, in memory.
+
+    ``material`` is material.toml as a dict (``material_toml`` its text,
+    which ``bulge simulate --material`` reads); ``curve`` the fitted law on
+    a grid, ``residuals`` data, law and residual at every point, ``models``
+    the comparison of every law (``model="all"``); ``files`` every file by
+    the command line's name for ``-o material.toml`` (the figure as SVG and
+    PNG included unless ``plot=False``); ``summary`` what it prints;
+    ``warnings`` its warnings.
+    """
+
+    material: dict
+    material_toml: str
+    curve: pd.DataFrame
+    residuals: pd.DataFrame
+    models: "pd.DataFrame | None" = None
+    files: Dict[str, bytes] = field(default_factory=dict)
+    summary: str = ""
+    warnings: List[str] = field(default_factory=list)
+
+
+def fit(
+    stress_strain,
+    *,
+    model: str = "quartic",
+    degree: int = 4,
+    ogden_terms: int = 3,
+    poisson: float = 0.45,
+    modulus: str = "biaxial",
+    weighted: bool = False,
+    samples: int = 200,
+    stress_measure: "str | None" = None,
+    strain_measure: "str | None" = None,
+    to_heights=None,
+    plot: bool = True,
+) -> FitOutput:
+    """Stress/strain -> a material law with its uncertainty, as ``bulge
+    fit``: ``stress_strain`` a DataFrame (or a CSV path) as ``stress``
+    returns it (or raw ``strain`` and ``stress_pa`` columns); ``model`` one
+    of the command line's (``quartic``, ``polynomial``, ``neo-hookean``,
+    ``mooney-rivlin``, ``yeoh``, ``ogden``, ``gent``, ``all``);
+    ``to_heights`` an experiment file on whose specimen the law is
+    corrected to the table's heights (with their covariance). The GIL is
+    released while it works."""
+    data, label = _csv_in(stress_strain, "stress_strain")
+    material, curve, residuals, models, figure, summary, warnings = _native.fit(
+        data,
+        label,
+        model,
+        degree,
+        ogden_terms,
+        poisson,
+        modulus,
+        weighted,
+        samples,
+        stress_measure,
+        strain_measure,
+        _path(to_heights),
+        plot,
+    )
+    files = {
+        "material.toml": material.encode(),
+        "material_curve.csv": bytes(curve),
+        "material_residuals.csv": bytes(residuals),
+    }
+    if models is not None:
+        files["material_models.csv"] = bytes(models)
+    if figure is not None:
+        files["material_fit.svg"] = bytes(figure[0])
+        files["material_fit.png"] = bytes(figure[1])
+    return FitOutput(
+        material=_toml.loads(material),
+        material_toml=material,
+        curve=_table(bytes(curve)),
+        residuals=_table(bytes(residuals)),
+        models=None if models is None else _table(bytes(models)),
+        files=files,
+        summary=summary,
+        warnings=list(warnings),
+    )
+
+
+@dataclass
+class TrackOutput:
+    """What ``bulge track`` writes and says, in memory.
+
+    ``heights`` is heights.csv (``frame,file,pressure_pa,apex_x_px,
+    apex_y_px,score,height_m,height_std_m``, ``time_s`` when the frames'
+    times are known); ``skipped`` the frames left out as (frame, file,
+    score, reason); ``warnings`` its warnings; ``note`` the note on an
+    uncalibrated lens, if any.
+    """
+
+    heights: pd.DataFrame
+    skipped: List[Tuple[int, str, float, str]] = field(default_factory=list)
+    warnings: List[str] = field(default_factory=list)
+    note: "str | None" = None
+
+
+def track(
+    experiment,
+    *,
+    min_score: float = 0.5,
+    skip_bad_frames: bool = False,
+    refine: str = "edge",
+    search_margin_px: int = 8,
+    edge_span_px: "int | None" = None,
+    edge_window_px: int = 3,
+    progress=None,
+) -> TrackOutput:
+    """An experiment file's photos (or video) -> apex height per photo, as
+    ``bulge track`` with the same keywords as its flags. ``progress``, when
+    given, is called as ``progress(done, total)`` after each frame (e.g. a
+    tqdm bar's ``update``); the GIL is released between the calls."""
+    _need_opencv("track")
+    csv, warnings, skipped, note = _native.track(
+        os.fspath(experiment),
+        min_score,
+        skip_bad_frames,
+        refine,
+        search_margin_px,
+        edge_span_px,
+        edge_window_px,
+        progress,
+    )
+    return TrackOutput(
+        heights=_table(bytes(csv)),
+        skipped=[tuple(s) for s in skipped],
+        warnings=list(warnings),
+        note=note,
+    )
 
 
 @dataclass

@@ -1,14 +1,28 @@
-"""The demo experiment from Python: bulge.run on data/demo, then the measured
-heights with their 95 % band (1.96 x height_std_m) and each model's simulated
-heights. Run from the repository root: python python/examples/demo.py
-(matplotlib optional: without it the tables are printed only)."""
+"""The demo experiment from Python, stage by stage and whole: track the
+photos, stress and strain, Mooney-Rivlin fitted and corrected to the
+heights, then bulge.run, and the measured heights with their 95 % band
+(1.96 x height_std_m) beside each model's simulated heights.
+Run from anywhere: python python/examples/demo.py (matplotlib optional:
+without it the tables are printed only)."""
 
 import pathlib
 
 import bulge
 
 root = pathlib.Path(__file__).resolve().parents[2]
-out = bulge.run(root / "data/demo/experiment.toml")
+experiment = root / "data/demo/experiment.toml"
+
+tracked = bulge.track(experiment, progress=lambda done, total: print(f"\rtrack {done}/{total}", end=""))
+print()
+print(tracked.heights[["file", "pressure_pa", "height_m", "height_std_m"]])
+
+stress = bulge.stress(tracked.heights, experiment)
+print(stress.stress_strain[["pressure_pa", "strain", "stress_pa", "stress_std_pa"]])
+
+law = bulge.fit(stress.stress_strain, model="mooney-rivlin", to_heights=experiment, plot=False)
+print(law.summary)
+
+out = bulge.run(experiment)
 print(out.material)
 print(out.simulated)
 

@@ -58,6 +58,9 @@ type File = (String, String, Py<PyBytes>);
 
 #[cfg(feature = "opencv")]
 mod run;
+mod stages;
+#[cfg(feature = "opencv")]
+mod track;
 
 /// True when this build has the photo stages (track, run, study).
 #[pyfunction]
@@ -77,7 +80,11 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Failure", m.py().get_type::<Failure>())?;
     m.add_function(wrap_pyfunction!(has_opencv, m)?)?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(stages::stress, m)?)?;
+    m.add_function(wrap_pyfunction!(stages::fit, m)?)?;
     #[cfg(feature = "opencv")]
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    #[cfg(feature = "opencv")]
+    m.add_function(wrap_pyfunction!(track::track, m)?)?;
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use bulge::Refusal;
 use bulge::experiment::Experiment;
 use bulge::pipeline::{self, RunOptions, Stage};
 use bulge::report::run_files::run_files;

@@ -1,67 +1,31 @@
 //! `bulge fit`: stress/strain -> `material.toml` and its side files (see
-//! `--output`), computed and drawn in memory first ([`bulge::fit::fit_material`],
-//! [`bulge::report::fit_outputs`]); nothing is written when the input is refused.
-
-use std::path::Path;
+//! `--output`), computed and drawn in memory first
+//! ([`bulge::report::fit_command`]); nothing is written when the input is
+//! refused.
 
 use anyhow::anyhow;
 
 use super::{Classify, Failure};
-use bulge::experiment::Experiment;
-use bulge::fit::data::{self, LoadOptions};
-use bulge::fit::hyperelastic::Kind;
-use bulge::fit::{FitError, FitModel, FitSettings, fit_material, inverse};
 use bulge::io::{OutputPlan, Table, write_atomic};
-use bulge::report::fit_outputs::{FitPaths, fit_outputs};
+use bulge::report::fit_command::{FitChoices, FitCommandError, fit_files};
+use bulge::report::fit_outputs::FitPaths;
 
 mod args;
 pub use args::*;
 
-/// The flags checked before any work; the settings of the fit.
-fn settings(args: &Args) -> Result<FitSettings, Failure> {
-    let bad = |m: String| Err(Failure::BadInput(anyhow!(m)));
-    let (p, d, o, n) = (args.poisson, args.degree, args.ogden_terms, args.samples);
-    let checks = [
-        (
-            (0.0..0.5).contains(&p),
-            format!(
-                "--poisson {p} is outside [0, 0.5): give the specimen's Poisson ratio (0.45 for latex, 0.5 is excluded)"
-            ),
-        ),
-        (
-            d <= 8,
-            format!(
-                "--degree {d} is too high: polynomial laws above degree 8 only fit the noise; use 2 to 6"
-            ),
-        ),
-        (
-            (1..=3).contains(&o),
-            format!("--ogden-terms {o} is not supported: use 1, 2 or 3"),
-        ),
-        (
-            (2..=100_000).contains(&n),
-            format!(
-                "--samples {n} must be in 2..=100000 (points of the drawn curve; 200 is plenty)"
-            ),
-        ),
-    ];
-    if let Some((_, m)) = checks.into_iter().find(|c| !c.0) {
-        return bad(m);
-    }
-    let model = match args.model {
-        FitModel::Hyperelastic(Kind::Ogden(_)) => {
-            FitModel::Hyperelastic(Kind::Ogden(args.ogden_terms))
-        }
-        m => m.with_degree(args.degree),
-    };
-    Ok(FitSettings {
-        model,
+/// The choices the flags give.
+fn choices(args: &Args) -> FitChoices {
+    FitChoices {
+        model: args.model,
+        degree: args.degree,
+        ogden_terms: args.ogden_terms,
         poisson: args.poisson,
         modulus: args.modulus,
-        modulus_stress: None,
-        lower_degree: false,
         weighted: args.weighted,
-    })
+        samples: args.samples,
+        stress_measure: args.stress_measure,
+        strain_measure: args.strain_measure,
+    }
 }
 
 /// Runs `bulge fit`.
@@ -72,44 +36,23 @@ pub fn run(args: Args) -> Result<(), Failure> {
         .input(&args.input)
         .inputs(&args.to_heights);
     super::guard(plan.output_as("-o", &out.material).outputs(out.sides()))?;
-    let set = settings(&args)?;
-    let exp = args.to_heights.as_ref();
-    let specimen = exp.map(Experiment::read_specimen).transpose()?;
+    let choices = choices(&args);
+    let set = choices
+        .settings()
+        .map_err(|e| Failure::BadInput(anyhow!("--{} {}", e.key.replace('_', "-"), e.text)))?;
     let table = Table::read(&args.input)?;
-    let opts = LoadOptions {
-        stress_measure: args.stress_measure,
-        strain_measure: args.strain_measure,
-        poisson: args.poisson,
-        modulus: args.modulus,
-    };
     let flags = [
         ("stress_measure", "--stress-measure"),
         ("strain_measure", "--strain-measure"),
     ];
-    let loaded = data::load(&table, &opts).map_err(|e| super::with_flags(e, &flags))?;
     let input = args.input.display().to_string();
-    let mut fitted = fit_material(&loaded, &set, &input).map_err(|e| match e {
-        FitError::TooFewPoints { points, .. } if matches!(set.model, FitModel::Quartic { .. }) => {
-            Failure::BadInput(anyhow!(
-                "{input}: {e} (with {points} points with a secant modulus, use --degree {} or less)",
-                points.max(1) - 1
-            ))
-        }
-        FitError::Solver(_) => Failure::Failed(anyhow!("{input}: {e}")),
-        e => Failure::BadInput(anyhow!("{input}: {e}")),
-    })?;
-    let files = fit_outputs(&fitted, &loaded, &set, &input, args.samples);
-    let mut summary = files.summary.clone();
-    if let (Some(exp), Some(spec)) = (&args.to_heights, &specimen) {
-        summary.push_str(&to_heights(
-            &args.input,
-            &table,
-            exp,
-            spec,
-            &mut fitted,
-            args.weighted,
-        )?);
-    }
+    let fit = fit_files(&table, &input, &choices, &set, args.to_heights.as_deref()).map_err(
+        |e| match e {
+            FitCommandError::Input(e) => Failure::BadInput(super::with_flags(e, &flags).into()),
+            e => Failure::of(e),
+        },
+    )?;
+    let (fitted, files, summary) = (fit.material, fit.outputs, fit.summary);
     // Render everything before writing anything.
     let mut files_out = vec![
         (
@@ -141,52 +84,4 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let names = files_out.iter().map(|f| f.0.display().to_string());
     println!("wrote {}", names.collect::<Vec<_>>().join(", "));
     Ok(())
-}
-
-/// `--to-heights`: the law corrected to the heights of `table`; the summary line.
-fn to_heights(
-    input: &Path,
-    table: &Table,
-    exp: &Path,
-    specimen: &bulge::Specimen,
-    fitted: &mut bulge::fit::FittedMaterial,
-    weighted: bool,
-) -> Result<String, Failure> {
-    let Some(measured) = inverse::Measured::from_table(table)? else {
-        return Err(Failure::BadInput(anyhow!(
-            "{}: --to-heights needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv",
-            input.display()
-        )));
-    };
-    // The inputs' uncertainties of the experiment file join the heights'
-    // own in the covariance.
-    let opts = inverse::Options {
-        uncertainty: Experiment::read(exp)?.uncertainty(),
-        weighted,
-        ..Default::default()
-    };
-    let window = Experiment::read_window(exp)?;
-    let r = if window.is_circle() {
-        fitted.refine_to_heights(specimen, &measured, &opts)
-    } else {
-        let scene = bulge::sim::scene::Scene::from_window(
-            specimen,
-            &window,
-            fitted.cap_material.clone(),
-            vec![],
-        );
-        fitted.refine_in_scene(&scene, None, &measured, &opts)
-    }
-    .map_err(|err| {
-        Failure::Failed(anyhow!(
-            "{}: the law could not be corrected to the heights: {err}",
-            input.display()
-        ))
-    })?;
-    Ok(format!(
-        "corrected to the heights of {} points on the specimen of {}: {}\n",
-        measured.len(),
-        exp.display(),
-        r.describe()
-    ))
 }

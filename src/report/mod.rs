@@ -2,6 +2,7 @@
 
 #[cfg(feature = "plots")]
 pub(crate) mod figures;
+pub mod fit_command;
 pub mod fit_outputs;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub(crate) mod html;

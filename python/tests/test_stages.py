@@ -1,0 +1,134 @@
+"""bulge.track, bulge.stress and bulge.fit against `bulge track`, `bulge
+stress` and `bulge fit` on the demo experiment and on Treloar's equibiaxial
+data: the same tables and the same law; bad inputs raise BadInput with the
+command line's message."""
+
+import tomllib
+
+import pandas as pd
+import pytest
+
+import bulge
+
+opencv = pytest.mark.skipif(not bulge.HAS_OPENCV, reason="built without OpenCV")
+
+
+def _cli_message(stderr):
+    line = [l for l in stderr.splitlines() if l.startswith("error: ")]
+    assert line, stderr
+    return line[0][len("error: "):]
+
+
+@pytest.fixture(scope="module")
+def demo_cli(root, cli, tmp_path_factory):
+    """`bulge track` then `bulge stress` on the demo, as files."""
+    out = tmp_path_factory.mktemp("demo")
+    exp = root / "data/demo/experiment.toml"
+    p = cli("track", exp, "-o", out / "heights.csv")
+    assert p.returncode == 0, p.stderr
+    p = cli("stress", out / "heights.csv", "--experiment", exp, "-o", out / "stress_strain.csv")
+    assert p.returncode == 0, p.stderr
+    return out
+
+
+@opencv
+def test_track_equals_the_cli(root, demo_cli):
+    seen = []
+    t = bulge.track(root / "data/demo/experiment.toml", progress=lambda done, total: seen.append((done, total)))
+    pd.testing.assert_frame_equal(t.heights, pd.read_csv(demo_cli / "heights.csv"), check_exact=True)
+    assert t.skipped == []
+    # the progress callback saw every frame once
+    n = len(t.heights)
+    assert sorted(d for d, _ in seen) == list(range(1, n + 1)) and {m for _, m in seen} == {n}
+
+
+@opencv
+def test_stress_of_a_dataframe_equals_the_cli(root, demo_cli):
+    heights = pd.read_csv(demo_cli / "heights.csv")
+    s = bulge.stress(heights, root / "data/demo/experiment.toml")
+    want = pd.read_csv(demo_cli / "stress_strain.csv")
+    pd.testing.assert_frame_equal(s.stress_strain, want, check_exact=True)
+    assert "stress_pa" in s.stress_strain.columns and "strain_std" in s.stress_strain.columns
+
+
+def test_stress_from_keywords_equals_the_cli_flags(root, cli, tmp_path):
+    h = pd.DataFrame({"pressure_pa": [1000.0, 2000.0, 3000.0], "height_m": [0.008, 0.012, 0.0155]})
+    h.to_csv(tmp_path / "h.csv", index=False)
+    p = cli(
+        "stress", tmp_path / "h.csv", "--radius-m", "0.0375", "--thickness-m", "0.00035",
+        "--poisson", "0.45", "--strain", "log", "-o", tmp_path / "s.csv",
+    )
+    assert p.returncode == 0, p.stderr
+    s = bulge.stress(h, radius_m=0.0375, thickness_m=0.00035, poisson=0.45, strain="log")
+    pd.testing.assert_frame_equal(s.stress_strain, pd.read_csv(tmp_path / "s.csv"), check_exact=True)
+
+
+def test_stress_of_a_bad_cell_is_bad_input_with_the_cli_message(cli, tmp_path):
+    bad = tmp_path / "heights.csv"
+    bad.write_text("pressure_pa,height_m\n1000,0.008\n2000,abc\n")
+    flags = ["--radius-m", "0.0375", "--thickness-m", "0.00035", "--poisson", "0.45"]
+    p = cli("stress", bad, *flags, "-o", tmp_path / "s.csv")
+    assert p.returncode == 2, p.stderr
+    with pytest.raises(bulge.BadInput) as e:
+        bulge.stress(bad, radius_m=0.0375, thickness_m=0.00035, poisson=0.45)
+    assert str(e.value) == _cli_message(p.stderr)
+    # a DataFrame is named as such, with the line of the bad row
+    with pytest.raises(bulge.BadInput, match=r"<heights DataFrame>.*line 3"):
+        bulge.stress(pd.read_csv(bad, dtype=str), radius_m=0.0375, thickness_m=0.00035, poisson=0.45)
+
+
+def test_stress_needs_the_specimen():
+    h = pd.DataFrame({"pressure_pa": [1000.0], "height_m": [0.008]})
+    with pytest.raises(bulge.BadInput, match="radius_m is required without experiment"):
+        bulge.stress(h, thickness_m=0.00035, poisson=0.45)
+    with pytest.raises(bulge.BadInput, match=r"strain=\"tru\""):
+        bulge.stress(h, radius_m=0.0375, thickness_m=0.00035, poisson=0.45, strain="tru")
+
+
+@pytest.mark.parametrize("model", ["mooney-rivlin", "quartic"])
+def test_fit_equals_the_cli(root, cli, tmp_path, model):
+    data = root / "data/treloar_equibiaxial.csv"
+    p = cli("fit", data, "--model", model, "-o", tmp_path / "material.toml")
+    assert p.returncode == 0, p.stderr
+    f = bulge.fit(data, model=model)
+    # given as a path, the material file is the command line's to the byte
+    assert f.files["material.toml"] == (tmp_path / "material.toml").read_bytes()
+    assert f.material == tomllib.loads((tmp_path / "material.toml").read_text())
+    for name, attr in [("material_curve.csv", "curve"), ("material_residuals.csv", "residuals")]:
+        pd.testing.assert_frame_equal(getattr(f, attr), pd.read_csv(tmp_path / name), check_exact=True)
+        assert f.files[name] == (tmp_path / name).read_bytes()
+    assert f.files["material_fit.svg"] == (tmp_path / "material_fit.svg").read_bytes()
+    # from a DataFrame, the same law; only its source is named differently
+    g = bulge.fit(pd.read_csv(data), model=model)
+    assert g.material["fit"].pop("source") == "<stress_strain DataFrame>"
+    assert f.material["fit"].pop("source") == str(data)
+    assert g.material == f.material
+
+
+@opencv
+def test_fit_to_heights_equals_the_cli(root, cli, demo_cli, tmp_path):
+    exp = root / "data/demo/experiment.toml"
+    ss = demo_cli / "stress_strain.csv"
+    p = cli("fit", ss, "--model", "neo-hookean", "--to-heights", exp, "-o", tmp_path / "material.toml")
+    assert p.returncode == 0, p.stderr
+    f = bulge.fit(ss, model="neo-hookean", to_heights=exp, plot=False)
+    assert f.files["material.toml"] == (tmp_path / "material.toml").read_bytes()
+    assert "corrected to the heights of" in f.summary
+    assert "material_fit.svg" not in f.files
+
+
+def test_fit_bad_choices_name_the_keyword(root):
+    data = root / "data/treloar_equibiaxial.csv"
+    with pytest.raises(bulge.BadInput, match=r"^poisson=0.5 is outside \[0, 0.5\)"):
+        bulge.fit(data, poisson=0.5)
+    with pytest.raises(bulge.BadInput, match=r"model=\"hooke\""):
+        bulge.fit(data, model="hooke")
+
+
+def test_fit_of_a_missing_file_is_bad_input_with_the_cli_message(cli, tmp_path):
+    missing = tmp_path / "nope.csv"
+    p = cli("fit", missing, "-o", tmp_path / "material.toml")
+    assert p.returncode == 2
+    with pytest.raises(bulge.BadInput) as e:
+        bulge.fit(missing)
+    assert str(e.value) == _cli_message(p.stderr)
