@@ -19,6 +19,23 @@ pub use guard::{OutputConflict, OutputPlan};
 pub use temp::install_cleanup_on_signal;
 pub use temp::{remove_temporary_files, temporary_files};
 
+/// An error with its chain of causes, each after a colon, as the command
+/// line prints it (a cause whose text ends the message already is not
+/// repeated).
+pub fn chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut cur = e.source();
+    while let Some(c) = cur {
+        let c_text = c.to_string();
+        if !s.ends_with(&c_text) {
+            s.push_str(": ");
+            s.push_str(&c_text);
+        }
+        cur = c.source();
+    }
+    s
+}
+
 /// A problem with an input file, located to the cell where possible.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", location(path, *line, column.as_deref()))]

@@ -33,11 +33,15 @@ __all__ = [
     "BadInput",
     "Failure",
     "FitOutput",
+    "InitOutput",
     "RunOutput",
+    "SimulateOutput",
     "StressOutput",
     "TrackOutput",
     "fit",
+    "init",
     "run",
+    "simulate",
     "stress",
     "track",
     "HAS_OPENCV",
@@ -224,6 +228,167 @@ def fit(
 
 
 @dataclass
+class SimulateOutput:
+    """What ``bulge simulate`` writes and says, in memory.
+
+    ``simulated`` is simulated.csv (``pressure_pa,height_m,model,solver,
+    nodes,iterations,residual,wall_s``, a sphere segment adds its radii);
+    ``profile`` the axisymmetric meridian at the last pressure solved
+    (``profile=True``); ``notes`` the mesh used; ``warnings`` its warnings;
+    ``failures`` each pressure without an equilibrium, with its model and
+    solver (the command line then exits with status 1 after writing the
+    rows solved, which are here too).
+    """
+
+    simulated: pd.DataFrame
+    profile: "pd.DataFrame | None" = None
+    notes: List[str] = field(default_factory=list)
+    warnings: List[str] = field(default_factory=list)
+    failures: List[str] = field(default_factory=list)
+
+
+def _names(v) -> List[str]:
+    """``"tp,axisym"`` or ``["tp", "axisym"]`` as a list of names."""
+    if isinstance(v, str):
+        return [x.strip() for x in v.split(",") if x.strip()]
+    return [str(x) for x in v]
+
+
+def simulate(
+    material=None,
+    experiment=None,
+    *,
+    scene=None,
+    pressures=None,
+    model="tp",
+    solver="newton",
+    tolerance: float = 1e-8,
+    max_iterations: "int | None" = None,
+    edge_length: "float | None" = None,
+    nodes: "int | None" = None,
+    accuracy: "float | None" = None,
+    max_nodes: "int | None" = None,
+    full: bool = False,
+    profile: bool = False,
+    density: "float | None" = None,
+    progress=None,
+) -> SimulateOutput:
+    """A material on a membrane -> simulated apex heights, as ``bulge
+    simulate`` (quasi-static): ``material`` a dict as material.toml reads
+    (``bulge.fit(...).material``), a ``FitOutput`` or a material.toml path;
+    the membrane the specimen of ``experiment`` (a TOML path) at
+    ``pressures`` (Pa), or the scene file ``scene``; ``model`` one name or
+    several (``"tp,axisym"`` or a list: tp, tp-paper, van-gelder, lloyd,
+    membrane, axisym), ``solver`` newton or dr; the mesh by
+    ``edge_length``, ``nodes`` or ``accuracy`` (the relative height error
+    wanted). ``progress(done, total)`` is called once per model and
+    pressure; the GIL is released while it works."""
+    if isinstance(material, FitOutput):
+        material = material.material
+    table = material if isinstance(material, dict) else None
+    path = None if material is None or table is not None else os.fspath(material)
+    csv, prof, notes, warnings, failures = _native.simulate(
+        path,
+        table,
+        _path(experiment),
+        _path(scene),
+        None if pressures is None else [float(p) for p in pressures],
+        _names(model),
+        _names(solver),
+        tolerance,
+        max_iterations,
+        edge_length,
+        nodes,
+        accuracy,
+        max_nodes,
+        full,
+        profile,
+        density,
+        progress,
+    )
+    return SimulateOutput(
+        simulated=_table(bytes(csv)),
+        profile=None if prof is None else _table(bytes(prof)),
+        notes=list(notes),
+        warnings=list(warnings),
+        failures=list(failures),
+    )
+
+
+@dataclass
+class InitOutput:
+    """What ``bulge init`` writes and says, in memory.
+
+    ``experiment`` is the experiment file as a dict, ``experiment_toml`` its
+    text (its paths relative to ``base``: write it there, e.g.
+    ``pathlib.Path(base, "experiment.toml").write_text(out.experiment_toml)``);
+    ``picture`` init.png, what was found drawn on the last frame; ``summary``
+    the line the command line prints; ``notes`` its notes.
+    """
+
+    experiment: dict
+    experiment_toml: str
+    picture: bytes
+    summary: str
+    notes: List[str] = field(default_factory=list)
+
+
+def init(
+    source,
+    radius_m: float,
+    thickness_m: float,
+    poisson: float = 0.45,
+    *,
+    base=None,
+    every: "int | None" = None,
+    pressure=None,
+    glob: "str | None" = None,
+    metres_per_pixel: "float | None" = None,
+    points_px=None,
+    distance_m: "float | None" = None,
+    elevation_deg: "float | None" = None,
+    camera_distance_m: "float | None" = None,
+    orthographic: bool = False,
+    response: str = "srgb",
+    camera=None,
+) -> InitOutput:
+    """The experiment file from the photos alone, as ``bulge init``:
+    ``source`` a folder of photos or a video, the opening's radius and the
+    membrane's thickness (m); the clamp plane, the axis, the scale, the
+    template and the region are found in the photos. ``base`` is the folder
+    the experiment file is for (default: the current folder): its paths are
+    written relative to it. The other keywords are the command line's flags
+    (``camera_distance_m`` for a camera above the clamp plane, ``camera`` a
+    ``bulge calibrate`` file, ``pressure`` the pressure file)."""
+    _need_opencv("init")
+    toml, picture, summary, notes = _native.init(
+        os.fspath(source),
+        radius_m,
+        thickness_m,
+        poisson,
+        _path(base),
+        every,
+        _path(pressure),
+        glob,
+        metres_per_pixel,
+        None if points_px is None else [float(x) for x in points_px],
+        distance_m,
+        elevation_deg,
+        camera_distance_m,
+        orthographic,
+        response,
+        _path(camera),
+    )
+    return InitOutput(
+        experiment=_toml.loads(toml),
+        experiment_toml=toml,
+        picture=bytes(picture),
+        summary=summary,
+        notes=list(notes),
+    )
+
+
+@dataclass
 class TrackOutput:
     """What ``bulge track`` writes and says, in memory.
 
@@ -307,12 +472,15 @@ def _need_opencv(name: str) -> None:
         )
 
 
-def run(experiment) -> RunOutput:
+def run(experiment, **settings) -> RunOutput:
     """The whole pipeline on an experiment file, as ``bulge run`` (the GIL is
-    released while it works). Settings come from the file's ``[run]`` and
-    ``[simulate]`` tables, as on the command line without flags."""
+    released while it works). ``settings`` are keys of the ``[run]`` table
+    (``fit="mooney-rivlin"``, ``models=["tp"]``, ``pressures_pa=[...]``,
+    ``accuracy=0.005``; docs/run.md lists them): like the command line's
+    flags they win over the file's own ``[run]`` and ``[simulate]`` tables,
+    which give the rest."""
     _need_opencv("run")
-    files, notes, warnings, unsolved = _native.run(str(experiment))
+    files, notes, warnings, unsolved = _native.run(os.fspath(experiment), settings or None)
     by_name = {name: bytes(data) for name, _stage, data in files}
 
     def csv(name):

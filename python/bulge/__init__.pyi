@@ -1,7 +1,7 @@
 """Typed stubs of the bulge package (see bulge/__init__.py)."""
 
 from os import PathLike
-from typing import Callable, Dict, List, Optional, Tuple, Union
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import pandas as pd
 
@@ -26,7 +26,7 @@ class RunOutput:
     warnings: List[str]
     unsolved: List[float]
 
-def run(experiment: Union[str, PathLike[str]]) -> RunOutput: ...
+def run(experiment: Union[str, PathLike[str]], **settings: object) -> RunOutput: ...
 
 _Table = Union[pd.DataFrame, str, PathLike[str]]
 _Path = Union[str, PathLike[str]]
@@ -94,3 +94,57 @@ def track(
     edge_window_px: int = 3,
     progress: Optional[Callable[[int, int], object]] = None,
 ) -> TrackOutput: ...
+
+class SimulateOutput:
+    simulated: pd.DataFrame
+    profile: Optional[pd.DataFrame]
+    notes: List[str]
+    warnings: List[str]
+    failures: List[str]
+
+def simulate(
+    material: Union[dict, FitOutput, _Path, None] = None,
+    experiment: Optional[_Path] = None,
+    *,
+    scene: Optional[_Path] = None,
+    pressures: Optional[Sequence[float]] = None,
+    model: Union[str, Sequence[str]] = "tp",
+    solver: Union[str, Sequence[str]] = "newton",
+    tolerance: float = 1e-8,
+    max_iterations: Optional[int] = None,
+    edge_length: Optional[float] = None,
+    nodes: Optional[int] = None,
+    accuracy: Optional[float] = None,
+    max_nodes: Optional[int] = None,
+    full: bool = False,
+    profile: bool = False,
+    density: Optional[float] = None,
+    progress: Optional[Callable[[int, int], object]] = None,
+) -> SimulateOutput: ...
+
+class InitOutput:
+    experiment: dict
+    experiment_toml: str
+    picture: bytes
+    summary: str
+    notes: List[str]
+
+def init(
+    source: _Path,
+    radius_m: float,
+    thickness_m: float,
+    poisson: float = 0.45,
+    *,
+    base: Optional[_Path] = None,
+    every: Optional[int] = None,
+    pressure: Optional[_Path] = None,
+    glob: Optional[str] = None,
+    metres_per_pixel: Optional[float] = None,
+    points_px: Optional[Sequence[float]] = None,
+    distance_m: Optional[float] = None,
+    elevation_deg: Optional[float] = None,
+    camera_distance_m: Optional[float] = None,
+    orthographic: bool = False,
+    response: str = "srgb",
+    camera: Optional[_Path] = None,
+) -> InitOutput: ...

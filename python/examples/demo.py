@@ -1,5 +1,5 @@
-"""The demo experiment from Python, stage by stage and whole: track the
-photos, stress and strain, Mooney-Rivlin fitted and corrected to the
+"""The demo experiment from Python, stage by stage and whole: set it up
+from its photos, track them, stress and strain, Mooney-Rivlin fitted and corrected to the
 heights, then bulge.run, and the measured heights with their 95 % band
 (1.96 x height_std_m) beside each model's simulated heights.
 Run from anywhere: python python/examples/demo.py (matplotlib optional:
@@ -12,6 +12,9 @@ import bulge
 root = pathlib.Path(__file__).resolve().parents[2]
 experiment = root / "data/demo/experiment.toml"
 
+setup = bulge.init(root / "data/demo/photos", 0.0375, 0.00035, pressure=root / "data/demo/pressure.csv", base=root / "data/demo")
+print(setup.summary)
+
 tracked = bulge.track(experiment, progress=lambda done, total: print(f"\rtrack {done}/{total}", end=""))
 print()
 print(tracked.heights[["file", "pressure_pa", "height_m", "height_std_m"]])
@@ -21,6 +24,9 @@ print(stress.stress_strain[["pressure_pa", "strain", "stress_pa", "stress_std_pa
 
 law = bulge.fit(stress.stress_strain, model="mooney-rivlin", to_heights=experiment, plot=False)
 print(law.summary)
+
+sim = bulge.simulate(law, experiment, pressures=tracked.heights.pressure_pa, model="axisym,tp", nodes=300)
+print(sim.simulated[["pressure_pa", "height_m", "model"]])
 
 out = bulge.run(experiment)
 print(out.material)

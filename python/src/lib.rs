@@ -9,12 +9,11 @@
 //! (the command line's exit status 2), a failure of the work raises
 //! `bulge.Failure` (exit status 1), both with the command line's message.
 
-use std::error::Error;
-
+use bulge::io::chain;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyBytes, PyDict, PyList, PyTuple};
 
 create_exception!(
     _native,
@@ -29,22 +28,6 @@ create_exception!(
     "The work failed (the command line's exit status 1)."
 );
 
-/// An error with its chain of causes, as the command line prints it
-/// (`{:#}` of its error: each cause after a colon).
-fn chain(e: &dyn Error) -> String {
-    let mut s = e.to_string();
-    let mut cur = e.source();
-    while let Some(c) = cur {
-        let c_text = c.to_string();
-        if !s.ends_with(&c_text) {
-            s.push_str(": ");
-            s.push_str(&c_text);
-        }
-        cur = c.source();
-    }
-    s
-}
-
 fn bad(msg: String) -> PyErr {
     BadInput::new_err(msg)
 }
@@ -53,11 +36,62 @@ fn failed(msg: String) -> PyErr {
     Failure::new_err(msg)
 }
 
+/// A Python value as TOML (`key` names it in messages, e.g. `material`):
+/// a dict as a table, a list or tuple as an array (a numpy array or a
+/// pandas Series through its `tolist`), a bool, an int, a float or a str
+/// as themselves.
+pub(crate) fn to_toml(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+    if let Ok(d) = v.downcast::<PyDict>() {
+        let mut t = toml::Table::new();
+        for (k, x) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| bad(format!("the key {k} of {key} is not a string")))?;
+            let sub = format!("{key}.{k}");
+            t.insert(k, to_toml(&sub, &x)?);
+        }
+        return Ok(toml::Value::Table(t));
+    }
+    if v.downcast::<PyList>().is_ok() || v.downcast::<PyTuple>().is_ok() {
+        let items: Vec<Bound<'_, PyAny>> = v.try_iter()?.collect::<PyResult<_>>()?;
+        return items
+            .iter()
+            .map(|x| to_toml(key, x))
+            .collect::<PyResult<Vec<_>>>()
+            .map(toml::Value::Array);
+    }
+    if !v.is_instance_of::<pyo3::types::PyString>()
+        && let Ok(list) = v.call_method0("tolist")
+    {
+        return to_toml(key, &list);
+    }
+    if v.is_instance_of::<pyo3::types::PyBool>() {
+        return Ok(toml::Value::Boolean(v.extract()?));
+    }
+    if v.is_instance_of::<pyo3::types::PyString>() {
+        return Ok(toml::Value::String(v.extract()?));
+    }
+    if let Ok(i) = v.extract::<i64>()
+        && !v.is_instance_of::<pyo3::types::PyFloat>()
+    {
+        return Ok(toml::Value::Integer(i));
+    }
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(toml::Value::Float(x));
+    }
+    Err(bad(format!(
+        "{key} = {v} is not a number, a string, a bool, a list or a table"
+    )))
+}
+
 /// A file of a run: its name, its stage and its bytes.
 type File = (String, String, Py<PyBytes>);
 
 #[cfg(feature = "opencv")]
+mod init;
+#[cfg(feature = "opencv")]
 mod run;
+mod simulate;
 mod stages;
 #[cfg(feature = "opencv")]
 mod track;
@@ -82,9 +116,12 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(stages::stress, m)?)?;
     m.add_function(wrap_pyfunction!(stages::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     #[cfg(feature = "opencv")]
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     #[cfg(feature = "opencv")]
     m.add_function(wrap_pyfunction!(track::track, m)?)?;
+    #[cfg(feature = "opencv")]
+    m.add_function(wrap_pyfunction!(init::init, m)?)?;
     Ok(())
 }

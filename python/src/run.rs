@@ -8,9 +8,9 @@ use bulge::experiment::Experiment;
 use bulge::pipeline::{self, RunOptions, Stage};
 use bulge::report::run_files::run_files;
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyBytes, PyDict};
 
-use super::{File, bad, chain, failed};
+use super::{File, bad, chain, failed, to_toml};
 
 /// The outcome of the work done without the GIL.
 enum Outcome {
@@ -38,7 +38,7 @@ fn stage_message(stage: Stage, e: &pipeline::PipelineError) -> Outcome {
     }
 }
 
-fn work(experiment: PathBuf) -> Outcome {
+fn work(experiment: PathBuf, given: RunOptions) -> Outcome {
     let exp = match Experiment::read(&experiment) {
         Ok(e) => e,
         Err(e) => return Outcome::Bad(chain(&e)),
@@ -47,7 +47,7 @@ fn work(experiment: PathBuf) -> Outcome {
         Ok(o) => o,
         Err(e) => return Outcome::Bad(chain(&e)),
     };
-    let s = match RunOptions::default().or(opts).settings() {
+    let s = match given.or(opts).settings() {
         Ok(s) => s,
         Err(e) => return Outcome::Bad(format!("{}: {}", exp.path.display(), chain(&e))),
     };
@@ -80,10 +80,25 @@ fn work(experiment: PathBuf) -> Outcome {
 type RunResult = (Vec<File>, Vec<(String, String)>, Vec<String>, Vec<f64>);
 
 /// Runs the whole pipeline on an experiment file (as `bulge run`), the GIL
-/// released; returns the files `bulge run` writes, in memory.
+/// released; returns the files `bulge run` writes, in memory. `settings`
+/// are keys of the `[run]` table (as the command line's flags, they win
+/// over the experiment file's own `[run]` and `[simulate]`).
 #[pyfunction]
-pub fn run(py: Python<'_>, experiment: PathBuf) -> PyResult<RunResult> {
-    match py.allow_threads(move || work(experiment)) {
+#[pyo3(signature = (experiment, settings=None))]
+pub fn run(
+    py: Python<'_>,
+    experiment: PathBuf,
+    settings: Option<Bound<'_, PyDict>>,
+) -> PyResult<RunResult> {
+    let given = match settings {
+        Some(d) => {
+            let t = to_toml("settings", d.as_any())?;
+            t.try_into::<RunOptions>()
+                .map_err(|e| bad(format!("settings: {}", e.message())))?
+        }
+        None => RunOptions::default(),
+    };
+    match py.allow_threads(move || work(experiment, given)) {
         Outcome::Done {
             files,
             notes,

@@ -1,6 +1,8 @@
 """bulge.run against `bulge run` on the demo experiment: the same tables, the
 same numbers; a bad input's exception text against the command line's."""
 
+import tomllib
+
 import pandas as pd
 import pytest
 
@@ -38,8 +40,6 @@ def test_tables_equal_the_cli_csv(demo, name, attr):
 
 
 def test_material_equals_the_cli_toml(demo):
-    import tomllib
-
     out, py = demo
     assert py.material == tomllib.loads((out / "material.toml").read_text())
     assert py.files["material.toml"] == (out / "material.toml").read_bytes()
@@ -83,3 +83,18 @@ def test_bad_value_is_bad_input_with_the_cli_message(root, cli, tmp_path):
     with pytest.raises(bulge.BadInput) as e:
         bulge.run(bad)
     assert str(e.value) == _cli_message(p.stderr)
+
+
+def test_settings_as_keywords_equal_the_cli_flags(root, cli, tmp_path):
+    exp = root / "data/demo/experiment.toml"
+    p = cli("run", exp, "--fit", "mooney-rivlin", "--models", "tp", "--pressures", "1000,3000", "--out", tmp_path)
+    assert p.returncode == 0, p.stderr
+    py = bulge.run(exp, fit="mooney-rivlin", models=["tp"], pressures_pa=[1000, 3000])
+    assert py.material == tomllib.loads((tmp_path / "material.toml").read_text())
+    want = pd.read_csv(tmp_path / "simulated.csv")
+    pd.testing.assert_frame_equal(py.simulated.drop(columns=["wall_s"]), want.drop(columns=["wall_s"]), check_exact=True)
+
+
+def test_an_unknown_setting_is_bad_input_naming_it(root):
+    with pytest.raises(bulge.BadInput, match="unknown field `fits`"):
+        bulge.run(root / "data/demo/experiment.toml", fits="mooney-rivlin")

@@ -132,3 +132,92 @@ def test_fit_of_a_missing_file_is_bad_input_with_the_cli_message(cli, tmp_path):
     with pytest.raises(bulge.BadInput) as e:
         bulge.fit(missing)
     assert str(e.value) == _cli_message(p.stderr)
+
+
+def _drop_wall(df):
+    # wall_s is the solver's wall time: a measurement, not a result
+    return df.drop(columns=[c for c in df.columns if c == "wall_s"])
+
+
+def test_simulate_a_scene_equals_the_cli(root, cli, tmp_path):
+    scene = root / "data/scenes/latex-disc.toml"
+    args = ["--model", "tp,axisym", "--nodes", "200"]
+    p = cli("simulate", scene, *args, "--profile", tmp_path / "profile.csv", "-o", tmp_path / "sim.csv")
+    assert p.returncode == 0, p.stderr
+    seen = []
+    s = bulge.simulate(scene=scene, model="tp,axisym", nodes=200, profile=True, progress=lambda d, n: seen.append(n))
+    want = pd.read_csv(tmp_path / "sim.csv")
+    pd.testing.assert_frame_equal(_drop_wall(s.simulated), _drop_wall(want), check_exact=True)
+    pd.testing.assert_frame_equal(s.profile, pd.read_csv(tmp_path / "profile.csv"), check_exact=True)
+    assert s.failures == [] and any(n.startswith("mesh: ") for n in s.notes)
+    # two models at three pressures
+    assert len(seen) == 6 and set(seen) == {6}
+
+
+def test_simulate_a_fitted_law_on_the_experiment_equals_the_cli(root, cli, tmp_path):
+    data = root / "data/treloar_equibiaxial.csv"
+    assert cli("fit", data, "--model", "mooney-rivlin", "-o", tmp_path / "material.toml").returncode == 0
+    exp = root / "data/demo/experiment.toml"
+    p = cli(
+        "simulate", "--experiment", exp, "--material", tmp_path / "material.toml",
+        "--pressures", "1000,2000,3000", "--model", "axisym,van-gelder", "--nodes", "150",
+        "-o", tmp_path / "sim.csv",
+    )
+    assert p.returncode == 0, p.stderr
+    law = bulge.fit(data, model="mooney-rivlin", plot=False)
+    for material in (law, law.material, tmp_path / "material.toml"):
+        s = bulge.simulate(material, exp, pressures=[1000, 2000, 3000], model=["axisym", "van-gelder"], nodes=150)
+        pd.testing.assert_frame_equal(_drop_wall(s.simulated), _drop_wall(pd.read_csv(tmp_path / "sim.csv")), check_exact=True)
+
+
+def test_simulate_refuses_what_the_cli_refuses(root, cli, tmp_path):
+    exp = root / "data/demo/experiment.toml"
+    with pytest.raises(bulge.BadInput, match="experiment needs material"):
+        bulge.simulate(experiment=exp, pressures=[1000])
+    with pytest.raises(bulge.BadInput, match=r"model=\"tpp\""):
+        bulge.simulate(scene=root / "data/scenes/latex-disc.toml", model="tpp")
+    with pytest.raises(bulge.BadInput, match="<material dict>"):
+        bulge.simulate({"model": "linear", "young_pa": -1.0, "poisson": 0.45}, exp, pressures=[1000])
+    # a bad material file: the command line's message to the letter
+    bad = tmp_path / "material.toml"
+    bad.write_text('model = "neo-hookean"\nc1_pa = -5\npoisson = 0.45\n')
+    p = cli("simulate", "--experiment", exp, "--material", bad, "--pressures", "1000", "-o", tmp_path / "s.csv")
+    assert p.returncode == 2, p.stderr
+    with pytest.raises(bulge.BadInput) as e:
+        bulge.simulate(bad, exp, pressures=[1000])
+    assert str(e.value) == _cli_message(p.stderr)
+
+
+@opencv
+def test_init_equals_the_cli(root, cli, tmp_path):
+    photos, pressure = root / "data/demo/photos", root / "data/demo/pressure.csv"
+    p = cli(
+        "init", photos, "--radius-m", "0.0375", "--thickness-m", "0.00035",
+        "--pressure", pressure, "-o", tmp_path / "experiment.toml",
+    )
+    assert p.returncode == 0, p.stderr
+    out = bulge.init(photos, 0.0375, 0.00035, pressure=pressure, base=tmp_path)
+    assert out.experiment_toml == (tmp_path / "experiment.toml").read_text()
+    assert out.picture == (tmp_path / "init.png").read_bytes()
+    assert out.summary in p.stdout
+    # the file it gives is one bulge.track reads, its paths relative to base
+    (tmp_path / "py").mkdir()
+    there = bulge.init(photos, 0.0375, 0.00035, pressure=pressure, base=tmp_path / "py")
+    (tmp_path / "py/experiment.toml").write_text(there.experiment_toml)
+    t = bulge.track(tmp_path / "py/experiment.toml")
+    assert len(t.heights) == len(list(photos.glob("*.jpg")))
+
+
+@opencv
+def test_init_refusals_name_the_keyword(root, cli, tmp_path):
+    photos = root / "data/demo/photos"
+    with pytest.raises(bulge.BadInput, match=r"^`elevation_deg` 45: give 0 to 30 degrees"):
+        bulge.init(photos, 0.0375, 0.00035, elevation_deg=45)
+    with pytest.raises(bulge.BadInput, match=r"^`every` applies to a video"):
+        bulge.init(photos, 0.0375, 0.00035, every=2)
+    missing = tmp_path / "nowhere"
+    p = cli("init", missing, "--radius-m", "0.0375", "--thickness-m", "0.00035", "-o", tmp_path / "e.toml")
+    assert p.returncode == 2
+    with pytest.raises(bulge.BadInput) as e:
+        bulge.init(missing, 0.0375, 0.00035)
+    assert str(e.value) == _cli_message(p.stderr)

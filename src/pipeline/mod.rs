@@ -41,6 +41,7 @@ mod chain;
 mod compare;
 mod fit;
 mod simulate;
+mod simulate_command;
 mod stress;
 #[cfg(test)]
 mod tests;
@@ -52,6 +53,7 @@ pub use chain::*;
 pub use compare::*;
 pub use fit::*;
 pub use simulate::*;
+pub use simulate_command::*;
 pub use stress::*;
 #[cfg(feature = "opencv")]
 pub use tracking::*;

@@ -63,6 +63,7 @@ use super::synth::Layout;
 
 mod bubble;
 mod clamp;
+pub mod command;
 mod file;
 mod frames;
 mod ring;

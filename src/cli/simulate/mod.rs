@@ -15,7 +15,7 @@ mod statics;
 use scene::build_scene;
 
 use bulge::sim::mesh::Mesh;
-use bulge::sim::scene::{Scene, SceneKind};
+use bulge::sim::scene::Scene;
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::HeightModel;
 use std::str::FromStr;
@@ -102,23 +102,7 @@ fn parse_pressure(s: &str) -> anyhow::Result<f64> {
 }
 
 fn describe(mesh: &Mesh, scene: &Scene) -> String {
-    let q = mesh.quality();
-    let part = match (scene.kind, mesh.symmetry_copies) {
-        (SceneKind::Disc { .. }, 6) => " (60 degree sector with mirror planes)",
-        (SceneKind::SphereSegment { .. }, _) => " (octant with three symmetry planes)",
-        (SceneKind::Rectangle { .. }, 4) => " (quarter with mirror planes)",
-        _ => "",
-    };
-    format!(
-        "mesh: {} nodes, {} triangles{part}; angles {:.1}-{:.1} deg, non-acute {:.2} %, edges {:.3e}-{:.3e} m",
-        mesh.nodes.len(),
-        q.triangles,
-        q.min_angle_deg,
-        q.max_angle_deg,
-        100.0 * q.non_acute_share,
-        q.edge_range_m[0],
-        q.edge_range_m[1]
-    )
+    bulge::pipeline::describe_mesh(mesh, scene)
 }
 
 /// Runs `bulge simulate`.

@@ -8,7 +8,8 @@ use anyhow::anyhow;
 use super::Args;
 use bulge::experiment::Experiment;
 use bulge::material::Material;
-use bulge::sim::scene::{MeshSize, Scene};
+use bulge::pipeline::{SceneOverrides, experiment_scene};
+use bulge::sim::scene::Scene;
 
 /// The scene, validated: pressures required, except for a sheet with nodal
 /// loads (solved under its loads alone when it has no pressure list, see
@@ -39,26 +40,16 @@ fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
         let m = material.ok_or_else(|| {
             anyhow!("--experiment needs --material material.toml (the material to simulate)")
         })?;
-        if (m.poisson - e.specimen.poisson).abs() > 1e-12 {
-            eprintln!(
-                "note: the material's poisson = {} is used; the specimen says {}",
-                m.poisson, e.specimen.poisson
-            );
-        }
         if args.pressures.is_none() {
             return Err(anyhow!(
                 "--experiment needs --pressures (Pa, comma-separated, e.g. 5000,7300,8940)"
             ));
         }
-        // Every key of the experiment that shapes the membrane is honoured
-        // or refused: a dome height still to be found has no value here.
-        if e.prebulge_fit {
-            return Err(anyhow!(
-                "{}: prebulge_height_m = \"fit\" is found from the heights by bulge run (its notes and material.toml give the value); bulge simulate needs the number: write it in [specimen], e.g. prebulge_height_m = 0.00375",
-                exp.display()
-            ));
+        let (scene, note) = experiment_scene(&e, exp, m).map_err(|m| anyhow!(m))?;
+        if let Some(n) = note {
+            eprintln!("{n}");
         }
-        Scene::from_window(&e.specimen, &e.window, m, Vec::new())
+        scene
     } else {
         return Err(anyhow!(
             "give a scene file (bulge simulate scene.toml) or --experiment FILE --material FILE --pressures P1,P2,..."
@@ -71,25 +62,16 @@ fn load_scene(args: &Args) -> anyhow::Result<(Scene, String)> {
 /// Applies the flags that override a scene (pressures, mesh size, symmetry,
 /// density) and returns the name of where the scene came from, for messages.
 fn apply_overrides(scene: &mut Scene, args: &Args) -> anyhow::Result<String> {
-    if let Some(p) = &args.pressures {
-        scene.pressures_pa = p.clone();
+    SceneOverrides {
+        pressures: args.pressures.clone(),
+        edge_length: args.edge_length,
+        nodes: args.nodes,
+        accuracy: args.accuracy,
+        full: args.full,
+        max_nodes: args.max_nodes,
+        density: args.density,
     }
-    if let Some(h) = args.edge_length {
-        scene.mesh.size = Some(MeshSize::EdgeLength(h));
-    }
-    if let Some(n) = args.nodes {
-        scene.mesh.size = Some(MeshSize::Nodes(n));
-    }
-    if let Some(a) = args.accuracy {
-        scene.mesh.size = Some(MeshSize::Accuracy(a));
-    }
-    if args.full {
-        scene.mesh.symmetry = false;
-    }
-    scene.mesh.max_nodes = args.max_nodes.unwrap_or(scene.mesh.max_nodes);
-    if let Some(d) = args.density {
-        scene.density_kg_m3 = d;
-    }
+    .apply(scene);
     Ok(args
         .scene
         .as_deref()

@@ -1,32 +1,21 @@
-//! `bulge simulate` without `--dynamic`: the scene's mesh and the library's
-//! sweep ([`bulge::pipeline::simulate_scene`]), printed and written.
+//! `bulge simulate` without `--dynamic`: the library's sweep of the scene
+//! ([`bulge::pipeline::simulate_static`]), printed and written.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, anyhow};
 
-use super::{Args, build_scene, describe, finish};
+use super::{Args, build_scene, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::write_atomic;
-use bulge::pipeline::{
-    ModelRun, Outcome, PipelineError, SceneRequest, scene_mesh, simulate_scene, simulated_csv_with,
-};
-use bulge::sim::scene::MeshSize;
+use bulge::pipeline::{ModelRun, Outcome, StaticError, simulate_static};
 use bulge::sim::solve::Options;
-use bulge::sim::springs::{HeightModel, SpringModel};
-use bulge::sim::{SimError, vtk};
+use bulge::sim::springs::HeightModel;
+use bulge::sim::vtk;
 
 /// Runs `bulge simulate` (quasi-static).
 pub(super) fn run(args: Args) -> Result<(), Failure> {
     let scene = build_scene(&args).bad_input()?;
-    let models: Vec<SpringModel> = args
-        .model
-        .iter()
-        .filter_map(|c| match c {
-            HeightModel::Spring(m) => Some(*m),
-            HeightModel::Axisym => None,
-        })
-        .collect();
     let axisym = args.model.contains(&HeightModel::Axisym);
     if args.profile.is_some() && !axisym {
         return Err(Failure::BadInput(anyhow!(
@@ -44,31 +33,12 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
     opts.validate()
         .map_err(|e| anyhow!("--tolerance / --max-iterations: {e}"))
         .bad_input()?;
-    let (mesh, sizing) = scene_mesh(&scene, &models, args.solver[0], opts)
-        .map_err(|e| anyhow!("{e}"))
-        .context("--accuracy or the mesh")
-        .bad_input()?;
-    if let (Some(s), Some(MeshSize::Accuracy(a))) = (sizing, scene.mesh.size) {
-        eprintln!(
-            "mesh sized for --accuracy {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
-            s.rings, s.estimated_error, s.rings, s.coarse_rings
-        );
-    }
-    eprintln!("{}", describe(&mesh, &scene));
-    for &model in &models {
-        for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
-            eprintln!("warning ({}): {w}", model.name());
-        }
-    }
-
-    let request = SceneRequest {
-        models,
-        solvers: args.solver.clone(),
-        axisym,
-        profile: args.profile.is_some(),
-        options: opts,
-    };
-    let runs = request.models.len() * request.solvers.len() + usize::from(axisym);
+    let springs = args
+        .model
+        .iter()
+        .filter(|m| **m != HeightModel::Axisym)
+        .count();
+    let runs = springs * args.solver.len() + usize::from(axisym);
     let pb = crate::cli::progress((runs * scene.pressures_to_solve().len()) as u64, "simulate");
     let mut vtks: Vec<(PathBuf, String)> = Vec::new();
     let mut each = |s: &bulge::sim::SceneSolver, q: &bulge::sim::SweepPoint| {
@@ -81,33 +51,32 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
             vtks.push((dir.join(name), vtk::polydata(s.mesh(), x, &stretch, &title)));
         }
     };
-    let out = simulate_scene(&scene, &mesh, &request, &mut each, &|| pb.inc(1));
+    let out = simulate_static(
+        &scene,
+        &args.model,
+        &args.solver,
+        opts,
+        args.profile.is_some(),
+        &mut each,
+        &|| pb.inc(1),
+    );
     pb.finish_and_clear();
-    let out = out.map_err(Failure::of::<PipelineError>)?;
-    // a material whose modulus is not positive at a strain the sweep reached
-    // is the user's material file, not a failure of the solver
-    for r in &out.runs {
-        if let Some(e @ SimError::NonPositiveModulus { .. }) = &r.stop
-            && let Some(p) = r.points.iter().find(|p| p.outcome == Outcome::Failed)
-        {
-            return Err(Failure::BadInput(anyhow!(
-                "{} / {} at {} Pa: {e}",
-                r.model,
-                r.solver,
-                p.pressure_pa
-            )));
-        }
+    let out = out.map_err(|e| match e {
+        StaticError::Mesh(m) => Failure::BadInput(anyhow!("--accuracy or the mesh: {m}")),
+        e => Failure::of(e),
+    })?;
+    for n in &out.notes {
+        eprintln!("{n}");
     }
-    for r in &out.runs {
-        at_floor_warning(r, opts.tolerance);
+    for w in &out.warnings {
+        eprintln!("warning {w}");
     }
-    simulated_csv_with(&out.runs, &scene.extra_columns())
+    out.simulated
         .write(&args.output)
         .with_context(|| format!("writing {}", args.output.display()))
         .failed()?;
-    if let (Some(path), Some(sol)) = (&args.profile, &out.axisym_last) {
-        bulge::axisym::profile_csv(sol)
-            .write(path)
+    if let (Some(path), Some(csv)) = (&args.profile, out.profile) {
+        csv.write(path)
             .with_context(|| format!("writing {}", path.display()))
             .failed()?;
     }
@@ -116,16 +85,11 @@ pub(super) fn run(args: Args) -> Result<(), Failure> {
             .with_context(|| format!("writing {}", path.display()))
             .failed()?;
     }
-    let failures: Vec<String> = out
-        .runs
-        .iter()
-        .flat_map(|r| r.failures().map(|n| format!("{n} ({})", r.solver)))
-        .collect();
     finish(
         "  pressure_pa     height_m      model  solver  iters  residual   wall_s",
         &table(&out.runs),
         &args.output,
-        &failures,
+        &out.failures,
         "the rows solved before",
     )
 }
@@ -153,25 +117,4 @@ fn table(runs: &[ModelRun]) -> Vec<String> {
         }
     }
     lines
-}
-
-/// One warning per run for the pressures whose residual stopped above
-/// `--tolerance` at the round-off floor ([`Outcome::AtFloor`]).
-fn at_floor_warning(run: &ModelRun, tolerance: f64) {
-    let at_floor: Vec<_> = run
-        .points
-        .iter()
-        .filter(|p| p.outcome == Outcome::AtFloor)
-        .collect();
-    if at_floor.is_empty() {
-        return;
-    }
-    let worst = at_floor.iter().fold(0.0_f64, |a, p| a.max(p.residual));
-    let ps: Vec<String> = at_floor.iter().map(|p| p.pressure_pa.to_string()).collect();
-    eprintln!(
-        "warning ({} / {}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above --tolerance {tolerance:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
-        run.model,
-        run.solver,
-        ps.join(", ")
-    );
 }
