@@ -37,12 +37,14 @@ __all__ = [
     "RunOutput",
     "SimulateOutput",
     "StressOutput",
+    "StudyOutput",
     "TrackOutput",
     "fit",
     "init",
     "run",
     "simulate",
     "stress",
+    "study",
     "track",
     "HAS_OPENCV",
     "__version__",
@@ -497,4 +499,48 @@ def run(experiment, **settings) -> RunOutput:
         notes=[tuple(n) for n in notes],
         warnings=list(warnings),
         unsolved=list(unsolved),
+    )
+
+
+@dataclass
+class StudyOutput:
+    """What ``bulge study`` writes into its folder and says.
+
+    ``study`` is study.csv (one row per specimen, then mean, std, cv,
+    ci95_low, ci95_high, pooled, joint); ``files`` the study's files by name
+    (study.csv, the figures, study.html: each specimen's run is in the
+    folder's ``specimens/<name>/``); ``summary`` the table the command line
+    prints; ``log`` its lines (reused, done, failed); ``failed`` the
+    specimens left out, with why (the command line then exits with status 1
+    after writing the study of the others).
+    """
+
+    study: pd.DataFrame
+    files: Dict[str, bytes] = field(default_factory=dict)
+    summary: str = ""
+    log: List[str] = field(default_factory=list)
+    failed: List[Tuple[str, str]] = field(default_factory=list)
+
+
+def study(inputs, out, *, redo: bool = False, progress=None, **settings) -> StudyOutput:
+    """One material across several specimens, as ``bulge study``: ``inputs``
+    a study file or a list of two or more experiment files, ``out`` the
+    folder it writes (each specimen's run under ``specimens/<name>/``; a
+    specimen whose inputs and settings did not change since the last study
+    into it is read back, unless ``redo``). ``settings`` are keys of the
+    ``[run]`` table shared by every specimen (``fit="mooney-rivlin"``);
+    ``progress(done, total)`` is called as each specimen ends."""
+    _need_opencv("study")
+    if isinstance(inputs, (str, os.PathLike)):
+        inputs = [inputs]
+    files, summary, log, failed = _native.study(
+        [os.fspath(p) for p in inputs], os.fspath(out), redo, settings or None, progress
+    )
+    by_name = {name: bytes(data) for name, data in files}
+    return StudyOutput(
+        study=_table(by_name["study.csv"]),
+        files=by_name,
+        summary=summary,
+        log=list(log),
+        failed=[tuple(f) for f in failed],
     )

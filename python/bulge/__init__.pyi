@@ -148,3 +148,19 @@ def init(
     response: str = "srgb",
     camera: Optional[_Path] = None,
 ) -> InitOutput: ...
+
+class StudyOutput:
+    study: pd.DataFrame
+    files: Dict[str, bytes]
+    summary: str
+    log: List[str]
+    failed: List[Tuple[str, str]]
+
+def study(
+    inputs: Union[_Path, Sequence[_Path]],
+    out: _Path,
+    *,
+    redo: bool = False,
+    progress: Optional[Callable[[int, int], object]] = None,
+    **settings: object,
+) -> StudyOutput: ...

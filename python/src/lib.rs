@@ -94,6 +94,8 @@ mod run;
 mod simulate;
 mod stages;
 #[cfg(feature = "opencv")]
+mod study;
+#[cfg(feature = "opencv")]
 mod track;
 
 /// True when this build has the photo stages (track, run, study).
@@ -123,5 +125,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(track::track, m)?)?;
     #[cfg(feature = "opencv")]
     m.add_function(wrap_pyfunction!(init::init, m)?)?;
+    #[cfg(feature = "opencv")]
+    m.add_function(wrap_pyfunction!(study::study, m)?)?;
     Ok(())
 }

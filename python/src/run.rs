@@ -43,13 +43,9 @@ fn work(experiment: PathBuf, given: RunOptions) -> Outcome {
         Ok(e) => e,
         Err(e) => return Outcome::Bad(chain(&e)),
     };
-    let opts = match RunOptions::from_experiment(&exp) {
-        Ok(o) => o,
-        Err(e) => return Outcome::Bad(chain(&e)),
-    };
-    let s = match given.or(opts).settings() {
+    let s = match given.settings_for(&exp) {
         Ok(s) => s,
-        Err(e) => return Outcome::Bad(format!("{}: {}", exp.path.display(), chain(&e))),
+        Err(e) => return Outcome::Bad(chain(&e)),
     };
     let o = match pipeline::run(&exp, &s) {
         Ok(o) => o,

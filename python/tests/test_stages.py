@@ -221,3 +221,42 @@ def test_init_refusals_name_the_keyword(root, cli, tmp_path):
     with pytest.raises(bulge.BadInput) as e:
         bulge.init(missing, 0.0375, 0.00035)
     assert str(e.value) == _cli_message(p.stderr)
+
+
+@opencv
+def test_study_equals_the_cli(root, cli, tmp_path):
+    """Two specimens with the demo's exact heights, the second 2 % thicker
+    (a neo-Hookean law's pressure scales with C1 t)."""
+    truth = pd.read_csv(root / "data/demo/truth.csv")
+    truth[["pressure_pa", "height_m"]].to_csv(tmp_path / "heights.csv", index=False)
+    inputs = []
+    for name, t in [("a", 0.00035), ("b", 0.00035 * 1.02)]:
+        (tmp_path / name).mkdir()
+        inputs.append(tmp_path / name / "experiment.toml")
+        inputs[-1].write_text(
+            f'[specimen]\nradius_m = 0.0375\nthickness_m = {t}\npoisson = 0.45\n\n[heights]\ncsv = "../heights.csv"\n'
+        )
+    p = cli("study", *inputs, "--out", tmp_path / "cli", "--fit", "neo-hookean")
+    assert p.returncode == 0, p.stderr
+    seen = []
+    s = bulge.study(inputs, tmp_path / "py", fit="neo-hookean", progress=lambda d, n: seen.append(d))
+    want = pd.read_csv(tmp_path / "cli/study.csv")
+    pd.testing.assert_frame_equal(s.study, want, check_exact=True)
+    assert s.files["study.csv"] == (tmp_path / "cli/study.csv").read_bytes()
+    assert (tmp_path / "py/specimens/a/study_fit.toml").is_file() and s.failed == []
+    assert sorted(seen) == [1, 2]
+    c1 = s.study.set_index(s.study.columns[0])["c1_pa"]
+    assert abs(c1["b"] / (200e3 / 1.02) - 1) < 0.002
+    # again into the same folder: both specimens read back, the same study
+    again = bulge.study(inputs, tmp_path / "py", fit="neo-hookean")
+    assert sum(line.startswith("  reused  ") for line in again.log) == 2
+    pd.testing.assert_frame_equal(again.study, s.study, check_exact=True)
+
+
+@opencv
+def test_study_of_one_specimen_is_bad_input_with_the_cli_message(root, cli, tmp_path):
+    p = cli("study", root / "data/demo/experiment.toml", "--out", tmp_path / "cli")
+    assert p.returncode == 2, p.stderr
+    with pytest.raises(bulge.BadInput) as e:
+        bulge.study(root / "data/demo/experiment.toml", tmp_path / "py")
+    assert str(e.value) == _cli_message(p.stderr)

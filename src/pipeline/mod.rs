@@ -122,6 +122,13 @@ pub enum PipelineError {
     Output(String),
 }
 
+impl From<crate::io::InputError> for PipelineError {
+    /// A file's bad value, located: the user's input.
+    fn from(e: crate::io::InputError) -> Self {
+        PipelineError::Input(e.to_string())
+    }
+}
+
 impl crate::Refusal for PipelineError {
     fn is_bad_input(&self) -> bool {
         match self {
@@ -314,6 +321,19 @@ impl RunOptions {
             }
         }
         Ok(out)
+    }
+
+    /// These options (the command line's flags, say) over the experiment
+    /// file's `[run]`/`[simulate]` tables over the defaults, checked; a bad
+    /// value names the file.
+    pub fn settings_for(
+        self,
+        exp: &crate::experiment::Experiment,
+    ) -> Result<Settings, PipelineError> {
+        let file = RunOptions::from_experiment(exp)?;
+        self.or(file)
+            .settings()
+            .map_err(|e| PipelineError::Input(format!("{}: {e}", exp.path.display())))
     }
 
     /// The settings: each given value checked, the defaults for the rest.

@@ -13,6 +13,8 @@ pub mod out_dir;
 #[cfg(feature = "plots")]
 pub mod plot;
 #[cfg(all(feature = "plots", feature = "opencv"))]
+pub mod run_dir;
+#[cfg(all(feature = "plots", feature = "opencv"))]
 pub mod run_files;
 #[cfg(all(feature = "plots", feature = "opencv"))]
 pub mod study_files;

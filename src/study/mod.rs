@@ -11,6 +11,8 @@
 //! `record` is the per-specimen record and its fingerprint; this file holds
 //! the specimens' settings and the scheduler.
 
+#[cfg(feature = "plots")]
+pub mod command;
 mod file;
 mod record;
 

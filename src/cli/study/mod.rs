@@ -17,12 +17,11 @@ use super::{Failure, experiment_inputs};
 use bulge::Refusal;
 use bulge::io::OutputPlan;
 use bulge::report::out_dir::OutDir;
-use bulge::report::run_files::settings_table;
-use bulge::report::study_files::{StudyInfo, study_files};
-use bulge::study::{RECORD, combine, in_parallel, members};
+use bulge::study::command::finish;
+use bulge::study::{in_parallel, members};
 
 mod specimen;
-use specimen::{Outcome, one};
+use specimen::one;
 
 /// Flags of `bulge study`.
 ///
@@ -112,106 +111,19 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let bars = MultiProgress::new();
     let outcomes = in_parallel(&members, |m| one(m, out, args.redo, &bars));
     let _ = bars.clear();
-
-    let mut info = StudyInfo {
-        title: read.title,
-        law: first.settings.fit.label(),
-        ..StudyInfo::default()
-    };
-    let mut failures = Vec::new();
-    let mut records = Vec::new();
-    for (m, o) in members.iter().zip(outcomes) {
-        match o {
-            Outcome::Reused(r) => {
-                eprintln!(
-                    "  reused  {}: inputs and settings unchanged, read back from {}",
-                    m.name,
-                    out.join("specimens").join(&m.name).join(RECORD).display()
-                );
-                info.reused.push(m.name.clone());
-                records.push((m.name.clone(), r));
-            }
-            Outcome::Done(r, secs) => {
-                eprintln!("  done    {} in {secs:.1} s", m.name);
-                records.push((m.name.clone(), r));
-            }
-            Outcome::Failed(f) => {
-                eprintln!("  failed  {}: {:#}", m.name, f.error());
-                info.failed
-                    .push((m.name.clone(), format!("{:#}", f.error())));
-                failures.push(f);
-            }
-        }
+    let (log, done) = finish(&members, outcomes, read.title, &top);
+    for line in &log {
+        eprintln!("{line}");
     }
-    if !info.reused.is_empty() {
-        eprintln!(
-            "reused {} of {} specimens ({}); --redo redoes them",
-            info.reused.len(),
-            members.len(),
-            info.reused.join(", ")
-        );
-    }
-    if records.len() < 2 {
-        let msg = anyhow!(
-            "the study needs two specimens or more and only {} of {} finished (see the failures above); nothing written to {} besides the specimens' folders",
-            records.len(),
-            members.len(),
-            out.display()
-        );
-        return Err(
-            if failures.iter().all(|f| matches!(f, Failure::BadInput(_))) {
-                Failure::BadInput(msg)
-            } else {
-                Failure::Failed(msg)
-            },
-        );
-    }
-    if !failures.is_empty() {
-        eprintln!(
-            "going on with the {} specimens that finished; {} left out: {}",
-            records.len(),
-            info.failed.len(),
-            names(&info.failed)
-        );
-    }
-    let c = combine(&records).map_err(|e| Failure::BadInput(e.into()))?;
-    if let Some(e) = &c.joint_failed {
-        eprintln!("no joint fit of the specimens' heights: {e}");
-    }
-    info.thickness_m = c.thickness_m;
-    info.joint = c.joint;
-    let study = c.study;
-    info.settings = settings_table(&first.settings, &first.exp, &[])
-        .into_iter()
-        .filter(|(k, _)| k != "experiment" && !k.starts_with("pressures"))
-        .collect();
-    info.settings.push((
-        "specimens".into(),
-        members
-            .iter()
-            .map(|m| format!("{}: {}", m.name, m.exp.path.display()))
-            .collect::<Vec<_>>()
-            .join("; "),
-    ));
-    let files = study_files(&study, &info).map_err(|e| Failure::Failed(e.into()))?;
-    let status = match failures.is_empty() {
-        true => "complete".to_string(),
-        false => format!(
-            "partial: {} of {} specimens",
-            study.specimens.len(),
-            members.len()
-        ),
-    };
-    top.write_set(&files.files, &status)
-        .map_err(|e| Failure::Failed(e.into()))?;
-    print!("\n{}", files.terminal);
+    let f = done.map_err(super::run::failure)?;
+    print!("\n{}", f.terminal);
     println!("\nwrote {}", out.join("study.html").display());
-    if !failures.is_empty() {
+    if !f.failed.is_empty() {
         return Err(Failure::Failed(anyhow!(
             "the study is partial: {} left out ({}; see above); the study of the {} others is in {}",
-            info.failed.len(),
-            names(&info.failed),
-            study.specimens.len(),
+            f.failed.len(),
+            names(&f.failed),
+            f.kept,
             out.display()
         )));
     }
