@@ -234,9 +234,12 @@ class SimulateOutput:
     """What ``bulge simulate`` writes and says, in memory.
 
     ``simulated`` is simulated.csv (``pressure_pa,height_m,model,solver,
-    nodes,iterations,residual,wall_s``, a sphere segment adds its radii);
-    ``profile`` the axisymmetric meridian at the last pressure solved
-    (``profile=True``); ``notes`` the mesh used; ``warnings`` its warnings;
+    nodes,iterations,residual,wall_s``, a sphere segment adds its radii; a
+    dynamic run adds ``peak_m,static_height_m,overshoot,settling_time_s,
+    dt_s,substeps,dt_limit_s``); ``profile`` the axisymmetric meridian at
+    the last pressure solved (``profile=True``); ``trace`` a dynamic run's
+    time histories (``t_s,value_m,kinetic_j,pressure_pa,model,integrator``,
+    as ``--trace`` writes them); ``notes`` the mesh used; ``warnings`` its warnings;
     ``failures`` each pressure without an equilibrium, with its model and
     solver (the command line then exits with status 1 after writing the
     rows solved, which are here too).
@@ -244,6 +247,7 @@ class SimulateOutput:
 
     simulated: pd.DataFrame
     profile: "pd.DataFrame | None" = None
+    trace: "pd.DataFrame | None" = None
     notes: List[str] = field(default_factory=list)
     warnings: List[str] = field(default_factory=list)
     failures: List[str] = field(default_factory=list)
@@ -274,6 +278,14 @@ def simulate(
     profile: bool = False,
     density: "float | None" = None,
     progress=None,
+    dynamic: bool = False,
+    integrator="verlet",
+    dt: "float | None" = None,
+    t_end: "float | None" = None,
+    damping: float = 0.1,
+    damping_law: str = "critical",
+    step_policy: str = "substep",
+    xpbd_iterations: int = 20,
 ) -> SimulateOutput:
     """A material on a membrane -> simulated apex heights, as ``bulge
     simulate`` (quasi-static): ``material`` a dict as material.toml reads
@@ -283,8 +295,13 @@ def simulate(
     several (``"tp,axisym"`` or a list: tp, tp-paper, van-gelder, lloyd,
     membrane, axisym), ``solver`` newton or dr; the mesh by
     ``edge_length``, ``nodes`` or ``accuracy`` (the relative height error
-    wanted). ``progress(done, total)`` is called once per model and
-    pressure; the GIL is released while it works."""
+    wanted). ``dynamic=True`` integrates in time instead (``bulge simulate
+    --dynamic``, docs/dynamics.md): each pressure applied as a step at t = 0
+    on the membrane at rest, with ``integrator`` (one or several of
+    explicit-euler, symplectic-euler, verlet, implicit-euler, xpbd), ``dt``,
+    ``t_end`` (required), ``damping``, ``damping_law``, ``step_policy``,
+    ``xpbd_iterations``. ``progress(done, total)`` is called once per model
+    and pressure (and integrator); the GIL is released while it works."""
     if isinstance(material, FitOutput):
         material = material.material
     table = material if isinstance(material, dict) else None
@@ -307,10 +324,23 @@ def simulate(
         profile,
         density,
         progress,
+        None
+        if not dynamic
+        else {
+            "integrators": _names(integrator),
+            "dt": dt,
+            "t_end": t_end,
+            "damping": float(damping),
+            "damping_law": damping_law,
+            "step_policy": step_policy,
+            "xpbd_iterations": int(xpbd_iterations),
+        },
     )
+    second = None if prof is None else _table(bytes(prof))
     return SimulateOutput(
         simulated=_table(bytes(csv)),
-        profile=None if prof is None else _table(bytes(prof)),
+        profile=None if dynamic else second,
+        trace=second if dynamic else None,
         notes=list(notes),
         warnings=list(warnings),
         failures=list(failures),

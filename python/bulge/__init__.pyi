@@ -98,6 +98,7 @@ def track(
 class SimulateOutput:
     simulated: pd.DataFrame
     profile: Optional[pd.DataFrame]
+    trace: Optional[pd.DataFrame]
     notes: List[str]
     warnings: List[str]
     failures: List[str]
@@ -120,6 +121,14 @@ def simulate(
     profile: bool = False,
     density: Optional[float] = None,
     progress: Optional[Callable[[int, int], object]] = None,
+    dynamic: bool = False,
+    integrator: Union[str, Sequence[str]] = "verlet",
+    dt: Optional[float] = None,
+    t_end: Optional[float] = None,
+    damping: float = 0.1,
+    damping_law: str = "critical",
+    step_policy: str = "substep",
+    xpbd_iterations: int = 20,
 ) -> SimulateOutput: ...
 
 class InitOutput:

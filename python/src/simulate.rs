@@ -7,7 +7,11 @@ use std::path::PathBuf;
 use bulge::Refusal;
 use bulge::experiment::Experiment;
 use bulge::material::Material;
-use bulge::pipeline::{SceneOverrides, StaticError, experiment_scene, simulate_static};
+use bulge::pipeline::{
+    DynamicRequest, SceneOverrides, StaticError, experiment_scene, simulate_dynamic,
+    simulate_static,
+};
+use bulge::sim::dynamics::Integrator;
 use bulge::sim::scene::Scene;
 use bulge::sim::solve::{Options, Solver};
 use bulge::sim::springs::HeightModel;
@@ -17,7 +21,34 @@ use pyo3::types::{PyBytes, PyDict};
 use super::stages::choice;
 use super::{bad, chain, failed, to_toml};
 
-/// `simulated.csv`, the meridian profile (with `profile=True`), the notes
+/// The settings of a dynamic run (`bulge simulate --dynamic`).
+#[derive(FromPyObject)]
+pub struct Dynamic {
+    /// Integrator names.
+    #[pyo3(item)]
+    integrators: Vec<String>,
+    /// Time step, s.
+    #[pyo3(item)]
+    dt: Option<f64>,
+    /// Simulated time, s.
+    #[pyo3(item)]
+    t_end: Option<f64>,
+    /// Fraction of critical damping.
+    #[pyo3(item)]
+    damping: f64,
+    /// `critical` or `sudhamani-merriliance`.
+    #[pyo3(item)]
+    damping_law: String,
+    /// `substep` or `refuse`.
+    #[pyo3(item)]
+    step_policy: String,
+    /// XPBD iterations per step.
+    #[pyo3(item)]
+    xpbd_iterations: usize,
+}
+
+/// `simulated.csv`, the meridian profile (with `profile=True`; the time
+/// histories of a dynamic run), the notes
 /// on the mesh, the warnings and the pressures without an equilibrium.
 type SimulateResult = (
     Py<PyBytes>,
@@ -35,7 +66,7 @@ type SimulateResult = (
 #[pyo3(signature = (material_path=None, material=None, experiment=None, scene=None,
     pressures=None, models=vec!["tp".to_string()], solvers=vec!["newton".to_string()],
     tolerance=1e-8, max_iterations=None, edge_length=None, nodes=None, accuracy=None,
-    max_nodes=None, full=false, profile=false, density=None, progress=None))]
+    max_nodes=None, full=false, profile=false, density=None, progress=None, dynamic=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     py: Python<'_>,
@@ -56,6 +87,7 @@ pub fn simulate(
     profile: bool,
     density: Option<f64>,
     progress: Option<PyObject>,
+    dynamic: Option<Dynamic>,
 ) -> PyResult<SimulateResult> {
     let models: Vec<HeightModel> = models
         .iter()
@@ -74,6 +106,23 @@ pub fn simulate(
         ));
     }
     let axisym = models.contains(&HeightModel::Axisym);
+    let integrators: Vec<Integrator> = match &dynamic {
+        Some(d) => d
+            .integrators
+            .iter()
+            .map(|i| {
+                Integrator::ALL
+                    .into_iter()
+                    .find(|x| x.name() == i.trim())
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "integrator={i:?} is not one of explicit-euler, symplectic-euler, verlet, implicit-euler, xpbd"
+                        ))
+                    })
+            })
+            .collect::<PyResult<_>>()?,
+        None => Vec::new(),
+    };
     if profile && !axisym {
         return Err(bad(
             "profile=True returns the axisym meridian: add axisym to model".into(),
@@ -147,7 +196,10 @@ pub fn simulate(
         sc.validate(sc.needs_pressures())
             .map_err(|m| (true, format!("{origin}: {m}")))?;
         let springs = models.iter().filter(|m| **m != HeightModel::Axisym).count();
-        let total = (springs * solvers.len() + usize::from(axisym)) * sc.pressures_to_solve().len();
+        let total = match &dynamic {
+            Some(_) => models.len() * integrators.len() * sc.pressures_to_solve().len(),
+            None => (springs * solvers.len() + usize::from(axisym)) * sc.pressures_to_solve().len(),
+        };
         let done = std::sync::atomic::AtomicUsize::new(0);
         let tick = || {
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -159,6 +211,29 @@ pub fn simulate(
                 });
             }
         };
+        if let Some(d) = &dynamic {
+            let req = DynamicRequest {
+                scene: &sc,
+                models: &models,
+                integrators: &integrators,
+                dt: d.dt,
+                t_end: d.t_end,
+                damping: d.damping,
+                damping_law: &d.damping_law,
+                step_policy: &d.step_policy,
+                xpbd_iterations: d.xpbd_iterations,
+            };
+            let keyword = |k: &str| format!("`{k}`");
+            let out = simulate_dynamic(&req, &keyword, &tick).map_err(|e| (e.bad, e.message))?;
+            notes.extend(out.notes);
+            return Ok((
+                out.csv.into_bytes(),
+                Some(out.trace.into_bytes()),
+                notes,
+                out.warnings,
+                out.failures,
+            ));
+        }
         let out = simulate_static(&sc, &models, &solvers, opts, profile, &mut |_, _| {}, &tick)
             .map_err(|e| match e {
                 StaticError::Mesh(m) => (true, format!("accuracy or the mesh: {m}")),

@@ -39,6 +39,7 @@ use crate::track::{self, TrackError};
 #[cfg(feature = "opencv")]
 mod chain;
 mod compare;
+mod dynamic_command;
 mod fit;
 mod simulate;
 mod simulate_command;
@@ -51,6 +52,7 @@ mod tracking;
 #[cfg(feature = "opencv")]
 pub use chain::*;
 pub use compare::*;
+pub use dynamic_command::*;
 pub use fit::*;
 pub use simulate::*;
 pub use simulate_command::*;

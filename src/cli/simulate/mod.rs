@@ -14,8 +14,6 @@ mod statics;
 
 use scene::build_scene;
 
-use bulge::sim::mesh::Mesh;
-use bulge::sim::scene::Scene;
 use bulge::sim::solve::Solver;
 use bulge::sim::springs::HeightModel;
 use std::str::FromStr;
@@ -99,10 +97,6 @@ fn parse_pressure(s: &str) -> anyhow::Result<f64> {
     s.trim()
         .parse()
         .map_err(|_| anyhow!("`{}` is not a pressure in Pa", s.trim()))
-}
-
-fn describe(mesh: &Mesh, scene: &Scene) -> String {
-    bulge::pipeline::describe_mesh(mesh, scene)
 }
 
 /// Runs `bulge simulate`.

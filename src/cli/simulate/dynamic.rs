@@ -1,18 +1,15 @@
 //! `bulge simulate --dynamic`: time integration of a scene under a load step
-//! (see `docs/dynamics.md`).
+//! ([`bulge::pipeline::simulate_dynamic`]; see `docs/dynamics.md`).
 
 use std::path::PathBuf;
 
-use anyhow::{Context, anyhow};
+use anyhow::Context;
 
-mod runs;
-
-use super::{Args, build_scene, describe, finish};
+use super::{Args, build_scene, finish};
 use crate::cli::{Classify, Failure};
 use bulge::io::write_atomic;
-use bulge::sim::dynamics::{DampingLaw, Integrator, StepPolicy};
-use bulge::sim::scene::SceneKind;
-use bulge::sim::springs::{HeightModel, SpringModel};
+use bulge::pipeline::{DynamicRequest, simulate_dynamic};
+use bulge::sim::dynamics::Integrator;
 
 /// Flags of the dynamic runs (used with --dynamic).
 #[derive(Debug, Clone, clap::Args)]
@@ -67,98 +64,43 @@ pub struct DynArgs {
 pub fn run(args: Args) -> Result<(), Failure> {
     let d = args.dynamic.clone();
     let scene = build_scene(&args).bad_input()?;
-    let models: Vec<SpringModel> = args
-        .model
-        .iter()
-        .map(|c| match c {
-            HeightModel::Spring(m) => Ok(*m),
-            HeightModel::Axisym => Err(anyhow!(
-                "--dynamic integrates the spring models; axisym is a static solution: drop it from --model"
-            )),
-        })
-        .collect::<anyhow::Result<_>>()
-        .bad_input()?;
-    let integrators = d.integrator.clone();
-    let t_end = d
-        .t_end
-        .ok_or_else(|| anyhow!("--dynamic needs --t-end (the simulated time in s, e.g. 0.05)"))
-        .bad_input()?;
-    let damping = match d.damping_law.trim() {
-        "critical" => DampingLaw::Critical(d.damping),
-        "sudhamani-merriliance" => DampingLaw::SudhamaniMerriliance,
-        other => {
-            return Err(Failure::BadInput(anyhow!(
-                "--damping-law `{other}` is not one of critical, sudhamani-merriliance"
-            )));
-        }
-    };
-    let policy = match d.step_policy.trim() {
-        "substep" => StepPolicy::Substep,
-        "refuse" => StepPolicy::Refuse,
-        other => {
-            return Err(Failure::BadInput(anyhow!(
-                "--step-policy `{other}` is not one of substep, refuse"
-            )));
-        }
-    };
-    let mut mesh = scene
-        .build_mesh()
-        .context("building the mesh")
-        .bad_input()?;
-    let pressures = scene.pressures_to_solve();
-    if matches!(scene.kind, SceneKind::Sheet { .. })
-        && pressures.iter().all(|&p| p == 0.0)
-        && scene.loads.iter().all(|l| l.force_n[2] == 0.0)
-    {
-        mesh.hold_in_plane();
-        eprintln!(
-            "note: every load lies in the sheet's plane: the nodes are held in z = 0 (a flat membrane has no stiffness out of its plane)"
-        );
-    }
-    eprintln!("{}", describe(&mesh, &scene));
-    for &model in &models {
-        for w in bulge::sim::hard::mesh_warnings(&mesh, model, &scene.material, scene.thickness_m) {
-            eprintln!("warning ({}): {w}", model.name());
-        }
-        if let Some(w) = bulge::sim::dynamics::non_conservative_warning(model, damping) {
-            eprintln!(
-                "warning ({}): {w}; raise --damping or use --model van-gelder or lloyd",
-                model.name()
-            );
-        }
-    }
-
-    let plan = runs::Plan {
+    let req = DynamicRequest {
         scene: &scene,
-        mesh: &mesh,
-        models: &models,
-        integrators: &integrators,
-        pressures: &pressures,
-        damping,
-        policy,
+        models: &args.model,
+        integrators: &d.integrator,
         dt: d.dt,
-        t_end,
+        t_end: d.t_end,
+        damping: d.damping,
+        damping_law: &d.damping_law,
+        step_policy: &d.step_policy,
         xpbd_iterations: d.xpbd_iterations,
     };
-    let runs::Done {
-        csv,
-        trace,
-        table,
-        failures,
-    } = runs::run(&plan)?;
-    csv.write(&args.output)
+    let runs = args.model.len() * d.integrator.len() * scene.pressures_to_solve().len();
+    let pb = crate::cli::progress(runs as u64, "dynamic");
+    let flag = |key: &str| format!("--{}", key.replace('_', "-"));
+    let out = simulate_dynamic(&req, &flag, &|| pb.inc(1));
+    pb.finish_and_clear();
+    let out = out.map_err(Failure::of)?;
+    for n in &out.notes {
+        eprintln!("{n}");
+    }
+    for w in &out.warnings {
+        eprintln!("warning {w}");
+    }
+    out.csv
+        .write(&args.output)
         .with_context(|| format!("writing {}", args.output.display()))
         .failed()?;
     if let Some(t) = &d.trace {
-        write_atomic(t, &trace.into_bytes())
+        write_atomic(t, &out.trace.into_bytes())
             .with_context(|| format!("writing {}", t.display()))
             .failed()?;
     }
     finish(
         "  pressure_pa    model       integrator      final_m       peak_m     static_m       dt_s    steps   wall_s",
-        &table,
+        &out.table,
         &args.output,
-        &failures,
+        &out.failures,
         "the runs that finished",
     )
 }
