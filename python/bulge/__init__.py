@@ -504,15 +504,16 @@ def _need_opencv(name: str) -> None:
         )
 
 
-def run(experiment, **settings) -> RunOutput:
+def run(experiment, *, progress=None, **settings) -> RunOutput:
     """The whole pipeline on an experiment file, as ``bulge run`` (the GIL is
     released while it works). ``settings`` are keys of the ``[run]`` table
     (``fit="mooney-rivlin"``, ``models=["tp"]``, ``pressures_pa=[...]``,
     ``accuracy=0.005``; docs/run.md lists them): like the command line's
     flags they win over the file's own ``[run]`` and ``[simulate]`` tables,
-    which give the rest."""
+    which give the rest. ``progress(stage, done, total)``, when given, is
+    called as each stage (track, stress, fit, simulate) starts and steps."""
     _need_opencv("run")
-    files, notes, warnings, unsolved = _native.run(os.fspath(experiment), settings or None)
+    files, notes, warnings, unsolved = _native.run(os.fspath(experiment), settings or None, progress)
     by_name = {name: bytes(data) for name, _stage, data in files}
 
     def csv(name):

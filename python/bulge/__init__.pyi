@@ -26,7 +26,12 @@ class RunOutput:
     warnings: List[str]
     unsolved: List[float]
 
-def run(experiment: Union[str, PathLike[str]], **settings: object) -> RunOutput: ...
+def run(
+    experiment: Union[str, PathLike[str]],
+    *,
+    progress: Optional[Callable[[str, int, int], object]] = None,
+    **settings: object,
+) -> RunOutput: ...
 
 _Table = Union[pd.DataFrame, str, PathLike[str]]
 _Path = Union[str, PathLike[str]]

@@ -2,10 +2,12 @@
 //! writing files): track, stress, fit, simulate and the report's files.
 
 use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use bulge::Refusal;
 use bulge::experiment::Experiment;
-use bulge::pipeline::{self, RunOptions, Stage};
+use bulge::pipeline::{self, Observer, RunOptions, Stage};
 use bulge::report::run_files::run_files;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -38,7 +40,38 @@ fn stage_message(stage: Stage, e: &pipeline::PipelineError) -> Outcome {
     }
 }
 
-fn work(experiment: PathBuf, given: RunOptions) -> Outcome {
+/// Tells a Python callback `progress(stage, done, total)` as each stage
+/// starts and steps.
+struct Progress {
+    callback: PyObject,
+    stage: Mutex<(&'static str, u64)>,
+    done: AtomicU64,
+}
+
+impl Progress {
+    fn tell(&self, done: u64) {
+        let (stage, total) = *self.stage.lock().expect("stage");
+        Python::with_gil(|py| {
+            // a callback's own error is printed, and the run goes on
+            if let Err(e) = self.callback.call1(py, (stage, done, total)) {
+                e.print(py);
+            }
+        });
+    }
+}
+
+impl Observer for Progress {
+    fn start(&self, stage: Stage, steps: u64) {
+        *self.stage.lock().expect("stage") = (stage.name(), steps);
+        self.done.store(0, Ordering::Relaxed);
+        self.tell(0);
+    }
+    fn tick(&self) {
+        self.tell(self.done.fetch_add(1, Ordering::Relaxed) + 1);
+    }
+}
+
+fn work(experiment: PathBuf, given: RunOptions, obs: &dyn Observer) -> Outcome {
     let exp = match Experiment::read(&experiment) {
         Ok(e) => e,
         Err(e) => return Outcome::Bad(chain(&e)),
@@ -47,7 +80,7 @@ fn work(experiment: PathBuf, given: RunOptions) -> Outcome {
         Ok(s) => s,
         Err(e) => return Outcome::Bad(chain(&e)),
     };
-    let o = match pipeline::run(&exp, &s) {
+    let o = match pipeline::run_observed(&exp, &s, obs) {
         Ok(o) => o,
         Err(e) => return stage_message(e.stage, &e.error),
     };
@@ -80,11 +113,12 @@ type RunResult = (Vec<File>, Vec<(String, String)>, Vec<String>, Vec<f64>);
 /// are keys of the `[run]` table (as the command line's flags, they win
 /// over the experiment file's own `[run]` and `[simulate]`).
 #[pyfunction]
-#[pyo3(signature = (experiment, settings=None))]
+#[pyo3(signature = (experiment, settings=None, progress=None))]
 pub fn run(
     py: Python<'_>,
     experiment: PathBuf,
     settings: Option<Bound<'_, PyDict>>,
+    progress: Option<PyObject>,
 ) -> PyResult<RunResult> {
     let given = match settings {
         Some(d) => {
@@ -94,7 +128,16 @@ pub fn run(
         }
         None => RunOptions::default(),
     };
-    match py.allow_threads(move || work(experiment, given)) {
+    let observer = progress.map(|callback| Progress {
+        callback,
+        stage: Mutex::new(("", 0)),
+        done: AtomicU64::new(0),
+    });
+    let outcome = py.allow_threads(move || match &observer {
+        Some(o) => work(experiment, given, o),
+        None => work(experiment, given, &()),
+    });
+    match outcome {
         Outcome::Done {
             files,
             notes,

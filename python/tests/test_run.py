@@ -89,7 +89,13 @@ def test_settings_as_keywords_equal_the_cli_flags(root, cli, tmp_path):
     exp = root / "data/demo/experiment.toml"
     p = cli("run", exp, "--fit", "mooney-rivlin", "--models", "tp", "--pressures", "1000,3000", "--out", tmp_path)
     assert p.returncode == 0, p.stderr
-    py = bulge.run(exp, fit="mooney-rivlin", models=["tp"], pressures_pa=[1000, 3000])
+    seen = []
+    py = bulge.run(
+        exp, fit="mooney-rivlin", models=["tp"], pressures_pa=[1000, 3000], progress=lambda *a: seen.append(a)
+    )
+    # every stage told, in order, each from 0 to its total
+    assert [a[0] for a in seen if a[1] == 0] == ["track", "stress", "fit", "simulate"]
+    assert all(0 <= done <= total or total == 0 for _, done, total in seen)
     assert py.material == tomllib.loads((tmp_path / "material.toml").read_text())
     want = pd.read_csv(tmp_path / "simulated.csv")
     pd.testing.assert_frame_equal(py.simulated.drop(columns=["wall_s"]), want.drop(columns=["wall_s"]), check_exact=True)
