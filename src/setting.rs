@@ -37,6 +37,50 @@ pub enum Setting {
     ClampRow,
     /// Synthetic photos: the highest pressure.
     PressureMax,
+    /// The polynomial modulus law's degree.
+    Degree,
+    /// The experiment whose heights a fitted law is corrected to.
+    ToHeights,
+    /// The relative height error a mesh is sized for.
+    Accuracy,
+    /// The residual at which a static solve stops.
+    Tolerance,
+    /// The opening's radius.
+    RadiusM,
+    /// The membrane's thickness.
+    ThicknessM,
+    /// The membrane's Poisson ratio.
+    Poisson,
+    /// The camera's angle above the clamp plane, when known.
+    ElevationDeg,
+    /// A video's frames: every n-th.
+    Every,
+    /// Which photos of a folder.
+    Glob,
+    /// Two points a known distance apart (the scale).
+    PointsPx,
+    /// The distance between those points.
+    DistanceM,
+    /// The pressure file.
+    Pressure,
+    /// A calibrated lens's file.
+    Camera,
+    /// A telecentric lens: no distance.
+    Orthographic,
+    /// Integrating in time instead of solving for equilibrium.
+    Dynamic,
+    /// The simulated time.
+    TEnd,
+    /// The time step.
+    Dt,
+    /// The fraction of critical damping.
+    Damping,
+    /// The damping law.
+    DampingLaw,
+    /// What an explicit integrator does with a step above its limit.
+    StepPolicy,
+    /// The time integrator.
+    Integrator,
 }
 
 impl Setting {
@@ -56,6 +100,28 @@ impl Setting {
             Setting::AxisX => "`axis_x_px`",
             Setting::ClampRow => "`clamp_row_px`",
             Setting::PressureMax => "`pressure_max_pa`",
+            Setting::Degree => "`degree`",
+            Setting::ToHeights => "`to_heights`",
+            Setting::Accuracy => "`accuracy`",
+            Setting::Tolerance => "`tolerance`",
+            Setting::RadiusM => "`radius_m`",
+            Setting::ThicknessM => "`thickness_m`",
+            Setting::Poisson => "`poisson`",
+            Setting::ElevationDeg => "`elevation_deg`",
+            Setting::Every => "`every`",
+            Setting::Glob => "`glob`",
+            Setting::PointsPx => "`points_px`",
+            Setting::DistanceM => "`distance_m`",
+            Setting::Pressure => "`pressure`",
+            Setting::Camera => "`camera`",
+            Setting::Orthographic => "`orthographic`",
+            Setting::Dynamic => "`dynamic`",
+            Setting::TEnd => "`t_end`",
+            Setting::Dt => "`dt`",
+            Setting::Damping => "`damping`",
+            Setting::DampingLaw => "`damping_law`",
+            Setting::StepPolicy => "`step_policy`",
+            Setting::Integrator => "`integrator`",
         }
     }
 }

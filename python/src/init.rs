@@ -11,11 +11,6 @@ use pyo3::types::PyBytes;
 
 use super::{bad, failed};
 
-/// A setting as its keyword, quoted: `` `camera_distance_m` ``.
-fn keyword(key: &str) -> String {
-    format!("`{key}`")
-}
-
 /// The experiment file's text, the picture of what was found (PNG), the
 /// summary line and the notes.
 type InitResult = (String, Py<PyBytes>, String, Vec<String>);
@@ -89,7 +84,7 @@ pub fn init(
         camera,
         base: base.unwrap_or_else(|| PathBuf::from(".")),
     };
-    let out = py.allow_threads(move || init_files(&req, &keyword));
+    let out = py.allow_threads(move || init_files(&req));
     match out {
         Ok(f) => Ok((
             f.toml,

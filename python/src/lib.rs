@@ -10,6 +10,7 @@
 //! `bulge.Failure` (exit status 1), both with the command line's message.
 
 use bulge::io::chain;
+use bulge::setting::Setting;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -110,8 +111,21 @@ fn version() -> &'static str {
     env!("CARGO_PKG_VERSION")
 }
 
+/// The keyword that sets each setting a library message may name: the
+/// library's own name (its option field or file key, quoted), but where the
+/// functions' keyword differs from it.
+fn keyword_of(s: Setting) -> &'static str {
+    match s {
+        Setting::Model => "`model`",
+        Setting::CameraDistance => "`camera_distance_m`",
+        Setting::MetresPerPixel => "`metres_per_pixel`",
+        s => s.library_name(),
+    }
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    bulge::setting::name_settings_with(keyword_of);
     m.add("BadInput", m.py().get_type::<BadInput>())?;
     m.add("Failure", m.py().get_type::<Failure>())?;
     m.add_function(wrap_pyfunction!(has_opencv, m)?)?;

@@ -223,8 +223,7 @@ pub fn simulate(
                 step_policy: &d.step_policy,
                 xpbd_iterations: d.xpbd_iterations,
             };
-            let keyword = |k: &str| format!("`{k}`");
-            let out = simulate_dynamic(&req, &keyword, &tick).map_err(|e| (e.bad, e.message))?;
+            let out = simulate_dynamic(&req, &tick).map_err(|e| (e.bad, e.message))?;
             notes.extend(out.notes);
             return Ok((
                 out.csv.into_bytes(),

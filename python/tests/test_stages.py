@@ -215,6 +215,9 @@ def test_init_refusals_name_the_keyword(root, cli, tmp_path):
         bulge.init(photos, 0.0375, 0.00035, elevation_deg=45)
     with pytest.raises(bulge.BadInput, match=r"^`every` applies to a video"):
         bulge.init(photos, 0.0375, 0.00035, every=2)
+    # the keyword, not the experiment file's key `[camera] distance_m`
+    with pytest.raises(bulge.BadInput, match=r"^`camera_distance_m` 0.05: give the horizontal distance"):
+        bulge.init(photos, 0.0375, 0.00035, camera_distance_m=0.05)
     missing = tmp_path / "nowhere"
     p = cli("init", missing, "--radius-m", "0.0375", "--thickness-m", "0.00035", "-o", tmp_path / "e.toml")
     assert p.returncode == 2

@@ -15,11 +15,6 @@ use bulge::track::init::command::{InitRequest, init_files, init_inputs};
 mod args;
 pub use args::*;
 
-/// A setting as its flag: `camera_distance_m` -> `--camera-distance-m`.
-fn flag(key: &str) -> String {
-    format!("--{}", key.replace('_', "-"))
-}
-
 /// Runs `bulge init`.
 pub fn run(args: Args) -> Result<(), Failure> {
     super::output_file(&args.output, "-o")?;
@@ -52,7 +47,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
         camera: args.camera.clone(),
         base: base.to_path_buf(),
     };
-    let inputs = init_inputs(&req, &flag).map_err(Failure::of)?;
+    let inputs = init_inputs(&req).map_err(Failure::of)?;
     let png = args.png.clone().unwrap_or_else(|| {
         args.output
             .parent()
@@ -71,7 +66,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             args.output.display()
         )));
     }
-    let files = init_files(&req, &flag).map_err(Failure::of)?;
+    let files = init_files(&req).map_err(Failure::of)?;
     std::fs::create_dir_all(base).map_err(|e| {
         Failure::Failed(anyhow!("{}: cannot create the folder: {e}", base.display()))
     })?;

@@ -1,13 +1,14 @@
 //! `bulge simulate --dynamic` in memory: each spring model, pressure and
 //! integrator from rest, against the static equilibrium it should settle
 //! to, for the command line and the Python package alike. Messages name
-//! each setting as the caller spells it (`--t-end`, `` `t_end` ``).
+//! each setting through [`Setting`], as the front end spells it.
 
 use std::time::Instant;
 
 use nalgebra::{Point3, Vector3};
 
 use crate::io::{CsvOut, fmt_num};
+use crate::setting::Setting;
 use crate::sim::SceneSolver;
 use crate::sim::dynamics::{DampingLaw, DynError, DynOptions, Dynamics, Integrator, StepPolicy};
 use crate::sim::scene::{Scene, SceneKind};
@@ -78,24 +79,21 @@ fn refused(message: String) -> DynamicError {
 }
 
 /// The settings that decide what a run's error is about.
-fn keys_of(e: &DynError) -> &'static [&'static str] {
+fn keys_of(e: &DynError) -> &'static [Setting] {
     match e {
-        DynError::StepTooLarge { .. } => &["dt", "step_policy"],
-        DynError::NoStableStep => &["damping"],
-        DynError::BadParameter(_) => &["dt", "t_end", "damping"],
-        DynError::Diverged { .. } | DynError::NewtonFailed { .. } => &["dt", "integrator"],
-        _ => &["dynamic"],
+        DynError::StepTooLarge { .. } => &[Setting::Dt, Setting::StepPolicy],
+        DynError::NoStableStep => &[Setting::Damping],
+        DynError::BadParameter(_) => &[Setting::Dt, Setting::TEnd, Setting::Damping],
+        DynError::Diverged { .. } | DynError::NewtonFailed { .. } => {
+            &[Setting::Dt, Setting::Integrator]
+        }
+        _ => &[Setting::Dynamic],
     }
 }
 
 /// `bulge simulate --dynamic`: every model, pressure and integrator of
-/// `req` from rest; `name` spells a setting as the caller's user gives it,
-/// `tick` is called after each run.
-pub fn simulate_dynamic(
-    req: &DynamicRequest,
-    name: &dyn Fn(&str) -> String,
-    tick: &dyn Fn(),
-) -> Result<DynamicOut, DynamicError> {
+/// `req` from rest; `tick` is called after each run.
+pub fn simulate_dynamic(req: &DynamicRequest, tick: &dyn Fn()) -> Result<DynamicOut, DynamicError> {
     let scene = req.scene;
     let models: Vec<SpringModel> = req
         .models
@@ -104,16 +102,16 @@ pub fn simulate_dynamic(
             HeightModel::Spring(m) => Ok(*m),
             HeightModel::Axisym => Err(refused(format!(
                 "{} integrates the spring models; axisym is a static solution: drop it from {}",
-                name("dynamic"),
-                name("model")
+                Setting::Dynamic,
+                Setting::Model
             ))),
         })
         .collect::<Result<_, _>>()?;
     let t_end = req.t_end.ok_or_else(|| {
         refused(format!(
             "{} needs {} (the simulated time in s, e.g. 0.05)",
-            name("dynamic"),
-            name("t_end")
+            Setting::Dynamic,
+            Setting::TEnd
         ))
     })?;
     let damping = match req.damping_law.trim() {
@@ -122,7 +120,7 @@ pub fn simulate_dynamic(
         other => {
             return Err(refused(format!(
                 "{} `{other}` is not one of critical, sudhamani-merriliance",
-                name("damping_law")
+                Setting::DampingLaw
             )));
         }
     };
@@ -132,7 +130,7 @@ pub fn simulate_dynamic(
         other => {
             return Err(refused(format!(
                 "{} `{other}` is not one of substep, refuse",
-                name("step_policy")
+                Setting::StepPolicy
             )));
         }
     };
@@ -160,8 +158,8 @@ pub fn simulate_dynamic(
             warnings.push(format!(
                 "({}): {w}; raise {} or use {} van-gelder or lloyd",
                 model.name(),
-                name("damping"),
-                name("model")
+                Setting::Damping,
+                Setting::Model
             ));
         }
     }
@@ -193,7 +191,7 @@ pub fn simulate_dynamic(
     let keys = |e: &DynError| {
         keys_of(e)
             .iter()
-            .map(|k| name(k))
+            .map(|k| k.to_string())
             .collect::<Vec<_>>()
             .join(" / ")
     };

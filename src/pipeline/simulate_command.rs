@@ -7,6 +7,7 @@ use std::path::Path;
 use crate::experiment::Experiment;
 use crate::io::CsvOut;
 use crate::material::Material;
+use crate::setting::Setting;
 use crate::sim::scene::{MeshSize, Scene};
 use crate::sim::solve::{self, Solver};
 use crate::sim::springs::{HeightModel, SpringModel};
@@ -153,8 +154,12 @@ pub fn simulate_static(
     let mut notes = Vec::new();
     if let (Some(s), Some(MeshSize::Accuracy(a))) = (sizing, scene.mesh.size) {
         notes.push(format!(
-            "mesh sized for --accuracy {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
-            s.rings, s.estimated_error, s.rings, s.coarse_rings
+            "mesh sized for {} {a}: {} rings, estimated relative height error {:.2e} (Richardson: {} against {} rings)",
+            Setting::Accuracy,
+            s.rings,
+            s.estimated_error,
+            s.rings,
+            s.coarse_rings
         ));
     }
     notes.push(describe_mesh(&mesh, scene));
@@ -239,9 +244,10 @@ fn at_floor(run: &ModelRun, tolerance: f64) -> Option<String> {
     let worst = at_floor.iter().fold(0.0_f64, |a, p| a.max(p.residual));
     let ps: Vec<String> = at_floor.iter().map(|p| p.pressure_pa.to_string()).collect();
     Some(format!(
-        "({} / {}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above --tolerance {tolerance:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
+        "({} / {}): at {} Pa the residual (largest {worst:.2e} of the load) stopped above {} {tolerance:e}, at the round-off floor of double precision here (the membrane's internal forces dwarf the pressure's); those heights carry a relative error of about that size",
         run.model,
         run.solver,
-        ps.join(", ")
+        ps.join(", "),
+        Setting::Tolerance
     ))
 }

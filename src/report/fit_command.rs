@@ -12,6 +12,7 @@ use crate::fit::{FitError, FitModel, FitSettings, FittedMaterial, fit_material, 
 use crate::io::{InputError, Table};
 use crate::mechanics::Modulus;
 use crate::report::fit_outputs::{FitOutputs, fit_outputs};
+use crate::setting::Setting;
 
 /// The choices of `bulge fit`, as its flags give them.
 #[derive(Debug, Clone, PartialEq)]
@@ -160,7 +161,8 @@ pub fn fit_files(
             if matches!(settings.model, FitModel::Quartic { .. }) =>
         {
             FitCommandError::Refused(format!(
-                "{input}: {e} (with {points} points with a secant modulus, use --degree {} or less)",
+                "{input}: {e} (with {points} points with a secant modulus, use {} {} or less)",
+                Setting::Degree,
                 points.max(1) - 1
             ))
         }
@@ -200,7 +202,8 @@ fn correct_to_heights(
 ) -> Result<String, FitCommandError> {
     let Some(measured) = inverse::Measured::from_table(table)? else {
         return Err(FitCommandError::Refused(format!(
-            "{input}: --to-heights needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv"
+            "{input}: {} needs the columns pressure_pa and height_m (bulge stress writes them); fit its stress_strain.csv",
+            Setting::ToHeights
         )));
     };
     let opts = inverse::Options {

@@ -77,8 +77,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
     };
     let runs = args.model.len() * d.integrator.len() * scene.pressures_to_solve().len();
     let pb = crate::cli::progress(runs as u64, "dynamic");
-    let flag = |key: &str| format!("--{}", key.replace('_', "-"));
-    let out = simulate_dynamic(&req, &flag, &|| pb.inc(1));
+    let out = simulate_dynamic(&req, &|| pb.inc(1));
     pb.finish_and_clear();
     let out = out.map_err(Failure::of)?;
     for n in &out.notes {

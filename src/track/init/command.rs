@@ -1,14 +1,15 @@
 //! `bulge init` in memory: the checks of its settings, the frames of a photo
 //! folder or a video, the set-up found in them, the experiment file and the
 //! picture of what was found, for the command line and the Python package
-//! alike. Messages name each setting as the caller spells it (`--every` on
-//! the command line, `every=` in Python).
+//! alike. Messages name each setting through [`Setting`], as the front end
+//! spells it (`--every` on the command line).
 
 use std::path::{Component, Path, PathBuf};
 
 use super::{Found, Frames, Given, ScaleSource, Sources};
 use crate::camera::Response;
 use crate::experiment::Specimen;
+use crate::setting::Setting;
 use crate::track::{self, TrackError};
 
 /// What `bulge init` is told.
@@ -93,19 +94,23 @@ pub struct InitFiles {
 
 /// The frames of `req.source` and the glob that chose them (empty for a
 /// video).
-fn frames(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(Frames, String), InitError> {
+fn frames(req: &InitRequest) -> Result<(Frames, String), InitError> {
     if req.source.is_dir() {
         let glob = match &req.glob {
             Some(g) => g.clone(),
-            None => default_glob(&req.source, name)?,
+            None => default_glob(&req.source)?,
         };
         let photos = track::list_photos(&req.source, &glob)?;
         return Ok((Frames::Photos(photos), glob));
     }
     let info = track::video::probe(&req.source)?;
-    let indices = info
-        .select(req.every, None)
-        .map_err(|m| refused(format!("{}: {m} ({})", req.source.display(), name("every"))))?;
+    let indices = info.select(req.every, None).map_err(|m| {
+        refused(format!(
+            "{}: {m} ({})",
+            req.source.display(),
+            Setting::Every
+        ))
+    })?;
     let frames = Frames::Video {
         path: req.source.clone(),
         indices,
@@ -113,15 +118,14 @@ fn frames(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(Frames, S
     Ok((frames, String::new()))
 }
 
-/// Checks every setting before any work; `name` spells a setting's key as
-/// the caller's user gives it.
-fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitError> {
+/// Checks every setting before any work.
+fn check(req: &InitRequest) -> Result<(), InitError> {
     req.specimen.validate().map_err(|m| {
         refused(format!(
             "the specimen ({}, {}, {}): {m}",
-            name("radius_m"),
-            name("thickness_m"),
-            name("poisson")
+            Setting::RadiusM,
+            Setting::ThicknessM,
+            Setting::Poisson
         ))
     })?;
     if let Some(m) = req.metres_per_pixel
@@ -129,7 +133,7 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
     {
         return Err(refused(format!(
             "{} {m}: give a positive scale, m per px",
-            name("metres_per_pixel")
+            Setting::MetresPerPixel
         )));
     }
     if let Some(e) = req.elevation_deg
@@ -137,7 +141,7 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
     {
         return Err(refused(format!(
             "{} {e}: give 0 to 30 degrees",
-            name("elevation_deg")
+            Setting::ElevationDeg
         )));
     }
     if !req.source.exists() {
@@ -150,8 +154,8 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
         return Err(refused(format!(
             "{every} applies to a video, and {} is a photo folder: drop {every}, or use {} to choose photos",
             req.source.display(),
-            name("glob"),
-            every = name("every"),
+            Setting::Glob,
+            every = Setting::Every,
         )));
     }
     if let Some((p, d)) = req.points_px {
@@ -159,8 +163,8 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
         if !(d.is_finite() && d > 0.0) || len == 0.0 {
             return Err(refused(format!(
                 "{} {p:?} with {} {d}: give two different points and a positive distance",
-                name("points_px"),
-                name("distance_m")
+                Setting::PointsPx,
+                Setting::DistanceM
             )));
         }
     }
@@ -169,7 +173,7 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
     {
         return Err(refused(format!(
             "{} {}: no such file",
-            name("pressure"),
+            Setting::Pressure,
             p.display()
         )));
     }
@@ -179,7 +183,7 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
     {
         return Err(refused(format!(
             "{} {d}: give the horizontal distance from the bubble's axis to the camera's lens, m, more than the opening's diameter {}",
-            name("camera_distance_m"),
+            Setting::CameraDistance,
             2.0 * radius_m
         )));
     }
@@ -188,12 +192,9 @@ fn check(req: &InitRequest, name: &dyn Fn(&str) -> String) -> Result<(), InitErr
 
 /// The frames of a request, checked, and the files they are read from:
 /// what the caller guards against its outputs before [`init_files`].
-pub fn init_inputs(
-    req: &InitRequest,
-    name: &dyn Fn(&str) -> String,
-) -> Result<Vec<PathBuf>, InitError> {
-    check(req, name)?;
-    let (frames, _) = frames(req, name)?;
+pub fn init_inputs(req: &InitRequest) -> Result<Vec<PathBuf>, InitError> {
+    check(req)?;
+    let (frames, _) = frames(req)?;
     let mut inputs = match frames {
         Frames::Photos(p) => p,
         Frames::Video { path, .. } => vec![path],
@@ -204,14 +205,10 @@ pub fn init_inputs(
 }
 
 /// `bulge init`: the set-up found in the frames of `req.source`, as the
-/// experiment file and the picture of what was found; `name` spells a
-/// setting's key in messages as the caller's user gives it.
-pub fn init_files(
-    req: &InitRequest,
-    name: &dyn Fn(&str) -> String,
-) -> Result<InitFiles, InitError> {
-    check(req, name)?;
-    let (frames, glob) = frames(req, name)?;
+/// experiment file and the picture of what was found.
+pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
+    check(req)?;
+    let (frames, glob) = frames(req)?;
     let lens = match &req.camera {
         Some(p) => Some(read_lens(p)?),
         None => None,
@@ -235,9 +232,9 @@ pub fn init_files(
     {
         return Err(refused(format!(
             "{why}; give {} D (from the bubble's axis to the lens, m), or {} camera.toml (bulge calibrate: the distance from its focal length), or {} if the lens is telecentric",
-            name("camera_distance_m"),
-            name("camera"),
-            name("orthographic")
+            Setting::CameraDistance,
+            Setting::Camera,
+            Setting::Orthographic
         )));
     }
     let sources = Sources {
@@ -265,9 +262,9 @@ pub fn init_files(
     {
         notes.push(format!(
             "note: the camera is read as orthographic (no {}, no lens with a focal length): a camera D from the bubble's axis sees the opening through its tangent points, so the scale comes out about a^2 / (2 D^2) small (0.35 % at 0.45 m); give {} D or {} camera.toml (bulge calibrate)",
-            name("camera_distance_m"),
-            name("camera_distance_m"),
-            name("camera")
+            Setting::CameraDistance,
+            Setting::CameraDistance,
+            Setting::Camera
         ));
     }
     let inputs = match &frames {
@@ -372,7 +369,7 @@ pub fn relative(path: &Path, base: &Path) -> String {
 }
 
 /// The photos of a folder: `*.ext` of its most common photo extension.
-fn default_glob(dir: &Path, name: &dyn Fn(&str) -> String) -> Result<String, InitError> {
+fn default_glob(dir: &Path) -> Result<String, InitError> {
     let mut counts: std::collections::BTreeMap<String, usize> = Default::default();
     let rd = std::fs::read_dir(dir).map_err(|e| {
         refused(format!(
@@ -399,7 +396,7 @@ fn default_glob(dir: &Path, name: &dyn Fn(&str) -> String) -> Result<String, Ini
             refused(format!(
                 "{}: no photos (.jpg, .jpeg, .png, .tif, .tiff, .bmp) in the folder; give the folder of the test's photos, or {}",
                 dir.display(),
-                name("glob")
+                Setting::Glob
             ))
         })
 }
