@@ -10,6 +10,7 @@ pub mod bench;
 pub mod calibrate;
 mod checks;
 pub mod fit;
+mod flags;
 pub mod init;
 pub mod run;
 pub mod simulate;
@@ -23,6 +24,7 @@ use std::sync::Mutex;
 use bulge::pipeline::{Observer, Stage, Timing};
 pub use checks::*;
 use clap::{Parser, Subcommand};
+pub use flags::flag_of;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// bulge: bubble-inflation (pressure-bulge) tests of thin elastic membranes.
@@ -126,48 +128,6 @@ impl<T, E: Into<anyhow::Error>> Classify<T> for Result<T, E> {
     }
     fn failed(self) -> Result<T, Failure> {
         self.map_err(|e| Failure::Failed(e.into()))
-    }
-}
-
-/// The flag that sets each setting a library message may name.
-pub fn flag_of(s: bulge::setting::Setting) -> &'static str {
-    use bulge::setting::Setting;
-    match s {
-        Setting::Fit => "--fit",
-        Setting::MaxSamples => "--max-samples",
-        Setting::Model => "--model",
-        Setting::Solver => "--solver",
-        Setting::InnerCorners => "--inner-corners",
-        Setting::MinScore => "--min-score",
-        Setting::SkipBadFrames => "--skip-bad-frames",
-        Setting::Refine => "--refine",
-        Setting::CameraDistance => "--camera-distance-m",
-        Setting::MetresPerPixel => "--metres-per-pixel",
-        Setting::AxisX => "--axis-x-px",
-        Setting::ClampRow => "--clamp-row-px",
-        Setting::PressureMax => "--pressure-max-pa",
-        Setting::Degree => "--degree",
-        Setting::ToHeights => "--to-heights",
-        Setting::Accuracy => "--accuracy",
-        Setting::Tolerance => "--tolerance",
-        Setting::RadiusM => "--radius-m",
-        Setting::ThicknessM => "--thickness-m",
-        Setting::Poisson => "--poisson",
-        Setting::ElevationDeg => "--elevation-deg",
-        Setting::Every => "--every",
-        Setting::Glob => "--glob",
-        Setting::PointsPx => "--points-px",
-        Setting::DistanceM => "--distance-m",
-        Setting::Pressure => "--pressure",
-        Setting::Camera => "--camera",
-        Setting::Orthographic => "--orthographic",
-        Setting::Dynamic => "--dynamic",
-        Setting::TEnd => "--t-end",
-        Setting::Dt => "--dt",
-        Setting::Damping => "--damping",
-        Setting::DampingLaw => "--damping-law",
-        Setting::StepPolicy => "--step-policy",
-        Setting::Integrator => "--integrator",
     }
 }
 
