@@ -85,6 +85,37 @@ pub(crate) fn to_toml(key: &str, v: &Bound<'_, PyAny>) -> PyResult<toml::Value> 
     )))
 }
 
+/// A progress callback `progress(done, total)` counted up once per step of
+/// `total` (from worker threads too: each call takes the GIL). A callback's
+/// own error is not the work's: Python prints it and the work goes on.
+pub(crate) struct Counter {
+    callback: Option<PyObject>,
+    done: std::sync::atomic::AtomicUsize,
+    total: usize,
+}
+
+impl Counter {
+    pub(crate) fn new(callback: Option<PyObject>, total: usize) -> Self {
+        Counter {
+            callback,
+            done: std::sync::atomic::AtomicUsize::new(0),
+            total,
+        }
+    }
+
+    /// One more step done.
+    pub(crate) fn tick(&self) {
+        let n = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(cb) = &self.callback {
+            Python::with_gil(|py| {
+                if let Err(e) = cb.call1(py, (n, self.total)) {
+                    e.print(py);
+                }
+            });
+        }
+    }
+}
+
 /// A file of a run: its name, its stage and its bytes.
 type File = (String, String, Py<PyBytes>);
 

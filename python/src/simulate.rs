@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use super::stages::choice;
-use super::{bad, chain, failed, to_toml};
+use super::{Counter, bad, chain, failed, to_toml};
 
 /// The settings of a dynamic run (`bulge simulate --dynamic`).
 #[derive(FromPyObject)]
@@ -200,17 +200,8 @@ pub fn simulate(
             Some(_) => models.len() * integrators.len() * sc.pressures_to_solve().len(),
             None => (springs * solvers.len() + usize::from(axisym)) * sc.pressures_to_solve().len(),
         };
-        let done = std::sync::atomic::AtomicUsize::new(0);
-        let tick = || {
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            if let Some(cb) = &progress {
-                Python::with_gil(|py| {
-                    if let Err(e) = cb.call1(py, (n, total)) {
-                        e.print(py);
-                    }
-                });
-            }
-        };
+        let counter = Counter::new(progress, total);
+        let tick = || counter.tick();
         if let Some(d) = &dynamic {
             let req = DynamicRequest {
                 scene: &sc,

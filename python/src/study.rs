@@ -12,7 +12,7 @@ use bulge::study::{in_parallel, members};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use super::{bad, failed, to_toml};
+use super::{Counter, bad, failed, to_toml};
 
 /// The study's files (name, bytes), its table for the terminal, the lines
 /// the command line prints as it goes and the specimens left out.
@@ -65,18 +65,10 @@ pub fn study(
             true => refused(format!("out: {}", chain(&e))),
             false => (false, chain(&e)),
         })?;
-        let total = members.len();
-        let done = std::sync::atomic::AtomicUsize::new(0);
+        let counter = Counter::new(progress, members.len());
         let outcomes = in_parallel(&members, |m| {
             let o = one(m, &out, redo, &());
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            if let Some(cb) = &progress {
-                Python::with_gil(|py| {
-                    if let Err(e) = cb.call1(py, (n, total)) {
-                        e.print(py);
-                    }
-                });
-            }
+            counter.tick();
             o
         });
         let (log, result) = finish(&members, outcomes, read.title, &top);

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
 use super::stages::choice;
-use super::{bad, chain, failed};
+use super::{Counter, bad, chain, failed};
 
 /// `heights.csv`, the warnings, the frames left out (frame, file, score,
 /// reason) and the note on the lens, if any.
@@ -60,19 +60,8 @@ pub fn track(
         let exp = Experiment::read(&experiment).map_err(|e| (true, chain(&e)))?;
         let setup = bulge::track::setup_from_experiment(&exp).map_err(|e| (e.is_bad_input(), chain(&e)))?;
         let total = setup.frames.len();
-        let done = std::sync::atomic::AtomicUsize::new(0);
-        let tick = || {
-            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            if let Some(cb) = &progress {
-                // A callback's own error is not the tracker's: it is
-                // printed by Python and the work goes on.
-                Python::with_gil(|py| {
-                    if let Err(e) = cb.call1(py, (n, total)) {
-                        e.print(py);
-                    }
-                });
-            }
-        };
+        let counter = Counter::new(progress, total);
+        let tick = || counter.tick();
         let tracked = bulge::track::track(&setup, &opts, &tick).map_err(|e| (e.is_bad_input(), chain(&e)))?;
         if tracked.rows.is_empty() {
             return Err((
