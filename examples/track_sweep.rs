@@ -17,7 +17,9 @@
 //! Run: `cargo run --release --example track_sweep -- --clean 300 --dirty 300
 //! [--sizes 640x480,800x600] [--verbose]` (`--sizes`: the photo sizes drawn
 //! from, by default 640x480, 800x600, 1024x768 and 1280x960; `--verbose`
-//! lists the worst photos with their looks and every refusal).
+//! lists the worst photos with their looks and every refusal; `--csv PATH`
+//! writes every photo: seed, frame, error and stated std in px, the refusal
+//! and the sequence's factor levels).
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -92,6 +94,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let clean = arg(&args, "--clean", 40)?;
     let dirty = arg(&args, "--dirty", 40)?;
     let verbose = args.iter().any(|a| a == "--verbose");
+    let csv = args
+        .iter()
+        .position(|a| a == "--csv")
+        .map(|i| args.get(i + 1).cloned().ok_or("--csv needs a path"))
+        .transpose()?;
     let sizes = match args.iter().position(|a| a == "--sizes") {
         Some(i) => args
             .get(i + 1)
@@ -168,6 +175,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for ((i, level), t) in &by {
         println!("{}", t.row(FACTORS[*i], level));
     }
+    if let Some(path) = csv {
+        write_csv(&path, &results)?;
+    }
     if verbose {
         let look = |levels: &[(&'static str, String)]| {
             levels
@@ -216,5 +226,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
+    Ok(())
+}
+
+/// Every photo of the sweep as a CSV row, for analysis beyond the table.
+fn write_csv(path: &str, results: &[Outcome]) -> Result<(), Box<dyn std::error::Error>> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record([
+        "seed", "dirty", "frame", "error_px", "std_px", "refused", "levels",
+    ])?;
+    for (seed, dirty, levels, photos) in results {
+        let look: Vec<String> = levels.iter().map(|(f, l)| format!("{f}={l}")).collect();
+        for p in photos {
+            let (e, s) = p.written.map_or((String::new(), String::new()), |(e, s)| {
+                (format!("{e:.5}"), format!("{s:.5}"))
+            });
+            w.write_record([
+                seed.to_string(),
+                dirty.to_string(),
+                p.frame.to_string(),
+                e,
+                s,
+                p.refused.clone().unwrap_or_default(),
+                look.join(";"),
+            ])?;
+        }
+    }
+    w.flush()?;
     Ok(())
 }

@@ -251,6 +251,8 @@ struct Clamp {
     /// camera): the row at the axis is `row`.
     slope: Estimate,
     half_width_px: Option<f64>,
+    /// The same from the ends read below the ellipse's centre row.
+    half_width_below_px: Option<f64>,
     points: Vec<[f64; 2]>,
 }
 
@@ -582,7 +584,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 });
             }
             let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);
-            if let (Some(e), Some(a_f)) = (raised, clamp.half_width_px) {
+            if let (Some(e), Some(a_f)) = (raised, clamp.half_width_below_px) {
                 let start = [clamp.row.value, e.value.to_radians(), a_f * mpp];
                 let r = ring::fit_ring(&clamp.points, x0, d, mpp, principal_row, start, Some(a_f))
                     // the ring's outer edge lies outside the opening

@@ -208,12 +208,16 @@ pub(super) fn find_clamp(
         let mut rows: Vec<f64> = pts.iter().map(|p| p.1).collect();
         quantile(&mut rows, 0.9)
     };
-    let r0 = (c_guess + 3.0).ceil() as i64;
-    let r1 = (r0 + (0.04 * a0).clamp(4.0, 12.0) as i64).min(h - 1);
     let mut step_mags: Vec<f64> = pts.iter().map(|p| p.2.abs()).collect();
     let clamp_step = quantile(&mut step_mags, 0.5);
-    let mut ends = [None, None];
-    if r1 > r0 {
+    let rows_read = (0.04 * a0).clamp(4.0, 12.0) as i64;
+    // The ends read from the rows starting at `r0`.
+    let read_ends = |r0: i64| {
+        let r1 = (r0 + rows_read).min(h - 1);
+        let mut ends = [None, None];
+        if r1 <= r0 {
+            return ends;
+        }
         let rows: Vec<usize> = (r0..=r1).map(|r| r as usize).collect();
         let q = |x: i64| {
             let x = x.clamp(0, w - 1) as usize;
@@ -236,32 +240,64 @@ pub(super) fn find_clamp(
                 ends[k] = Some(e);
             }
         }
-    }
+        ends
+    };
+    let r0 = (c_guess + 3.0).ceil() as i64;
+    let ends = read_ends(r0);
     // Through the lens (when calibrated): the edge's points and the clamp's
     // ends in the undistorted image, as offsets from the axis's image (a
     // straight edge stays straight there; the photo's is bent by the lens).
     let (pts, ends) = super::super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
     // Both ends centred on the axis, or one end and the axis.
-    let half = match ends {
+    let half_of = |ends: [Option<f64>; 2]| match ends {
         [Some(l), Some(r)] if ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0 => Some((r - l) / 2.0),
         [Some(_), Some(_)] => None,
         [Some(e), None] | [None, Some(e)] => Some((e - x0).abs()),
         [None, None] => None,
+    };
+    let half = half_of(ends);
+    let mut half_below = None;
+    // The ends read again below the ellipse's centre row `v0` when they
+    // were read above it, for the ring's fit through a pinhole
+    // (`ring::fit_ring`), which takes them as the tangent points of the
+    // ring's outer circle: below that row the ring's outline is its side,
+    // at the ring's full radius, while above it it is still the face's far
+    // half, narrower (`a_f sqrt(1 - d^2 / (s a_f)^2)` at `d` rows above the
+    // centre, `s` the sine of the elevation). Read above, the ends came out
+    // 0.5-2 px in at 5 degrees, and the pinhole fit put the centre's row
+    // 0.12-0.23 px high (0.01-0.03 px read below). The orthographic
+    // ellipse keeps the ends as first read: on orthographically drawn
+    // photos at 5 degrees the ends read below moved its row 0.01-0.04 px
+    // low instead. `None` when they need no new reading or are not found
+    // there.
+    let ends_below = |v0: f64| {
+        let from = (v0 + 1.0).ceil() as i64;
+        (from > r0)
+            .then(|| {
+                let ends = read_ends(from);
+                let (_, ends) = super::super::lens::undistort_clamp(lens, x0, Vec::new(), ends, v0);
+                half_of(ends)
+            })
+            .flatten()
     };
     // Each fit has a slope across the photo: a camera rolled about its
     // view axis sees the clamp's edge tilted (the row at the axis stays
     // the clamp ring's centre's).
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
-            let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
-            let x: Vec<Vec<f64>> = used
-                .iter()
-                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
-                .collect();
-            let y: Vec<f64> = used.iter().map(|p| p.1).collect();
-            let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            let ellipse = |a_f: f64| {
+                let used: Vec<&(f64, f64, f64)> =
+                    pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+                let x: Vec<Vec<f64>> = used
+                    .iter()
+                    .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
+                    .collect();
+                let y: Vec<f64> = used.iter().map(|p| p.1).collect();
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))
+            };
+            let fit = ellipse(a_f)?;
+            half_below = ends_below(fit.0.0.0[0]).or(half);
+            let (((coef, cov, res), keep), slope) = fit;
             check_inliers(&keep, ambiguous)?;
             let infl = lag1_inflation(&res);
             let est = |i: usize| Estimate {
@@ -276,15 +312,19 @@ pub(super) fn find_clamp(
                     "the camera is raised (elevation given) but the clamp's ends are not in the picture, so its ellipse's centre cannot be placed".into(),
                 ));
             };
-            let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
-            let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
-            let y: Vec<f64> = used
-                .iter()
-                .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
-                .collect();
-            let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            let ellipse = |a_f: f64| {
+                let used: Vec<&(f64, f64, f64)> =
+                    pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+                let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
+                let y: Vec<f64> = used
+                    .iter()
+                    .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
+                    .collect();
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))
+            };
+            let fit = ellipse(a_f)?;
+            half_below = ends_below(fit.0.0.0[0]).or(half);
+            let (((coef, cov, res), keep), slope) = fit;
             check_inliers(&keep, ambiguous)?;
             let row = Estimate {
                 value: coef[0],
@@ -333,6 +373,7 @@ pub(super) fn find_clamp(
         sin_e,
         slope,
         half_width_px: half,
+        half_width_below_px: half_below,
         points: pts.iter().map(|p| [x0 + p.0, p.1]).collect(),
     })
 }
