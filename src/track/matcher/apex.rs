@@ -200,8 +200,24 @@ pub(super) fn edge_fit_core(
     } else {
         0.0
     };
+    // Where the dome side turns back under the edge, the centroids' shift
+    // that its rise can cause, averaged over the columns kept
+    // ([`turn_back_shift`]).
+    let turn = if test.is_some() && !strong.is_empty() {
+        let shifts: f64 = strong
+            .iter()
+            .filter(|l| kept.iter().any(|k| k.0 == l.0))
+            .map(|&(u, e, step)| {
+                turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+            })
+            .sum();
+        let mean = shifts / kept.len().max(1) as f64;
+        mean * mean
+    } else {
+        0.0
+    };
     let r = EdgeFit {
-        y_std: (r.y_std * r.y_std + tail).sqrt(),
+        y_std: (r.y_std * r.y_std + tail + turn).sqrt(),
         clutter_on_top,
         ..r
     };

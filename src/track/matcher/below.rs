@@ -75,18 +75,69 @@ pub(super) fn rows_read_below(e: f64, hw: f64) -> (i64, i64) {
 /// minmod slope below the edge misses where the flank turns within the
 /// slope rows. A flat dome side stays within the noise.
 pub(super) fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
+    let grey = |j: i64| turned(img, c, step, j);
+    turn_back(img, &grey, e, hw, step).is_some_and(|(rise, ..)| rise > TURN_SHARE * step.abs())
+}
+
+/// How far the dome side under an edge at row `e` (turned profile `v`:
+/// the dome side low, [`turned`]) turns back towards the background within
+/// the rows [`turns_back`] reads (means of neighbouring rows), the row
+/// where it starts to (the highlight's peak), and the level it turns back
+/// to: `None` where no row is read or the step is 0.
+fn turn_back(
+    img: &Gray,
+    v: &dyn Fn(i64) -> f64,
+    e: f64,
+    hw: f64,
+    step: f64,
+) -> Option<(f64, f64, f64)> {
     let (j0, j1) = rows_read_below(e, hw);
     let j1 = j1.min(img.height as i64 - 2);
     if j0 >= j1 || step == 0.0 {
-        return false;
+        return None;
     }
-    let v = |j: i64| 0.5 * (turned(img, c, step, j) + turned(img, c, step, j + 1));
-    let mut low = f64::INFINITY;
-    let mut rise = 0.0f64;
+    let pair = |j: i64| 0.5 * (v(j) + v(j + 1));
+    let (mut low, mut low_at) = (f64::INFINITY, j0);
+    let (mut rise, mut peak, mut back) = (0.0f64, j0 as f64, pair(j0));
     for j in j0..j1 {
-        let x = v(j);
-        low = low.min(x);
-        rise = rise.max(x - low);
+        let x = pair(j);
+        if x < low {
+            (low, low_at) = (x, j);
+        }
+        if x - low > rise {
+            (rise, peak, back) = (x - low, low_at as f64 + 0.5, x);
+        }
     }
-    rise > TURN_SHARE * step.abs()
+    Some((rise, peak, back))
+}
+
+/// The shift of a column's centroid that a dome side turning back under
+/// the edge can cause, px, an upper estimate from the centroid's
+/// definition ([`profile_edge`], in light): the dome side rises beyond its
+/// own level by the turn's rise (a share `r` of the step from the
+/// background, above the window, to the level it turns back to) up to the
+/// peak `p` px below the edge before it falls back; the centroid sums only
+/// the differences of the step's polarity, so that rise adds `r` of the
+/// step's weight at offsets from the edge to the peak, within the window's
+/// `hw + 1/2`: a lever arm of half of `min(p, hw + 1/2)`, and a shift of
+/// `r arm / (1 + r)` into the dome. A turn within the noise (under
+/// [`TURN_SHARE`] of the step in grey levels) counts as none.
+pub(super) fn turn_back_shift(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> f64 {
+    if !turns_back(img, c, e, hw, step) {
+        return 0.0;
+    }
+    let light = |j: i64| -step.signum() * img.light(c, j as usize);
+    let above = first_row_read_above(e, hw) + SLOPE_ROWS;
+    if above < 0 {
+        return 0.0;
+    }
+    let background = 0.5 * (light(above) + light(above + 1));
+    match turn_back(img, &light, e, hw, step) {
+        Some((rise, peak, back)) if background - back > 0.0 => {
+            let r = rise / (background - back);
+            let arm = 0.5 * (peak - e).clamp(0.0, hw + 0.5);
+            r * arm / (1.0 + r)
+        }
+        _ => 0.0,
+    }
 }
