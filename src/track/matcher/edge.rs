@@ -124,16 +124,25 @@ pub(super) fn profile_edge_with(
         // Smooth shading and background texture add a slope to the
         // differences on each side of the edge; their lever arm about the
         // centre would bias the centroid, so they are subtracted. Each slope
-        // is the minmod of two 3-row estimates, so that another edge nearby
-        // (the clamp fixture under a flat bubble) is not taken for a slope.
+        // is the minmod of two 3-row estimates and of the 2-row slope across
+        // the window's end, so that another edge nearby (the clamp fixture
+        // under a flat bubble) is not taken for a slope, nor the flank of a
+        // blurred line that ends where the window begins (a slope holds
+        // across the window's end; a line's flank does not).
         let half = SLOPE_ROWS / 2;
         let slope = |a: i64, b: i64, c: i64| {
             minmod((px(b) - px(a)) / half as f64, (px(c) - px(b)) / half as f64)
         };
         let (g_above, g_below) = if slopes {
             (
-                slope(lo - SLOPE_ROWS, lo - half, lo),
-                slope(hi + 1, hi + 1 + half, hi + 1 + SLOPE_ROWS),
+                minmod(
+                    slope(lo - SLOPE_ROWS, lo - half, lo),
+                    0.5 * (px(lo + 1) - px(lo - 1)),
+                ),
+                minmod(
+                    slope(hi + 1, hi + 1 + half, hi + 1 + SLOPE_ROWS),
+                    0.5 * (px(hi + 2) - px(hi)),
+                ),
             )
         } else {
             (0.0, 0.0)
