@@ -21,6 +21,9 @@ pub struct Columns<'a> {
     pub(super) emptiest: Option<&'a Gray>,
     /// This frame is the emptiest: see [`Extremes::is_emptiest`].
     pub(super) is_emptiest: bool,
+    /// Per column, whether its edge was found on a static line
+    /// ([`static_line_on_edge`]) and left out.
+    pub(super) on_line: Vec<bool>,
 }
 
 impl<'a> Columns<'a> {
@@ -34,6 +37,7 @@ impl<'a> Columns<'a> {
             fullest: None,
             emptiest: None,
             is_emptiest: false,
+            on_line: vec![false; img.width],
         }
     }
 
@@ -116,8 +120,10 @@ impl<'a> Columns<'a> {
         }
         let r = column_edge(self.img, c, start, self.hw)
             .filter(|&(e, step)| {
-                self.emptiest
-                    .is_none_or(|f| !static_line_on_edge(self.img, f, c, e, self.hw, step))
+                self.on_line[c] = self
+                    .emptiest
+                    .is_some_and(|f| static_line_on_edge(self.img, f, c, e, self.hw, step));
+                !self.on_line[c]
             })
             .and_then(|(e, step)| self.without_clutter(c, e, step))
             .filter(|&(e, step)| {
