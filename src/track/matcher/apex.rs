@@ -217,7 +217,7 @@ pub(super) fn edge_fit_core(
     // Where the dome side turns back under the edge, the centroids' shift
     // that its rise can cause, averaged over the columns kept
     // ([`turn_back_shift`]).
-    let turn = if test.is_some() && !strong.is_empty() {
+    let turn = if !strong.is_empty() {
         let shifts: f64 = strong
             .iter()
             .filter(|l| kept.iter().any(|k| k.0 == l.0))
