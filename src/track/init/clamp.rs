@@ -285,19 +285,16 @@ pub(super) fn find_clamp(
     // the clamp ring's centre's).
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
-            let ellipse = |a_f: f64| {
-                let used: Vec<&(f64, f64, f64)> =
-                    pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
-                let x: Vec<Vec<f64>> = used
-                    .iter()
-                    .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
-                    .collect();
-                let y: Vec<f64> = used.iter().map(|p| p.1).collect();
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))
-            };
-            let fit = ellipse(a_f)?;
-            half_below = ends_below(fit.0.0.0[0]).or(half);
-            let (((coef, cov, res), keep), slope) = fit;
+            let used: Vec<&(f64, f64, f64)> =
+                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+            let x: Vec<Vec<f64>> = used
+                .iter()
+                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
+                .collect();
+            let y: Vec<f64> = used.iter().map(|p| p.1).collect();
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            half_below = ends_below(coef[0]).or(half);
             check_inliers(&keep, ambiguous)?;
             let infl = lag1_inflation(&res);
             let est = |i: usize| Estimate {
@@ -312,19 +309,16 @@ pub(super) fn find_clamp(
                     "the camera is raised (elevation given) but the clamp's ends are not in the picture, so its ellipse's centre cannot be placed".into(),
                 ));
             };
-            let ellipse = |a_f: f64| {
-                let used: Vec<&(f64, f64, f64)> =
-                    pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
-                let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
-                let y: Vec<f64> = used
-                    .iter()
-                    .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
-                    .collect();
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))
-            };
-            let fit = ellipse(a_f)?;
-            half_below = ends_below(fit.0.0.0[0]).or(half);
-            let (((coef, cov, res), keep), slope) = fit;
+            let used: Vec<&(f64, f64, f64)> =
+                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+            let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
+            let y: Vec<f64> = used
+                .iter()
+                .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
+                .collect();
+            let (((coef, cov, res), keep), slope) =
+                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+            half_below = ends_below(coef[0]).or(half);
             check_inliers(&keep, ambiguous)?;
             let row = Estimate {
                 value: coef[0],
