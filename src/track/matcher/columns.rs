@@ -118,13 +118,15 @@ impl<'a> Columns<'a> {
         {
             return Some((e, step));
         }
-        let r = column_edge(self.img, c, start, self.hw)
-            .filter(|&(e, step)| {
-                self.on_line[c] = self
-                    .emptiest
-                    .is_some_and(|f| static_line_on_edge(self.img, f, c, e, self.hw, step));
-                !self.on_line[c]
-            })
+        let found = column_edge(self.img, c, start, self.hw);
+        // Whether this start's edge lies on a static line (not an earlier
+        // start's).
+        self.on_line[c] = found.is_some_and(|(e, step)| {
+            self.emptiest
+                .is_some_and(|f| static_line_on_edge(self.img, f, c, e, self.hw, step))
+        });
+        let r = found
+            .filter(|_| !self.on_line[c])
             .and_then(|(e, step)| self.without_clutter(c, e, step))
             .filter(|&(e, step)| {
                 self.fullest
