@@ -66,6 +66,7 @@ mod clamp;
 pub mod command;
 mod file;
 mod frames;
+mod meridian;
 mod ring;
 mod scale;
 
@@ -562,11 +563,33 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         focal_px.map(|f| distance_of(f, mpp, elevation_deg, clamp.row.value))
     });
     // The opening's half-width from the sides, less the bias of their
-    // orthographic extrapolation seen through the pinhole ([`ring::opening_bias_px`]).
-    let unbiased = |o: &scale::Opening, d: f64, e: f64, mpp: f64, row: f64| {
-        let p = ring::camera(d, e, row, mpp, x0, principal_row);
-        let bias = ring::opening_bias_px(&p, radius_m, mpp, o, row, e.max(0.0).sin(), a0);
-        o.a.value - bias.unwrap_or(0.0)
+    // extrapolation measured on the neo-Hookean dome as high as the last
+    // photo's, through the camera ([`meridian::unbiased`]; through a
+    // pinhole the bias changes by 0.3 px for 0.02 a of height at 0.25 m
+    // and 5 degrees, so the height is the pinhole's).
+    let e_of = |e: Option<Estimate>| e.map_or(0.0, |e| e.value.to_radians());
+    let top = apexes_px.last().map_or(f64::NAN, |p| p[1]);
+    let unbiased = |o: &scale::Opening, d: Option<f64>, e: f64, mpp: f64, row: f64| {
+        let p = d.map(|d| ring::camera(d, e, row, mpp, x0, principal_row));
+        let h_over_a = match &p {
+            Some(p) => p
+                .membrane_height(top, 0.0, radius_m)
+                .map_or(f64::NAN, |h| h.0 / radius_m),
+            None => (row - top) / e.cos() / a0,
+        };
+        let domes = meridian::Meridian::domes(h_over_a);
+        let view = p
+            .as_ref()
+            .map_or(meridian::View::Orthographic, meridian::View::Pinhole);
+        let sin_e = e.max(0.0).sin();
+        let at = meridian::Reading {
+            radius_m,
+            mpp,
+            c: row,
+            sin_e,
+            a0,
+        };
+        meridian::unbiased(o, domes.as_ref(), view, &at)
     };
     if let Some(mut d) = camera_distance_m {
         let mut mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
@@ -609,7 +632,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 in_photo.row.value =
                     super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
                 let o = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin())?;
-                let a = unbiased(&o, d, e, mpp, clamp.row.value);
+                let a = unbiased(&o, Some(d), e, mpp, clamp.row.value).value;
                 // in the undistorted image, as the scale at the end of step 4
                 let a = super::lens::undistort_opening(
                     given.lens.as_ref(),
@@ -643,12 +666,17 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             in_photo.row.value =
                 super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
             let o = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
-            let (mut a, sides) = (o.a, o.sides.clone());
+            let e = e_of(elevation_deg);
+            let a = unbiased(
+                &o,
+                camera_distance_m,
+                e,
+                radius_m / o.a.value,
+                clamp.row.value,
+            );
+            let sides = o.sides;
             let mpp = match camera_distance_m {
                 Some(d) => {
-                    let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
-                    let start = radius_m / a.value;
-                    a.value = unbiased(&o, d, e, start, clamp.row.value);
                     ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row)
                 }
                 None => radius_m / a.value,
@@ -666,24 +694,10 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     };
 
     // The axis: the mean midpoint of the sides where they were located.
-    let axis_x_px = if side_points_px.len() >= 10 {
-        let m: Vec<f64> = side_points_px
-            .chunks(2)
-            .map(|p| 0.5 * (p[0][0] + p[1][0]))
-            .collect();
-        let n = m.len() as f64;
-        let mean = m.iter().sum::<f64>() / n;
-        let var = m.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-        Estimate {
-            value: mean,
-            std: (var / n).sqrt(),
-        }
-    } else {
-        Estimate {
-            value: x0,
-            std: x0_std,
-        }
-    };
+    let axis_x_px = scale::axis_from_sides(&side_points_px).unwrap_or(Estimate {
+        value: x0,
+        std: x0_std,
+    });
 
     // Step 5: template and region.
     let a_px = radius_px.map_or(radius_m / metres_per_pixel.value, |a| a.value);

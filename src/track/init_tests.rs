@@ -289,7 +289,7 @@ fn a_rolled_camera_is_measured_or_refused_by_name() {
 /// the file init wrote within 0.3 %. (An orthographic reading of the same
 /// photos has the scale 0.35 % small at 0.45 m and the row 3-9 px off; the
 /// opening's sides extrapolated to the plane without the pinhole's bias,
-/// `ring::opening_bias_px`, had it +0.31 % at 0.45 m and 5 degrees.)
+/// `meridian::unbiased`, had it +0.31 % at 0.45 m and 5 degrees.)
 #[test]
 fn init_sets_up_a_pinhole_camera_at_a_given_distance() {
     // The 5-degree cases at 1024x768: at 800x600 the random framing of

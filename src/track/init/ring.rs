@@ -13,7 +13,6 @@
 //! its tangent points ([`Pinhole::opening_scale_factor`]).
 
 use super::*;
-use crate::numerics::roots::{brent_min, brent_zero};
 use crate::track::persp::Pinhole;
 use crate::track::synth::pinhole::circle_rows;
 
@@ -164,91 +163,6 @@ pub(super) fn fit_ring(
 pub(super) fn distance_from_focal(f_px: f64, e: f64, v0: f64, mpp: f64, principal_row: f64) -> f64 {
     let theta = e + ((principal_row - v0) / f_px).atan();
     f_px * mpp / (theta.cos() + e.tan() * theta.sin())
-}
-
-/// The bias, px, of the opening's half-width found from the sides
-/// ([`super::scale::opening_from_sides`], whose extrapolation to the plane
-/// takes the camera as orthographic at one elevation) against the image of
-/// the opening's tangent points seen through the pinhole `p`: the sides of
-/// the meridian that the fit describes (`rho^2 = a^2 + beta z + gamma z^2`,
-/// `a` the opening's `radius_m`, `beta = B s`, `gamma = C` from the fitted
-/// `W^2 = A + B u + C u^2` at the scale `s`), drawn through the pinhole at
-/// the same rows (`c` the clamp row) and fitted the same way. From a raised
-/// pinhole each latitude is seen from its own elevation, `atan((H - z) /
-/// D)`, lower the higher it lies, while the orthographic extrapolation takes
-/// the ring's elevation for all: uncorrected, the opening comes out
-/// `0.03 e / D` % narrow (e in degrees, D in m).
-pub(super) fn opening_bias_px(
-    p: &Pinhole,
-    radius_m: f64,
-    mpp: f64,
-    opening: &super::scale::Opening,
-    c: f64,
-    sin_e: f64,
-    a0: f64,
-) -> Option<f64> {
-    let [_, b, gamma] = opening.coef;
-    let beta = b * mpp;
-    let rho = |z: f64| {
-        let v = radius_m * radius_m + beta * z + gamma * z * z;
-        (v > 0.0).then(|| v.sqrt())
-    };
-    let u_top = opening.us.iter().copied().fold(0.0, f64::max);
-    let z_max = 2.0 * (u_top + 10.0) * mpp;
-    let pts: Vec<(f64, f64)> = opening
-        .us
-        .iter()
-        .filter_map(|&u| outline_half_width(p, &rho, z_max, c - u).map(|w| (u, w)))
-        .collect();
-    if pts.len() < 5 {
-        return None;
-    }
-    let fit = super::scale::opening_from_sides(&pts, sin_e, a0).ok()?;
-    Some(fit.a - p.opening_half_width_px(radius_m))
-}
-
-/// The half-width, px from the principal point's column, at image row `v`
-/// of the outline of the surface of revolution whose latitude at height
-/// `z` (`0..z_max`, m) has the radius `rho(z)`, seen through `p`: the
-/// widest of the latitudes' images at that row. `None` when no latitude
-/// reaches the row.
-fn outline_half_width(
-    p: &Pinhole,
-    rho: &impl Fn(f64) -> Option<f64>,
-    z_max: f64,
-    v: f64,
-) -> Option<f64> {
-    use std::f64::consts::PI;
-    let x0 = p.principal_px[0];
-    // The column where the latitude at `z` crosses row `v` on the right:
-    // its image's row runs monotonically from the nearest point (psi = 0)
-    // to the farthest (psi = pi), the plane through the camera and the
-    // axis being a plane of symmetry.
-    let at = |z: f64| -> Option<f64> {
-        let r = rho(z)?;
-        let pt = |psi: f64| p.project([r * psi.sin(), -r * psi.cos(), z]);
-        let (f0, f1) = (pt(0.0)[1] - v, pt(PI)[1] - v);
-        if f0 * f1 > 0.0 {
-            return None;
-        }
-        let row = |psi: f64| Ok::<f64, ()>(pt(psi)[1] - v);
-        let psi = brent_zero(row, 0.0, f0, PI, f1, 1e-13, 1e-9, 200).ok()?.x;
-        Some(pt(psi)[0] - x0)
-    };
-    let n = 200;
-    let z_of = |i: usize| z_max * i as f64 / n as f64;
-    let (i, w_grid) = (0..=n)
-        .filter_map(|i| at(z_of(i)).map(|w| (i, w)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    // The widest latitude within the grid's bracket (the width is smooth
-    // and single-peaked there; a latitude that misses the row counts as
-    // narrowest).
-    let narrowness = |z: f64| Ok::<f64, ()>(at(z).map_or(f64::MAX, |w| -w));
-    let (lo, hi) = (z_of(i.saturating_sub(1)), z_of((i + 1).min(n)));
-    let z = brent_min(narrowness, lo, hi, 1e-12, 1e-12 * z_max, 200)
-        .ok()?
-        .x;
-    Some(at(z).unwrap_or(w_grid).max(w_grid))
 }
 
 /// The scale at the ring's centre, m per px, from the opening's half-width

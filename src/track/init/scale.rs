@@ -3,10 +3,6 @@
 
 use super::*;
 
-/// The relative standard deviation of the opening's width from the
-/// meridian's shape near the rim (see [`find_radius`]).
-const MODEL_REL: f64 = 8e-4;
-
 /// Step 4: the silhouette's half-width at the clamp plane, px, with the
 /// points located on its sides.
 /// The silhouette's half-width at the clamp plane found by [`find_radius`].
@@ -43,12 +39,16 @@ pub(super) fn find_radius(
         + 3.0;
     let u0 = 6.0f64.max(0.03 * a0).max(above_face);
     let k = 14.0f64.max(0.15 * a0);
-    let mut rows: Vec<(f64, [f64; 2])> = Vec::new();
+    // Each side is located with the edge window of half-width 3 px, and
+    // again with 2 and 5 px: the edge models that all fit, whose spread in
+    // the opening is stated (below).
+    const WINDOWS: [f64; 3] = [3.0, 2.0, 5.0];
+    let mut rows: Vec<(f64, [[f64; 3]; 2])> = Vec::new();
     let r_top = (c - u0 - k).ceil() as i64;
     let r_bot = (c - u0).floor() as i64;
     for r in r_top.max(1)..=r_bot.min(h - 2) {
         let p = |x: i64| last.at(x.clamp(0, w - 1) as usize, r as usize);
-        let mut xs = [f64::NAN; 2];
+        let mut xs = [[f64::NAN; 3]; 2];
         for (i, side) in [-1.0f64, 1.0].into_iter().enumerate() {
             let a = x0 + side * 0.5 * a0;
             let b = x0 + side * (1.1 * a0 + 4.0);
@@ -57,23 +57,28 @@ pub(super) fn find_radius(
             if hi <= lo + 2 {
                 continue;
             }
-            if let Some((j, _)) = strongest_step(&p, lo, hi)
-                && let Some((e, _)) = profile_edge(p, w, j as f64 + 0.5, 3.0)
-            {
-                xs[i] = e;
+            if let Some((j, _)) = strongest_step(&p, lo, hi) {
+                for (x, hw) in xs[i].iter_mut().zip(WINDOWS) {
+                    *x = profile_edge(p, w, j as f64 + 0.5, hw).map_or(f64::NAN, |e| e.0);
+                }
             }
         }
-        if xs.iter().all(|v| v.is_finite()) {
+        if xs.iter().all(|v| v[0].is_finite()) {
             rows.push((c - r as f64, xs));
         }
     }
-    let mut pts = Vec::new();
+    let half_widths = |m: usize| -> Vec<(f64, f64)> {
+        rows.iter()
+            .map(|(u, xs)| (*u, 0.5 * (xs[1][m] - xs[0][m])))
+            .filter(|p| p.1.is_finite())
+            .collect()
+    };
+    let pts = half_widths(0);
     let mut sides = Vec::new();
     for (u, xs) in &rows {
-        pts.push((*u, 0.5 * (xs[1] - xs[0])));
         let r = c - u;
-        sides.push([xs[0], r]);
-        sides.push([xs[1], r]);
+        sides.push([xs[0][0], r]);
+        sides.push([xs[1][0], r]);
     }
     if pts.len() < 5 {
         return Err(TrackError::NotFound {
@@ -93,18 +98,40 @@ pub(super) fn find_radius(
     let [_, big_b, big_c] = fit.coef;
     let f = 1.0 + sin_e * sin_e * big_c;
     let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
-    // The meridian departs from the conic over the fitted rows: on exact
-    // neo-Hookean meridians (apex 0.26-0.53 a, rows from 0.03 a or 0.08 a
-    // up, 0.15 a tall) the conic met the rim 0.01-0.07 % wide.
-    let var_model = (MODEL_REL * a).powi(2);
+    // The edge models' spread: the largest change of the opening between
+    // the windows (on 5 level framings at 1 m, 0.01-0.16 px, where the
+    // opening was 0.005-0.16 px off).
+    let var_edge = (1..WINDOWS.len())
+        .filter_map(|m| opening_from_sides(&half_widths(m), sin_e, a0).ok())
+        .map(|f| (f.a - a).powi(2))
+        .fold(0.0, f64::max);
+    // The meridian departs from the conic over the fitted rows: that bias
+    // and its deviation are the caller's ([`super::meridian::unbiased`]).
     Ok(Opening {
         a: Estimate {
             value: a,
-            std: (fit.var + var_row + var_model).sqrt(),
+            std: (fit.var + var_row + var_edge).sqrt(),
         },
         sides,
         us: pts.iter().map(|p| p.0).collect(),
         coef: fit.coef,
+    })
+}
+
+/// The axis's column: the mean midpoint of the sides located in the same
+/// rows (`[left, right]` pairs), with its standard error; `None` from
+/// fewer than 5 rows.
+pub(super) fn axis_from_sides(sides: &[[f64; 2]]) -> Option<Estimate> {
+    if sides.len() < 10 {
+        return None;
+    }
+    let m: Vec<f64> = sides.chunks(2).map(|p| 0.5 * (p[0][0] + p[1][0])).collect();
+    let n = m.len() as f64;
+    let mean = m.iter().sum::<f64>() / n;
+    let var = m.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    Some(Estimate {
+        value: mean,
+        std: (var / n).sqrt(),
     })
 }
 
