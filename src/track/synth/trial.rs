@@ -2,7 +2,8 @@
 //! photos written, the set-up found from them alone, the heights tracked
 //! with the experiment file it wrote, and every figure against the truth.
 //! The tests and `cargo run --release --features harness --example
-//! init_accuracy` share it; built only for them (the `harness` feature).
+//! init_accuracy` (and `--example camera_grid`) share it; built only for
+//! them (the `harness` feature).
 
 use std::path::Path;
 
@@ -26,6 +27,15 @@ pub struct InitTrial {
     pub elevation_deg: f64,
     /// The largest relative height error over the photos tracked.
     pub heights: f64,
+    /// RMS error of the apex row over the photos tracked, px.
+    pub apex_rms_px: f64,
+    /// RMS of (height error / `height_std_m`): against the frame's own
+    /// deviation.
+    pub rms_z: f64,
+    /// RMS of (height error / all the stated terms): `height_std_m`, the
+    /// height times the scale's relative deviation and the clamp row's
+    /// deviation times the scale, in quadrature.
+    pub rms_z_all: f64,
     /// Photos tracked, of those written.
     pub tracked: [usize; 2],
 }
@@ -79,21 +89,32 @@ pub fn init_and_track(
     // `track` decodes on rayon's pool itself: never call it from inside it.
     let setup = setup_from_experiment(&e).with_context(at)?;
     let t = track(&setup, &opts, &|| {}).with_context(with_file)?;
-    let mut heights = 0.0f64;
+    let mpp = &found.metres_per_pixel;
+    let (scale_rel, row_m) = (mpp.std / mpp.value, found.clamp_row_px.std * mpp.value);
+    let (mut heights, mut apex2, mut z2, mut z2_all) = (0.0f64, 0.0, 0.0, 0.0);
     for r in &t.rows {
         let tr = w
             .truth
             .iter()
             .find(|x| x.file == r.file)
             .ok_or_else(|| anyhow::anyhow!("seed {seed}: no truth for {}", r.file))?;
-        heights = heights.max((r.height_m / tr.height_m - 1.0).abs());
+        let err = r.height_m - tr.height_m;
+        heights = heights.max((err / tr.height_m).abs());
+        apex2 += (r.apex_y_px - tr.apex_y_px).powi(2);
+        z2 += (err / r.height_std_m).powi(2);
+        let all = r.height_std_m.hypot(r.height_m * scale_rel).hypot(row_m);
+        z2_all += (err / all).powi(2);
     }
+    let n = t.rows.len().max(1) as f64;
     Ok(InitTrial {
         scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
         clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
+        apex_rms_px: (apex2 / n).sqrt(),
+        rms_z: (z2 / n).sqrt(),
+        rms_z_all: (z2_all / n).sqrt(),
         tracked: [t.rows.len(), w.truth.len()],
     })
 }
