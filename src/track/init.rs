@@ -254,6 +254,11 @@ struct Clamp {
     half_width_px: Option<f64>,
     /// The same from the ends read below the ellipse's centre row.
     half_width_below_px: Option<f64>,
+    /// The curvature of a top edge that bends but whose ends are out of
+    /// the picture (`row = row_top + bend x^2`, rows per px^2), found with
+    /// the camera's distance known: `row` is then the far side's top, and
+    /// the pinhole places the ring's ellipse ([`ring::place_ring`]).
+    bend: Option<f64>,
     points: Vec<[f64; 2]>,
 }
 
@@ -494,14 +499,18 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     };
     mean.v[band_rows.start * w..band_rows.end * w].copy_from_slice(&clamp_rows);
     let y_low = bottom as f64;
-    let given_sin = given.elevation_deg.map(|e| e.to_radians().sin());
+    let hint = clamp::Hint {
+        sin_e: given.elevation_deg.map(|e| e.to_radians().sin()),
+        distance_known: given.camera_distance_m.is_some()
+            || (given.lens.is_some() && given.distance_from_focal),
+    };
     let clamp = find_clamp(
         &mean,
         x0,
         a0,
         [y_low, base],
         sw.noise,
-        given_sin,
+        hint,
         given.lens.as_ref(),
     )?;
     let roll_deg = Estimate {
@@ -518,7 +527,10 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
         });
     }
-    if clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1) {
+    // (a far side placed through the pinhole is checked by its fit)
+    if clamp.bend.is_none()
+        && clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1)
+    {
         return Err(TrackError::NotFound {
             what: "the clamp plane".into(),
             detail: format!(
@@ -606,26 +618,13 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                     keys: "[camera] distance_m",
                 });
             }
-            let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);
-            if let (Some(e), Some(a_f)) = (raised, clamp.half_width_below_px) {
-                let start = [clamp.row.value, e.value.to_radians(), a_f * mpp];
-                let r = ring::fit_ring(&clamp.points, x0, d, mpp, principal_row, start, Some(a_f))
-                    // the ring's outer edge lies outside the opening
-                    .filter(|r| r.outer_radius_m > radius_m)
-                    .ok_or_else(|| TrackError::NotFound {
-                        what: "the clamp ring's ellipse".into(),
-                        detail: format!(
-                            "its far side ({} columns) does not fit a circle wider than the opening seen from {d} m",
-                            clamp.points.len()
-                        ),
-                        keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
-                    })?;
-                clamp.row = r.row;
-                elevation_deg = Some(Estimate {
-                    value: r.elevation_rad.value.to_degrees(),
-                    std: r.elevation_rad.std.to_degrees(),
-                });
-            }
+            let at = ring::View {
+                d,
+                mpp,
+                x0,
+                principal_row,
+            };
+            ring::place_ring(&mut clamp, &mut elevation_deg, &at, radius_m)?;
             if given.metres_per_pixel.is_none() {
                 let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
                 let mut in_photo = clamp.clone();

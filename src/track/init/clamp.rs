@@ -63,15 +63,27 @@ pub(super) fn robust_lstsq(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<(
     fit.map(|f| (f, keep))
 }
 
+/// What step 3 is told: the elevation's sine when given, and whether the
+/// camera's distance is known (given, or to be found from a calibrated
+/// lens), so that a pinhole can place a ring whose ends are out of the
+/// picture.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Hint {
+    pub(super) sin_e: Option<f64>,
+    pub(super) distance_known: bool,
+}
+
 pub(super) fn find_clamp(
     img: &Plane,
     x0: f64,
     a0: f64,
     [y_low, base]: [f64; 2],
     noise: f64,
-    given_sin_e: Option<f64>,
+    hint: Hint,
     lens: Option<&super::super::lens::Lens>,
 ) -> Result<Clamp, TrackError> {
+    let given_sin_e = hint.sin_e;
+    let mut bent = None;
     let (w, h) = (img.w as i64, img.h as i64);
     let lo_row = ((y_low - 0.3 * a0 - 4.0).floor() as i64).max(8);
     let hi_row = ((base.max(y_low) + 0.1 * a0 + 4.0).ceil() as i64).min(h - 12);
@@ -331,13 +343,23 @@ pub(super) fn find_clamp(
             // curvature that would betray a raised camera.
             let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0, p.0]).collect();
             let y: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            let (((coef, cov, _), keep), _) =
+            let (((coef, cov, res), keep), bent_slope) =
                 with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
             check_inliers(&keep, ambiguous)?;
             let dmax = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
             let bend = coef[1] * dmax * dmax;
             let bend_std = cov[1][1].sqrt() * dmax * dmax;
-            if given_sin_e.is_none() && bend.abs() > 1.0 && bend.abs() > 4.0 * bend_std {
+            let bends = given_sin_e.is_none() && bend.abs() > 1.0 && bend.abs() > 4.0 * bend_std;
+            if bends && hint.distance_known && coef[1] > 0.0 {
+                // the far side of an ellipse seen from above, to be placed
+                // through the pinhole: its top row the start
+                bent = Some(coef[1]);
+                let top = Estimate {
+                    value: coef[0],
+                    std: cov[0][0].sqrt() * lag1_inflation(&res),
+                };
+                (top, None, bent_slope)
+            } else if bends {
                 return Err(TrackError::NotFound {
                     what: "the camera's elevation".into(),
                     detail: format!(
@@ -345,21 +367,22 @@ pub(super) fn find_clamp(
                     ),
                     keys: "elevation_deg and clamp_row_px (the row of the clamp ring's centre)",
                 });
+            } else {
+                let (kept_x, kept_y): (Vec<Vec<f64>>, Vec<f64>) = x
+                    .iter()
+                    .zip(&y)
+                    .zip(&keep)
+                    .filter(|(_, k)| **k)
+                    .map(|((r, v), _)| (vec![r[0], r[2]], *v))
+                    .unzip();
+                let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
+                    .ok_or_else(|| not_found("too few columns".into()))?;
+                let row = Estimate {
+                    value: c[0],
+                    std: ccov[0][0].sqrt() * lag1_inflation(&cres),
+                };
+                (row, None, slope)
             }
-            let (kept_x, kept_y): (Vec<Vec<f64>>, Vec<f64>) = x
-                .iter()
-                .zip(&y)
-                .zip(&keep)
-                .filter(|(_, k)| **k)
-                .map(|((r, v), _)| (vec![r[0], r[2]], *v))
-                .unzip();
-            let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
-                .ok_or_else(|| not_found("too few columns".into()))?;
-            let row = Estimate {
-                value: c[0],
-                std: ccov[0][0].sqrt() * lag1_inflation(&cres),
-            };
-            (row, None, slope)
         }
     };
     Ok(Clamp {
@@ -368,6 +391,7 @@ pub(super) fn find_clamp(
         slope,
         half_width_px: half,
         half_width_below_px: half_below,
+        bend: bent,
         points: pts.iter().map(|p| [x0 + p.0, p.1]).collect(),
     })
 }

@@ -153,6 +153,73 @@ pub(super) fn fit_ring(
     })
 }
 
+/// The camera of one round of the pinhole set-up: `d` m from the axis,
+/// the scale `mpp` at the ring's centre, the axis's column `x0` and the
+/// principal point's row.
+pub(super) struct View {
+    pub(super) d: f64,
+    pub(super) mpp: f64,
+    pub(super) x0: f64,
+    pub(super) principal_row: f64,
+}
+
+/// Places the clamp ring's ellipse through the pinhole `at`: the ring
+/// centre's row and the elevation from its far side ([`fit_ring`]). With
+/// the ring's ends in the picture (a raised camera's elevation found from
+/// them), its outer radius is the one of those ends. With the ends out of
+/// the picture (`clamp.bend`), the outer radius is fitted too, from the
+/// far side's shape, starting from the ellipse seen orthographically: its
+/// top `v_top` and curvature `k` (`row = v_top + k x^2`) give, for an
+/// outer radius `A` (started at 1.25 times the opening's), `sin e = 2 k A`
+/// and the centre `v_top + A sin e`. Nothing to place on a level camera.
+pub(super) fn place_ring(
+    clamp: &mut Clamp,
+    elevation_deg: &mut Option<Estimate>,
+    at: &View,
+    radius_m: f64,
+) -> Result<(), TrackError> {
+    let raised = elevation_deg.filter(|e| e.std > 0.0 && e.value > 2.0 * e.std);
+    let (start, ends) = match (raised, clamp.half_width_below_px, clamp.bend) {
+        (Some(e), Some(a_f), _) => {
+            let start = [clamp.row.value, e.value.to_radians(), a_f * at.mpp];
+            (start, Some(a_f))
+        }
+        // placed in an earlier round: from there
+        (_, None, Some(_)) if elevation_deg.is_some() && clamp.half_width_px.is_some() => {
+            let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
+            let a_f = clamp.half_width_px.unwrap_or(0.0);
+            ([clamp.row.value, e, a_f * at.mpp], None)
+        }
+        (_, None, Some(k)) => {
+            let a_f = 1.25 * radius_m / at.mpp;
+            let s = (2.0 * k * a_f).min(0.5);
+            ([clamp.row.value + a_f * s, s.asin(), a_f * at.mpp], None)
+        }
+        _ => return Ok(()),
+    };
+    let d = at.d;
+    let r = fit_ring(&clamp.points, at.x0, d, at.mpp, at.principal_row, start, ends)
+        // the ring's outer edge lies outside the opening
+        .filter(|r| r.outer_radius_m > radius_m)
+        .ok_or_else(|| TrackError::NotFound {
+            what: "the clamp ring's ellipse".into(),
+            detail: format!(
+                "its far side ({} columns) does not fit a circle wider than the opening seen from {d} m",
+                clamp.points.len()
+            ),
+            keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
+        })?;
+    clamp.row = r.row;
+    if ends.is_none() {
+        clamp.half_width_px = Some(r.outer_radius_m / at.mpp);
+    }
+    *elevation_deg = Some(Estimate {
+        value: r.elevation_rad.value.to_degrees(),
+        std: r.elevation_rad.std.to_degrees(),
+    });
+    Ok(())
+}
+
 /// The camera's horizontal distance from the axis, m, for a lens of focal
 /// length `f_px` (px, from a calibration) that sees the ring's centre at
 /// row `v0` with the scale `mpp` there (m per px), looking down at it at
