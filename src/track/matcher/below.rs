@@ -120,12 +120,10 @@ fn turn_back(
 /// the differences of the step's polarity, so that rise adds `r` of the
 /// step's weight at offsets from the edge to the peak, within the window's
 /// `hw + 1/2`: a lever arm of half of `min(p, hw + 1/2)`, and a shift of
-/// `r arm / (1 + r)` into the dome. A turn within the noise (under
-/// [`TURN_SHARE`] of the step in grey levels) counts as none.
+/// `r arm / (1 + r)` into the dome. For a column that [`turns_back`]: a
+/// turn within the noise (under [`TURN_SHARE`] of the step in grey levels)
+/// counts as none, and the caller has tested it.
 pub(super) fn turn_back_shift(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> f64 {
-    if !turns_back(img, c, e, hw, step) {
-        return 0.0;
-    }
     let light = |j: i64| -step.signum() * img.light(c, j as usize);
     let above = first_row_read_above(e, hw) + SLOPE_ROWS;
     if above < 0 {
