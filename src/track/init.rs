@@ -71,7 +71,7 @@ mod ring;
 mod scale;
 
 use bubble::{follow_side, refine_axis, shrinking_check, swept};
-use clamp::{find_clamp, robust_lstsq};
+use clamp::{Clamp, find_clamp, robust_lstsq};
 pub use file::Sources;
 pub use frames::Frames;
 use scale::find_radius;
@@ -241,25 +241,6 @@ fn strongest_step(p: &dyn Fn(i64) -> f64, lo: i64, hi: i64) -> Option<(i64, f64)
     (lo..hi)
         .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-}
-
-/// The clamp's top edge beside the bubble (step 3).
-#[derive(Clone)]
-struct Clamp {
-    row: Estimate,
-    sin_e: Option<Estimate>,
-    /// The slope of the clamp's top edge, rows per column (a rolled
-    /// camera): the row at the axis is `row`.
-    slope: Estimate,
-    half_width_px: Option<f64>,
-    /// The same from the ends read below the ellipse's centre row.
-    half_width_below_px: Option<f64>,
-    /// The curvature of a top edge that bends but whose ends are out of
-    /// the picture (`row = row_top + bend x^2`, rows per px^2), found with
-    /// the camera's distance known: `row` is then the far side's top, and
-    /// the pinhole places the ring's ellipse ([`ring::place_ring`]).
-    bend: Option<f64>,
-    points: Vec<[f64; 2]>,
 }
 
 /// The largest roll of the camera about its view axis, degrees, that init

@@ -34,46 +34,64 @@ pub(super) fn camera(d_m: f64, e: f64, v0: f64, mpp: f64, x0: f64, principal_row
 }
 
 /// The far side's row of the outer circle of radius `outer_m` at image
-/// column `x` (`None` beyond the circle's ends).
-fn far_row(p: &Pinhole, outer_m: f64, x: f64) -> Option<f64> {
-    circle_rows(p, outer_m, 0.0, x).map(|r| r.0)
+/// column `x`, or its near side's when `near` (`None` beyond the circle's
+/// ends).
+fn side_row(p: &Pinhole, outer_m: f64, x: f64, near: bool) -> Option<f64> {
+    circle_rows(p, outer_m, 0.0, x).map(|r| if near { r.1 } else { r.0 })
 }
 
-/// Fits the ring's far side to `points` (image column, row) by
-/// Gauss-Newton from the start `(v0, e, A)`, the scale `mpp` at the
-/// centre held: the parameters with standard errors from the residuals
-/// (inflated for their correlation along the edge). Points beyond the
-/// circle's current ends and beyond 3.5 robust deviations are left out.
+/// What gives the circle's radius in [`fit_ring`].
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Radius {
+    /// The ring's ends, this many px from the axis: the radius whose
+    /// tangent points they are.
+    Ends(f64),
+    /// Fitted with the rest.
+    Fitted,
+    /// Known, m: the opening's, for the dome's base.
+    Known(f64),
+}
+
+/// Fits a circle in the clamp plane around the axis seen from `at`, its
+/// far side (its near side when `near`: the face's front, or the dome's
+/// base) to `points` (image column, row) by Gauss-Newton from the start
+/// `(v0, e, radius)`, the scale at the centre held: the parameters with
+/// standard errors from the residuals (inflated for their correlation
+/// along the edge). Points beyond the circle's current ends and beyond
+/// 3.5 robust deviations are left out.
 pub(super) fn fit_ring(
     points: &[[f64; 2]],
-    x0: f64,
-    d_m: f64,
-    mpp: f64,
-    principal_row: f64,
+    at: &View,
     start: [f64; 3],
-    ends_half_px: Option<f64>,
+    radius: Radius,
+    near: bool,
+    hold_e: bool,
 ) -> Option<Ring> {
+    let (x0, d_m, mpp, principal_row) = (at.x0, at.d, at.mpp, at.principal_row);
     let mut q = [start[0], start[1], start[2], 0.0];
     // With the ring's ends in the picture, its radius is the one whose
     // tangent points are `ends_half_px` apart from the axis:
     // `W = f A / (cos theta sqrt(D'^2 - A^2))` solved for `A`.
-    let outer = |p: &Pinhole, q: &[f64; 4]| match ends_half_px {
-        Some(w) => {
+    let outer = |p: &Pinhole, q: &[f64; 4]| match radius {
+        Radius::Ends(w) => {
             let k = w * p.pitch_rad.cos() / p.focal_px;
             let d = p.distance_m + p.height_m * p.pitch_rad.tan();
             k * d / (1.0 + k * k).sqrt()
         }
-        None => q[2],
+        Radius::Fitted => q[2],
+        Radius::Known(r) => r,
     };
     let predict = |q: &[f64; 4], x: f64| {
         let p = camera(d_m, q[1], q[0], mpp, x0, principal_row);
-        far_row(&p, outer(&p, q), x).map(|r| r + q[3] * (x - x0))
+        side_row(&p, outer(&p, q), x, near).map(|r| r + q[3] * (x - x0))
     };
-    let free: Vec<usize> = if ends_half_px.is_some() {
-        vec![0, 1, 3]
-    } else {
-        vec![0, 1, 2, 3]
-    };
+    let free: Vec<usize> = match radius {
+        Radius::Fitted => vec![0, 1, 2, 3],
+        _ => vec![0, 1, 3],
+    }
+    .into_iter()
+    .filter(|&j| !(hold_e && j == 1))
+    .collect();
     let mut keep = vec![true; points.len()];
     let mut last: Option<(Vec<Vec<f64>>, Vec<f64>)> = None;
     for round in 0..30 {
@@ -111,13 +129,16 @@ pub(super) fn fit_ring(
         for (i, &j) in free.iter().enumerate() {
             q[j] += dq[i];
         }
-        if ends_half_px.is_some() {
+        if !matches!(radius, Radius::Fitted) {
             q[2] = outer(&camera(d_m, q[1], q[0], mpp, x0, principal_row), &q);
         }
         if q[2] <= 0.0 || !q[1].is_finite() || q[1].abs() > 0.5 {
             return None;
         }
-        let small = dq[0].abs() < 1e-6 && dq[1].abs() < 1e-9 && dq[free.len() - 2].abs() < 1e-9;
+        let small = free
+            .iter()
+            .zip(&dq)
+            .all(|(&j, d)| j == 3 || d.abs() < if j == 0 { 1e-6 } else { 1e-9 });
         if small || round == 29 {
             // Outliers: beyond 3.5 robust deviations (at least 0.25 px).
             let all: Vec<Option<f64>> = points
@@ -147,7 +168,7 @@ pub(super) fn fit_ring(
         },
         elevation_rad: Estimate {
             value: q[1],
-            std: cov[1][1].sqrt() * infl,
+            std: if hold_e { 0.0 } else { cov[1][1].sqrt() * infl },
         },
         outer_radius_m: q[2],
     })
@@ -192,25 +213,72 @@ pub(super) fn place_ring(
         }
         (_, None, Some(k)) => {
             let a_f = 1.25 * radius_m / at.mpp;
-            let s = (2.0 * k * a_f).min(0.5);
-            ([clamp.row.value + a_f * s, s.asin(), a_f * at.mpp], None)
+            let s = (2.0 * k.abs() * a_f).min(0.5);
+            let centre = clamp.row.value + if clamp.near { -a_f * s } else { a_f * s };
+            ([centre, s.asin(), a_f * at.mpp], None)
         }
         _ => return Ok(()),
     };
     let d = at.d;
-    let r = fit_ring(&clamp.points, at.x0, d, at.mpp, at.principal_row, start, ends)
-        // the ring's outer edge lies outside the opening
-        .filter(|r| r.outer_radius_m > radius_m)
-        .ok_or_else(|| TrackError::NotFound {
-            what: "the clamp ring's ellipse".into(),
-            detail: format!(
-                "its far side ({} columns) does not fit a circle wider than the opening seen from {d} m",
+    let near = clamp.near;
+    // The face's front, or the dome's base (the opening's near half) at
+    // the front's elevation when the front lies a flange's height lower.
+    let mut on_base = clamp.on_base;
+    let front = match (on_base, ends) {
+        (true, None) => None,
+        _ => {
+            let radius = ends.map_or(Radius::Fitted, Radius::Ends);
+            fit_ring(&clamp.points, at, start, radius, near, false)
+                // the ring's outer edge lies outside the opening
+                .filter(|r| r.outer_radius_m > radius_m)
+        }
+    };
+    let base = (near && !clamp.base_points.is_empty())
+        .then(|| {
+            let e = front.map_or(start[1], |f| f.elevation_rad.value);
+            let start = [clamp.row.value, e, radius_m];
+            let (points, hold) = (&clamp.base_points, front.is_some());
+            fit_ring(points, at, start, Radius::Known(radius_m), true, hold)
+        })
+        .flatten()
+        .map(|mut r| {
+            if let Some(f) = front {
+                r.elevation_rad = f.elevation_rad;
+            }
+            r.row.std = r.row.std.hypot(clamp::BASE_SHADE_PX);
+            r
+        });
+    if let (Some(f), Some(b)) = (front, base) {
+        on_base |= clamp::flange(f.row.value - b.row.value, f.row.std.hypot(b.row.std));
+    }
+    clamp.on_base = on_base;
+    let r = if on_base { base } else { front };
+    let r = r.ok_or_else(|| TrackError::NotFound {
+        what: "the clamp ring's ellipse".into(),
+        detail: format!(
+            "its {} ({} columns) does not fit {} seen from {d} m",
+            if on_base {
+                "dome's base in front of the face"
+            } else if near {
+                "face's front"
+            } else {
+                "far side"
+            },
+            if on_base {
+                clamp.base_points.len()
+            } else {
                 clamp.points.len()
-            ),
-            keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
-        })?;
+            },
+            if on_base {
+                "the opening's circle"
+            } else {
+                "a circle wider than the opening"
+            }
+        ),
+        keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
+    })?;
     clamp.row = r.row;
-    if ends.is_none() {
+    if ends.is_none() && !on_base {
         clamp.half_width_px = Some(r.outer_radius_m / at.mpp);
     }
     *elevation_deg = Some(Estimate {
@@ -295,14 +363,21 @@ mod tests {
                     (p.project([a_outer * phi.sin(), a_outer * phi.cos(), 0.0])[0] - x0).abs()
                 })
                 .fold(0.0, f64::max);
-            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], Some(half)).unwrap();
+            let at = View {
+                d,
+                mpp,
+                x0,
+                principal_row: cv,
+            };
+            let start = [v0 - 5.0, 0.5 * e, 0.04];
+            let r = fit_ring(&pts, &at, start, Radius::Ends(half), false, false).unwrap();
             assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
             assert!(
                 (r.outer_radius_m - a_outer).abs() < 1e-5,
                 "{d} {e_deg}: {r:?}"
             );
             // and without
-            let r = fit_ring(&pts, x0, d, mpp, cv, [v0 - 5.0, 0.5 * e, 0.04], None).unwrap();
+            let r = fit_ring(&pts, &at, start, Radius::Fitted, false, false).unwrap();
             assert!((r.row.value - v0).abs() < 0.02, "{d} {e_deg}: {r:?}");
             assert!(
                 (r.elevation_rad.value - e).abs() < 2e-4,
