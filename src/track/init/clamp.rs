@@ -336,10 +336,15 @@ pub(super) fn find_clamp(
     // 0.12-0.23 px high (0.01-0.03 px read below). The orthographic
     // ellipse keeps the ends as first read: on orthographically drawn
     // photos at 5 degrees the ends read below moved its row 0.01-0.04 px
-    // low instead. `None` when they need no new reading or are not found
-    // there.
-    let ends_below = |v0: f64| {
-        let from = (v0 + 1.0).ceil() as i64;
+    // low instead. The rows start where the face's near half lies 6 px
+    // inside the ends, `s sqrt(12 a_f)` below the centre: just below it
+    // the near half still reaches the ends, and a face lit lighter than
+    // the wall weakens the side's step there (path-traced at 0.25 m and
+    // 5.4 degrees, a face of reflectance 0.8 on a wall of 0.55: the ends
+    // read from 3 rows below came out 0.7 px in, the centre's row 0.24 px
+    // high). `None` when they need no new reading or are not found there.
+    let ends_below = |v0: f64, s: f64, a_f: f64| {
+        let from = (v0 + 1.0 + s.abs() * (12.0 * a_f).sqrt()).ceil() as i64;
         (from > r0)
             .then(|| {
                 let ends = read_ends(from);
@@ -362,7 +367,7 @@ pub(super) fn find_clamp(
             let y: Vec<f64> = used.iter().map(|p| p.1).collect();
             let (((coef, cov, res), keep), slope) =
                 with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
-            half_below = ends_below(coef[0]).or(half);
+            half_below = ends_below(coef[0], coef[1], a_f).or(half);
             check_inliers(&keep, ambiguous)?;
             let infl = lag1_inflation(&res);
             let est = |i: usize| Estimate {
@@ -394,7 +399,7 @@ pub(super) fn find_clamp(
                 .collect();
             let (((coef, cov, res), keep), slope) =
                 with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
-            half_below = ends_below(coef[0]).or(half);
+            half_below = ends_below(coef[0], s, a_f).or(half);
             check_inliers(&keep, ambiguous)?;
             let row = Estimate {
                 value: coef[0],

@@ -129,11 +129,13 @@ impl<'a> Columns<'a> {
             .filter(|_| !self.on_line[c])
             .and_then(|(e, step)| self.without_clutter(c, e, step))
             .filter(|&(e, step)| {
-                self.fullest
+                let below = self
+                    .fullest
                     .is_none_or(|f| below_is_dome(self.img, f, c, e, step))
                     || self
                         .emptiest
-                        .is_some_and(|f| below_is_not_background(self.img, f, c, e, step))
+                        .is_some_and(|f| below_is_not_background(self.img, f, c, e, step));
+                below
                     && self
                         .emptiest
                         .is_none_or(|f| above_is_background(self.img, f, c, e, step))
