@@ -59,8 +59,9 @@ pub(super) fn flange(gap: f64, std: f64) -> bool {
 /// [`BASE_GAP_PX`], the plane 0.16 px low with the front's elevation held.
 pub(super) const BASE_SHADE_PX: f64 = 0.2;
 
-/// An edge's row and step, located in a column.
-type Located = (f64, f64);
+/// One column's clamp edge: its row and step, whether a second step almost
+/// as strong lies above it, and that step's row and step when located.
+type ColumnEdge = (f64, f64, bool, Option<(f64, f64)>);
 
 /// A linear least-squares fit: coefficients, covariance, residuals.
 pub(super) type Fit = (Vec<f64>, Vec<Vec<f64>>, Vec<f64>);
@@ -166,7 +167,7 @@ pub(super) fn find_clamp(
     // different beyond a thin line's height), not a shelf edge or a cable;
     // and whether a second step almost as strong lies above it.
     let reach = (0.04 * a0).max(8.0) as i64;
-    let column = |x: i64, sign: Option<f64>| -> Option<(f64, f64, Option<Located>)> {
+    let column = |x: i64, sign: Option<f64>| -> Option<ColumnEdge> {
         let xs = [x - 1, x, x + 1].map(|c| c as usize);
         let p = |j: i64| {
             let j = j.clamp(0, h - 1) as usize;
@@ -203,8 +204,9 @@ pub(super) fn find_clamp(
             .iter()
             .find(|&&i| steps[lowest].0 - steps[i].0 > 4 && steps[i].1 * g >= 0.8 * gmax.abs());
         let (e, step) = profile_edge(p, h, steps[lowest].0 as f64 + 0.5, 3.0)?;
+        let two = upper.is_some();
         let upper = upper.and_then(|&i| profile_edge(p, h, steps[i].0 as f64 + 0.5, 3.0));
-        Some((e, step, upper))
+        Some((e, step, two, upper))
     };
     let d_range = d_lo..=d_hi;
     let columns: Vec<(f64, i64)> = [-1i64, 1]
@@ -225,9 +227,9 @@ pub(super) fn find_clamp(
         let mut pts: Vec<(f64, f64, f64)> = Vec::new();
         let mut ambiguous = 0usize;
         for &(d, x) in &columns {
-            if let Some((e, step, upper)) = column(x, Some(sign)) {
+            if let Some((e, step, two, _)) = column(x, Some(sign)) {
                 pts.push((d, e, step));
-                ambiguous += usize::from(upper.is_some());
+                ambiguous += usize::from(two);
             }
         }
         (pts, ambiguous)
@@ -247,7 +249,7 @@ pub(super) fn find_clamp(
             let upper: Vec<(f64, f64, f64)> = columns
                 .iter()
                 .filter_map(|&(d, x)| {
-                    let (_, _, up) = column(x, Some(g))?;
+                    let (_, _, _, up) = column(x, Some(g))?;
                     up.map(|(e, step)| (d, e, step))
                 })
                 .collect();
