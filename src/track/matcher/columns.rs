@@ -236,17 +236,25 @@ pub(super) const BELOW_ROWS: usize = 4;
 /// highlight differ between the frames too, but by a fraction of the
 /// contrast. Rows outside the image pass.
 pub(super) fn below_is_dome(img: &Gray, fullest: &Gray, c: usize, e: f64, step: f64) -> bool {
-    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
-    if j0 + BELOW_ROWS > img.height || step == 0.0 {
+    let Some(diff) = mean_difference_below(img, fullest, c, e).filter(|_| step != 0.0) else {
         return true;
-    }
-    let diff: f64 = (j0..j0 + BELOW_ROWS)
-        .map(|j| f64::from(img.at(c, j)) - f64::from(fullest.at(c, j)))
-        .sum::<f64>()
-        / BELOW_ROWS as f64;
+    };
     // Under a false edge this frame shows background where the fullest
     // shows bubble: the difference has the sign of `-step`.
     -diff * step.signum() <= 0.5 * step.abs()
+}
+
+/// The mean difference of `img` from `other` in the [`BELOW_ROWS`] rows of
+/// column `c` from [`BELOW_FROM_PX`] below the edge row `e`; `None` when
+/// they run off the image.
+fn mean_difference_below(img: &Gray, other: &Gray, c: usize, e: f64) -> Option<f64> {
+    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
+    (j0 + BELOW_ROWS <= img.height).then(|| {
+        (j0..j0 + BELOW_ROWS)
+            .map(|j| f64::from(img.at(c, j)) - f64::from(other.at(c, j)))
+            .sum::<f64>()
+            / BELOW_ROWS as f64
+    })
 }
 
 /// Whether the rows just below an edge found at row `e` of column `c`
@@ -270,14 +278,9 @@ pub(super) fn below_is_not_background(
     e: f64,
     step: f64,
 ) -> bool {
-    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
-    if j0 + BELOW_ROWS > img.height || step == 0.0 {
+    let Some(diff) = mean_difference_below(img, emptiest, c, e).filter(|_| step != 0.0) else {
         return false;
-    }
-    let diff: f64 = (j0..j0 + BELOW_ROWS)
-        .map(|j| f64::from(img.at(c, j)) - f64::from(emptiest.at(c, j)))
-        .sum::<f64>()
-        / BELOW_ROWS as f64;
+    };
     // the dome under a true edge differs from the background in the
     // direction of the step down into it
     diff * step.signum() >= 0.5 * step.abs()
