@@ -61,6 +61,7 @@ use super::image::{Gray, read_gray};
 use super::matcher::{Columns, EdgeSettings, edge_fit_in, lag1_inflation, profile_edge};
 use super::synth::Layout;
 
+mod band;
 mod bubble;
 mod clamp;
 pub mod command;

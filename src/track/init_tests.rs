@@ -471,3 +471,38 @@ fn init_places_the_clamp_on_the_dome_base_when_the_face_matches_the_wall() {
         true,
     );
 }
+
+/// A raised camera over a ring whose top face is shaded between the wall
+/// and the ring's side (grey 120 between 190 and 38), so that its far side
+/// and the flange's lower edge below its front are steps of one polarity;
+/// the flange's edge lies below the rows searched near the axis and
+/// within them towards the ring's ends, so each column's lowest step is
+/// the far side in some columns and the flange's edge in others (the plane
+/// was set 19 px low at a stated 3 px at 800x600, 0.45 m, 3 degrees). The
+/// ring's top edge is one curve: the far side is taken. Pinholes at 0.45 m
+/// (3 and 2 degrees) and orthographic at 3 degrees: the scale within 0.3 %,
+/// the clamp row within 0.5 px, the elevation within 0.5 degree and the
+/// heights within 0.5 %.
+#[test]
+fn init_takes_the_far_side_when_a_flange_shows_below_the_face_in_part() {
+    let shaded = |e: f64, d: f64| Look {
+        elevation_deg: e,
+        camera_distance_m: d,
+        ring_face_grey: 120.0,
+        ..Look::default()
+    };
+    let cases = [(3.0, 0.45), (2.0, 0.45), (3.0, 0.0)];
+    check(
+        cases.iter().enumerate().map(|(k, &(e, d))| {
+            let seed = 301 + k as u64;
+            let mut s = synth::random_camera(seed, &[(800, 600)], shaded(e, d));
+            s.framing.axis_x_px = Some(0.5 * s.width as f64 - 0.3);
+            s.framing.clamp_row_px = Some(0.8 * s.height as f64);
+            // the opening 70 % of the width, as in the case above
+            s.framing.metres_per_pixel = Some(2.0 * s.specimen.radius_m / (0.7 * s.width as f64));
+            (seed, s)
+        }),
+        5,
+        true,
+    );
+}

@@ -244,7 +244,7 @@ pub(super) fn find_clamp(
     // a band of two polarities (path-traced at 640x480, 0.45 m, 2.6
     // degrees, a face of reflectance 0.2 between a wall of 0.55 and a side
     // of 0.12: 76 of 98 columns showed both, and init refused).
-    let (pts, ambiguous) = match pts.first().map(|p| p.2.signum()) {
+    let (pts, mut ambiguous) = match pts.first().map(|p| p.2.signum()) {
         Some(g) if ambiguous * 3 > pts.len() => {
             let upper: Vec<(f64, f64, f64)> = columns
                 .iter()
@@ -253,15 +253,7 @@ pub(super) fn find_clamp(
                     up.map(|(e, step)| (d, e, step))
                 })
                 .collect();
-            let bend = |p: &[(f64, f64, f64)]| {
-                let x: Vec<Vec<f64>> = p.iter().map(|q| vec![1.0, q.0 * q.0, q.0]).collect();
-                let y: Vec<f64> = p.iter().map(|q| q.1).collect();
-                robust_lstsq(&x, &y, floor).map(|((c, cov, res), _)| Estimate {
-                    value: c[1],
-                    std: cov[1][1].sqrt() * lag1_inflation(&res),
-                })
-            };
-            let up = upper.len() >= needed && bend(&upper).is_some_and(|k| k.value > 4.0 * k.std);
+            let up = upper.len() >= needed && super::band::bends_as_far_side(&upper, floor);
             if up { (upper, 0) } else { (pts, ambiguous) }
         }
         _ => (pts, ambiguous),
@@ -349,10 +341,6 @@ pub(super) fn find_clamp(
     };
     let r0 = (c_guess + 3.0).ceil() as i64;
     let ends = read_ends(r0);
-    // Through the lens (when calibrated): the edge's points and the clamp's
-    // ends in the undistorted image, as offsets from the axis's image (a
-    // straight edge stays straight there; the photo's is bent by the lens).
-    let (pts, ends) = super::super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
     // Both ends centred on the axis, or one end and the axis.
     let half_of = |ends: [Option<f64>; 2]| match ends {
         [Some(l), Some(r)] if ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0 => Some((r - l) / 2.0),
@@ -360,6 +348,41 @@ pub(super) fn find_clamp(
         [Some(e), None] | [None, Some(e)] => Some((e - x0).abs()),
         [None, None] => None,
     };
+    // The ring's top edge is one curve: each column's lowest step may be
+    // the far side in some columns and, in others, an edge below it that
+    // reaches into the rows searched only there (a flange's lower edge
+    // below a face shaded between the wall and the ring's side, drawn so
+    // by bulge synth: the plane was set 19 px low at a stated 3 px). The
+    // upper step, where a column shows two, else the lowest, is then the
+    // far side when it is one curve that bends as one; else init says so.
+    let pts = match (super::band::jump(&pts, half_of(ends)), pts.first()) {
+        (Some((d, from, to)), Some(first)) => {
+            let g = first.2.signum();
+            let upper: Vec<super::band::Point> = columns
+                .iter()
+                .filter_map(|&(d, x)| {
+                    let (e, step, _, up) = column(x, Some(g))?;
+                    Some(up.map_or((d, e, step), |(e, step)| (d, e, step)))
+                })
+                .collect();
+            if super::band::jump(&upper, half_of(ends)).is_none()
+                && super::band::bends_as_far_side(&upper, floor)
+            {
+                ambiguous = 0;
+                upper
+            } else {
+                return Err(not_found(format!(
+                    "the clamp's top edge found jumps from row {from:.1} to {to:.1} at column {:.0}: two edges of the ring, each found in part of the columns (the face's far side, and its front or a flange's lower edge below it), and neither is one curve across the columns",
+                    x0 + d
+                )));
+            }
+        }
+        _ => pts,
+    };
+    // Through the lens (when calibrated): the edge's points and the clamp's
+    // ends in the undistorted image, as offsets from the axis's image (a
+    // straight edge stays straight there; the photo's is bent by the lens).
+    let (pts, ends) = super::super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
     let half = half_of(ends);
     let mut half_below = None;
     // The ends read again below the ellipse's centre row `v0` when they
