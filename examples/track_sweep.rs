@@ -19,7 +19,10 @@
 //! from, by default 640x480, 800x600, 1024x768 and 1280x960; `--verbose`
 //! lists the worst photos with their looks and every refusal; `--csv PATH`
 //! writes every photo: seed, frame, error and stated std in px, the refusal
-//! and the sequence's factor levels).
+//! and the sequence's factor levels); `--keep DIR --seed S` draws and
+//! tracks the one sequence of seed `S` (dirty from 1_000_001 on) into
+//! `DIR` and keeps its photos, `experiment.toml` and `truth.csv`, to look
+//! at a photo the table lists).
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -89,17 +92,9 @@ fn arg(args: &[String], name: &str, default: u64) -> Result<u64, Box<dyn std::er
     })
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let clean = arg(&args, "--clean", 40)?;
-    let dirty = arg(&args, "--dirty", 40)?;
-    let verbose = args.iter().any(|a| a == "--verbose");
-    let csv = args
-        .iter()
-        .position(|a| a == "--csv")
-        .map(|i| args.get(i + 1).cloned().ok_or("--csv needs a path"))
-        .transpose()?;
-    let sizes = match args.iter().position(|a| a == "--sizes") {
+/// The photo sizes of `--sizes` (by default 640x480 to 1280x960).
+fn sizes_arg(args: &[String]) -> Result<Vec<(usize, usize)>, Box<dyn std::error::Error>> {
+    Ok(match args.iter().position(|a| a == "--sizes") {
         Some(i) => args
             .get(i + 1)
             .ok_or("--sizes needs a list such as 640x480,800x600")?
@@ -112,7 +107,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             })
             .collect::<Result<Vec<(usize, usize)>, Box<dyn std::error::Error>>>()?,
         None => vec![(640, 480), (800, 600), (1024, 768), (1280, 960)],
-    };
+    })
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(i) = args.iter().position(|a| a == "--keep") {
+        let dir = args.get(i + 1).ok_or("--keep needs a folder")?;
+        let seed = arg(&args, "--seed", 1)?;
+        let case = sweep::draw(seed, seed > 1_000_000, &sizes_arg(&args)?)?;
+        std::fs::create_dir_all(dir)?;
+        for p in sweep::run(&case, std::path::Path::new(dir)) {
+            match (p.written, p.refused) {
+                (Some((e, s)), _) => {
+                    println!("frame {}: error {e:+.4} px, stated {s:.4} px", p.frame)
+                }
+                (_, Some(why)) => println!("frame {}: refused: {why}", p.frame),
+                _ => {}
+            }
+        }
+        return Ok(());
+    }
+    let clean = arg(&args, "--clean", 40)?;
+    let dirty = arg(&args, "--dirty", 40)?;
+    let verbose = args.iter().any(|a| a == "--verbose");
+    let csv = args
+        .iter()
+        .position(|a| a == "--csv")
+        .map(|i| args.get(i + 1).cloned().ok_or("--csv needs a path"))
+        .transpose()?;
+    let sizes = sizes_arg(&args)?;
     let seeds: Vec<(u64, bool)> = (1..=clean)
         .map(|s| (s, false))
         .chain((1..=dirty).map(|s| (1_000_000 + s, true)))
