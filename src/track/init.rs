@@ -64,6 +64,7 @@ use super::synth::Layout;
 mod band;
 mod bubble;
 mod clamp;
+mod clip;
 pub mod command;
 mod file;
 mod frames;
@@ -170,6 +171,10 @@ pub struct Found {
     pub outlines_px: [Vec<[f64; 2]>; 2],
     /// The clamp's top edge as located, column by column.
     pub clamp_points_px: Vec<[f64; 2]>,
+    /// The clamp's edge was located on a step clipped at the sensor's
+    /// ceiling: how far past it, px, the ceiling is reached (the row's
+    /// deviation includes this over `sqrt(3)`).
+    pub clamp_clipped_px: Option<f64>,
     /// The silhouette's sides as located above the clamp plane.
     pub side_points_px: Vec<[f64; 2]>,
 }
@@ -485,6 +490,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         sin_e: given.elevation_deg.map(|e| e.to_radians().sin()),
         distance_known: given.camera_distance_m.is_some()
             || (given.lens.is_some() && given.distance_from_focal),
+        at_ceiling: tone.light(254),
     };
     let clamp = find_clamp(
         &mean,
@@ -740,8 +746,12 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     ];
     // Through the lens (when calibrated): the axis and the scale in the
     // undistorted image (the clamp row is already).
-    let (mut axis_x_px, clamp_row_px, mut radius_px, mut metres_per_pixel) =
+    let (mut axis_x_px, mut clamp_row_px, mut radius_px, mut metres_per_pixel) =
         (axis_x_px, clamp.row, radius_px, metres_per_pixel);
+    // a clipped face: the edge anywhere within `t` of where it was located
+    if let Some(t) = clamp.clipped_px {
+        clamp_row_px.std = clamp_row_px.std.hypot(t / 3f64.sqrt());
+    }
     let (ax, a) = super::lens::undistort_opening(
         given.lens.as_ref(),
         axis_x_px.value,
@@ -776,6 +786,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         reference_apex_px,
         outlines_px,
         clamp_points_px: clamp.points,
+        clamp_clipped_px: clamp.clipped_px,
         side_points_px,
     })
 }

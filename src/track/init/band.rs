@@ -76,6 +76,52 @@ pub(super) fn bends_as_far_side(p: &[Point], floor: f64) -> bool {
         .is_some_and(|((c, cov, res), _)| c[1] > 4.0 * cov[1][1].sqrt() * lag1_inflation(&res))
 }
 
+/// Refuses a stripe lying on the edge found: a step of the other polarity
+/// within the persistence window above it (so thin that the column
+/// search's persistence rule took it for a line). Across most columns that is the ring's own flange lit
+/// lighter (or darker) than both the wall and the ring's side, whose
+/// upper edge would be the ring's top: the row cannot be told from a
+/// stripe in front of the ring, so init says so rather than guess.
+pub(super) fn no_stripe(
+    img: &Plane,
+    x0: f64,
+    pts: &[Point],
+    reach: i64,
+    min_step: f64,
+) -> Result<(), TrackError> {
+    let (w, h) = (img.w as i64, img.h as i64);
+    if let Some(g) = pts.first().map(|p| p.2.signum()) {
+        let stripes: Vec<f64> = pts
+            .iter()
+            .filter_map(|&(d, e, _)| {
+                let x = x0.round() as i64 + d as i64;
+                let xs = [x - 1, x, x + 1].map(|c| c.clamp(0, w - 1) as usize);
+                let p = |j: i64| {
+                    let j = j.clamp(0, h - 1) as usize;
+                    xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
+                };
+                let top = (e.round() as i64 - 2 * reach).max(1);
+                let (j, step) = strongest_step(&p, top, e.round() as i64 - 3)?;
+                (step * g < 0.0 && step.abs() >= min_step).then_some(e - j as f64 - 1.5)
+            })
+            .collect();
+        if stripes.len() * 5 >= pts.len() * 3 {
+            let mut tall = stripes;
+            return Err(TrackError::NotFound {
+                what: "the clamp plane".into(),
+                detail: format!(
+                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, or something in front of the ring): its top or its bottom may be the clamp's edge",
+                    quantile(&mut tall, 0.5),
+                    tall.len(),
+                    pts.len()
+                ),
+                keys: "clamp_row_px",
+            });
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

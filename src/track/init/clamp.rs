@@ -36,6 +36,10 @@ pub(super) struct Clamp {
     /// lies more than [`BASE_GAP_PX`] below where the base puts it (a
     /// flange), or the ring's ends are out of the picture.
     pub(super) on_base: bool,
+    /// The edge was located on a step clipped at the sensor's ceiling: the
+    /// distance, px, to the first row at the ceiling, which bounds how far
+    /// towards the wall it was located ([`super::clip`]).
+    pub(super) clipped_px: Option<f64>,
 }
 
 /// How far, px, the face's front may lie below the clamp plane that the
@@ -130,6 +134,9 @@ pub(super) fn robust_lstsq(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<(
 pub(super) struct Hint {
     pub(super) sin_e: Option<f64>,
     pub(super) distance_known: bool,
+    /// The light of the code value one below the largest: a step whose
+    /// bright side reaches it is clipped ([`super::clip`]).
+    pub(super) at_ceiling: f64,
 }
 
 pub(super) fn find_clamp(
@@ -258,41 +265,7 @@ pub(super) fn find_clamp(
         }
         _ => (pts, ambiguous),
     };
-    // A stripe lying on the edge found: a step of the other polarity within
-    // the persistence window above it (so thin that the rule above took it
-    // for a line). Across most columns that is the ring's own flange lit
-    // lighter (or darker) than both the wall and the ring's side, whose
-    // upper edge would be the ring's top: the row cannot be told from a
-    // stripe in front of the ring, so init says so rather than guess.
-    if let Some(g) = pts.first().map(|p| p.2.signum()) {
-        let stripes: Vec<f64> = pts
-            .iter()
-            .filter_map(|&(d, e, _)| {
-                let x = x0.round() as i64 + d as i64;
-                let xs = [x - 1, x, x + 1].map(|c| c.clamp(0, w - 1) as usize);
-                let p = |j: i64| {
-                    let j = j.clamp(0, h - 1) as usize;
-                    xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
-                };
-                let top = (e.round() as i64 - 2 * reach).max(1);
-                let (j, step) = strongest_step(&p, top, e.round() as i64 - 3)?;
-                (step * g < 0.0 && step.abs() >= min_step).then_some(e - j as f64 - 1.5)
-            })
-            .collect();
-        if stripes.len() * 5 >= pts.len() * 3 {
-            let mut tall = stripes;
-            return Err(TrackError::NotFound {
-                what: "the clamp plane".into(),
-                detail: format!(
-                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, or something in front of the ring): its top or its bottom may be the clamp's edge",
-                    quantile(&mut tall, 0.5),
-                    tall.len(),
-                    pts.len()
-                ),
-                keys: "clamp_row_px",
-            });
-        }
-    }
+    super::band::no_stripe(img, x0, &pts, reach, min_step)?;
     if pts.len() < needed {
         return Err(not_found(format!(
             "no horizontal edge beside the bubble's base (rows {lo_row}-{hi_row}, {} of {candidates} columns show one): the clamp is out of the picture or hidden, or its top face is as light as the wall behind it and its front lies further below the clamp plane than a tenth of the opening's radius (a flange of the face's shade)",
@@ -308,12 +281,23 @@ pub(super) fn find_clamp(
     let mut step_mags: Vec<f64> = pts.iter().map(|p| p.2.abs()).collect();
     let clamp_step = quantile(&mut step_mags, 0.5);
     let rows_read = (0.04 * a0).clamp(4.0, 12.0) as i64;
-    // The ends read from the rows starting at `r0`.
+    // Two ends mirrored about the axis.
+    let centred = |l: f64, r: f64| ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0;
+    // The ends read from the rows starting at `r0`. An end's step is the
+    // ring's side against the background, whose contrast owes nothing to
+    // the face's: two ends mirrored about the axis are taken at the noise's
+    // threshold, one end alone only when its step is as strong as 0.3 of
+    // the face's (an edge in the background beyond the ring is not
+    // mirrored). A side lit from the front darkens towards its outline,
+    // close to the wall's shade: on path-traced photos (a light face on a
+    // dark wall, 1024x768) its steps were half the 0.3, the ends were not
+    // read, and the ring placed from its far side alone put the centre's
+    // row 0.88 px high (0.10 px with the ends).
     let read_ends = |r0: i64| {
         let r1 = (r0 + rows_read).min(h - 1);
-        let mut ends = [None, None];
+        let mut ends: [Option<(f64, f64)>; 2] = [None, None];
         if r1 <= r0 {
-            return ends;
+            return [None, None];
         }
         let rows: Vec<usize> = (r0..=r1).map(|r| r as usize).collect();
         let q = |x: i64| {
@@ -329,21 +313,25 @@ pub(super) fn find_clamp(
                 continue;
             }
             if let Some((j, g)) = strongest_step(&q, lo, hi)
-                && g.abs() >= min_step.max(0.3 * clamp_step)
+                && g.abs() >= min_step
                 && j > lo
                 && j < hi - 1
                 && let Some((e, _)) = profile_edge(q, w, j as f64 + 0.5, 3.0)
             {
-                ends[k] = Some(e);
+                ends[k] = Some((e, g.abs()));
             }
         }
-        ends
+        let mirrored = matches!(ends, [Some((l, _)), Some((r, _))] if centred(l, r));
+        ends.map(|end| {
+            end.filter(|&(_, g)| mirrored || g >= 0.3 * clamp_step)
+                .map(|(e, _)| e)
+        })
     };
     let r0 = (c_guess + 3.0).ceil() as i64;
     let ends = read_ends(r0);
     // Both ends centred on the axis, or one end and the axis.
     let half_of = |ends: [Option<f64>; 2]| match ends {
-        [Some(l), Some(r)] if ((l + r) / 2.0 - x0).abs() < 0.02 * a0 + 3.0 => Some((r - l) / 2.0),
+        [Some(l), Some(r)] if centred(l, r) => Some((r - l) / 2.0),
         [Some(_), Some(_)] => None,
         [Some(e), None] | [None, Some(e)] => Some((e - x0).abs()),
         [None, None] => None,
@@ -379,6 +367,7 @@ pub(super) fn find_clamp(
         }
         _ => pts,
     };
+    let clipped_px = super::clip::clipped_reach(img, x0, &pts, hint.at_ceiling);
     // Through the lens (when calibrated): the edge's points and the clamp's
     // ends in the undistorted image, as offsets from the axis's image (a
     // straight edge stays straight there; the photo's is bent by the lens).
@@ -563,6 +552,7 @@ pub(super) fn find_clamp(
         points: pts.iter().map(|p| [x0 + p.0, p.1]).collect(),
         base_points,
         on_base,
+        clipped_px,
     })
 }
 

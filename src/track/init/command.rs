@@ -267,6 +267,12 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
             Setting::Camera
         ));
     }
+    if let Some(t) = found.clamp_clipped_px {
+        notes.push(format!(
+            "note: the clamp ring's face is at the sensor's largest value beside its top edge (clipped): the edge located on the clipped step lies up to {t:.1} px towards the wall from the true one, and clamp_row_std_px includes {:.2} px for it; lower the exposure or the light on the ring until its face stays below the largest value",
+            t / 3f64.sqrt()
+        ));
+    }
     let inputs = match &frames {
         Frames::Photos(p) => p.clone(),
         Frames::Video { path, .. } => vec![path.clone()],
