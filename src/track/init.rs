@@ -58,7 +58,9 @@ use rayon::prelude::*;
 
 use super::TrackError;
 use super::image::{Gray, read_gray};
-use super::matcher::{Columns, EdgeSettings, edge_fit_in, lag1_inflation, profile_edge};
+use super::matcher::{
+    Columns, EdgeSettings, SLOPE_ROWS, edge_fit_in, lag1_inflation, profile_edge, profile_edge_with,
+};
 use super::synth::Layout;
 
 mod band;

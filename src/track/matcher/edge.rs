@@ -105,7 +105,7 @@ pub(crate) fn profile_edge(
 
 /// [`profile_edge`], the background slopes on each side subtracted only
 /// with `slopes`.
-pub(super) fn profile_edge_with(
+pub(crate) fn profile_edge_with(
     px: impl Fn(i64) -> f64,
     len: i64,
     start: f64,
@@ -191,7 +191,7 @@ pub(super) fn profile_edge_with(
 
 /// Rows beyond the window on each side of [`profile_edge`] over which the
 /// slope beside the edge is measured.
-pub(super) const SLOPE_ROWS: i64 = 6;
+pub(crate) const SLOPE_ROWS: i64 = 6;
 
 /// Rows on each side of the edge over which [`step_model_edge`] fits.
 pub(super) const MODEL_ROWS: i64 = 5;
