@@ -243,14 +243,24 @@ pub(super) fn find_clamp(
     // background) and its front edge (against the ring's side); the face
     // may be lighter or darker than either, so the polarity is chosen by
     // geometry, not by which step is the stronger: see [`top_family`].
+    // Each column read once per polarity (rising, falling).
+    let read: [Vec<(f64, Option<ColumnEdge>)>; 2] = [1.0, -1.0].map(|sign| {
+        columns
+            .iter()
+            .map(|&(d, x)| (d, column(x, Some(sign))))
+            .collect()
+    });
+    let edges_of = |sign: f64| {
+        read[usize::from(sign < 0.0)]
+            .iter()
+            .filter_map(|&(d, c)| Some((d, c?)))
+    };
     let family = |sign: f64| {
         let mut pts: Vec<(f64, f64, f64)> = Vec::new();
         let mut ambiguous = 0usize;
-        for &(d, x) in &columns {
-            if let Some((e, step, two, _)) = column(x, Some(sign)) {
-                pts.push((d, e, step));
-                ambiguous += usize::from(two);
-            }
+        for (d, (e, step, two, _)) in edges_of(sign) {
+            pts.push((d, e, step));
+            ambiguous += usize::from(two);
         }
         (pts, ambiguous)
     };
@@ -266,12 +276,8 @@ pub(super) fn find_clamp(
     // of 0.12: 76 of 98 columns showed both, and init refused).
     let (pts, mut ambiguous) = match pts.first().map(|p| p.2.signum()) {
         Some(g) if ambiguous * 3 > pts.len() => {
-            let upper: Vec<(f64, f64, f64)> = columns
-                .iter()
-                .filter_map(|&(d, x)| {
-                    let (_, _, _, up) = column(x, Some(g))?;
-                    up.map(|(e, step)| (d, e, step))
-                })
+            let upper: Vec<(f64, f64, f64)> = edges_of(g)
+                .filter_map(|(d, (_, _, _, up))| up.map(|(e, step)| (d, e, step)))
                 .collect();
             let up = upper.len() >= needed && super::band::bends_as_far_side(&upper, floor);
             if up { (upper, 0) } else { (pts, ambiguous) }
@@ -359,12 +365,8 @@ pub(super) fn find_clamp(
     let pts = match (super::band::jump(&pts, half_of(ends)), pts.first()) {
         (Some((d, from, to)), Some(first)) => {
             let g = first.2.signum();
-            let upper: Vec<super::band::Point> = columns
-                .iter()
-                .filter_map(|&(d, x)| {
-                    let (e, step, _, up) = column(x, Some(g))?;
-                    Some(up.map_or((d, e, step), |(e, step)| (d, e, step)))
-                })
+            let upper: Vec<super::band::Point> = edges_of(g)
+                .map(|(d, (e, step, _, up))| up.map_or((d, e, step), |(e, step)| (d, e, step)))
                 .collect();
             if super::band::jump(&upper, half_of(ends)).is_none()
                 && super::band::bends_as_far_side(&upper, floor)
