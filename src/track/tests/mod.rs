@@ -11,6 +11,7 @@ mod dirty;
 mod elevation;
 mod guards;
 mod inputs;
+mod seed;
 
 /// The experiment that `synth::write_sequence` wrote into `dir`, tracked
 /// with `opts`.
