@@ -232,8 +232,22 @@ pub(super) fn edge_fit_core(
     } else {
         0.0
     };
+    // A glossy rim ([`rim_bias`]), where nothing else was seen under the
+    // edge: the centroids' shift it implies, stated as a bias bound (the
+    // apex is not moved: a shade or a highlight's flank can look alike).
+    let rim = if test.is_none() {
+        let quiet: Vec<(f64, f64, f64)> = strong
+            .iter()
+            .zip(&turns)
+            .filter(|(l, turns)| !**turns && kept.iter().any(|k| k.0 == l.0))
+            .map(|(&l, _)| l)
+            .collect();
+        rim_bias(cols.img, &quiet, centre, cols.hw, 0.5 / coef[2])
+    } else {
+        0.0
+    };
     let r = EdgeFit {
-        y_std: (r.y_std * r.y_std + tail + turn).sqrt(),
+        y_std: (r.y_std * r.y_std + tail + turn + rim * rim).sqrt(),
         clutter_on_top,
         ..r
     };
