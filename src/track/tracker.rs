@@ -319,19 +319,12 @@ impl Tracker<'_> {
         }))
     }
 
-    /// The bubble's axis over the whole region's width (less the slope
-    /// margin) from the free edge fit `edge`, searched near the axis of the
-    /// frames before when known, and the apex refitted on it
-    /// ([`matcher::edge_fit_about`]). Without a known axis, the free fit
-    /// stays when the axis is not found; with one, an edge that is not
-    /// mirror-symmetric about a column near it (or too few of whose columns
-    /// are left about that column) is not the bubble's top (a cable or a
-    /// shelf edge across it), and no edge is returned.
     /// The edge fit ([`matcher::edge_fit_in`], then on the axis) seeded at
     /// `seed` (region coordinates), else at rows stepping away from it, by
     /// the window's half-height plus one (each column's search finds an
     /// edge within about that of its start), alternately below and above,
-    /// out to half the template's height: the nearest edge found. The
+    /// out to half the template's height: the nearest edge found whose top
+    /// is clean ([`Tracker::clean`]; the seed's own need not be). The
     /// template's match places the apex only within the template: a template
     /// cut from a small dome matched on a flatter, larger one lines up its
     /// steep flanks with the larger dome's and puts the apex above the top
@@ -380,6 +373,14 @@ impl Tracker<'_> {
         !e.two_sided && 10 * e.columns >= 9 * sampled
     }
 
+    /// The bubble's axis over the whole region's width (less the slope
+    /// margin) from the free edge fit `edge`, searched near the axis of the
+    /// frames before when known, and the apex refitted on it
+    /// ([`matcher::edge_fit_about`]). Without a known axis, the free fit
+    /// stays when the axis is not found; with one, an edge that is not
+    /// mirror-symmetric about a column near it (or too few of whose columns
+    /// are left about that column) is not the bubble's top (a cable or a
+    /// shelf edge across it), and no edge is returned.
     fn on_axis(
         &self,
         cols: &mut matcher::Columns,
