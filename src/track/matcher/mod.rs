@@ -14,7 +14,7 @@ mod below;
 mod columns;
 mod edge;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 mod uncertainty;
 
 pub use apex::*;

@@ -184,15 +184,7 @@ fn an_edge_written_through_the_srgb_curve_is_found_in_light() {
     let mut data = vec![0u8; w * h];
     for y in 0..h {
         for x in 0..w {
-            let mut cov = 0.0;
-            for sx in 0..8 {
-                let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 8.0;
-                let e = y0 + k * (xs - xa).powi(2);
-                for sy in 0..8 {
-                    let ys = y as f64 - 0.5 + (sy as f64 + 0.5) / 8.0;
-                    cov += normal_cdf((ys - e) / 1.5) / 64.0;
-                }
-            }
+            let cov = coverage(x, y, (xa, y0, k), 1.5);
             let light = wall + (dome_l - wall) * cov;
             data[y * w + x] = (255.0 * srgb.encode(light)).round() as u8;
         }
@@ -217,6 +209,21 @@ fn an_edge_written_through_the_srgb_curve_is_found_in_light() {
     );
 }
 
+/// The share of pixel `(x, y)` below a dome's top edge `y0 + k (x -
+/// xa)^2` blurred by a Gaussian of `sigma` px (8x8 samples a pixel).
+pub(crate) fn coverage(x: usize, y: usize, (xa, y0, k): (f64, f64, f64), sigma: f64) -> f64 {
+    let mut cov = 0.0;
+    for sx in 0..8 {
+        let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 8.0;
+        let e = y0 + k * (xs - xa).powi(2);
+        for sy in 0..8 {
+            let ys = y as f64 - 0.5 + (sy as f64 + 0.5) / 8.0;
+            cov += normal_cdf((ys - e) / sigma) / 64.0;
+        }
+    }
+    cov
+}
+
 /// A dome's top edge `y0 + k (x - xa)^2` (background 200 above, dome 60
 /// below, blurred by a Gaussian of 1.5 px, each pixel the mean over its
 /// area) with `extra(x, y)` grey levels added.
@@ -228,15 +235,7 @@ fn dome(
     let mut data = vec![0u8; w * h];
     for y in 0..h {
         for x in 0..w {
-            let mut cov = 0.0;
-            for sx in 0..8 {
-                let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 8.0;
-                let e = y0 + k * (xs - xa).powi(2);
-                for sy in 0..8 {
-                    let ys = y as f64 - 0.5 + (sy as f64 + 0.5) / 8.0;
-                    cov += normal_cdf((ys - e) / 1.5) / 64.0;
-                }
-            }
+            let cov = coverage(x, y, (xa, y0, k), 1.5);
             let v = 200.0 - 140.0 * cov + extra(x as f64, y as f64);
             data[y * w + x] = v.round().clamp(0.0, 255.0) as u8;
         }

@@ -2,6 +2,7 @@
 //! frames' prediction can miss a grown dome's top by more than a column's
 //! search reaches.
 
+use super::super::matcher::tests::coverage;
 use super::super::matcher::{EdgeSettings, Extremes};
 use super::super::tracker::Tracker;
 use super::*;
@@ -9,19 +10,10 @@ use super::*;
 /// A dark dome on a light wall, its top `y = y0 + k (x - xa)^2` blurred by
 /// a Gaussian of 1.2 px, drawn by coverage (8x8 samples a pixel).
 fn dome(w: usize, h: usize, xa: f64, y0: f64, k: f64) -> image::Gray {
-    let cdf = |t: f64| 0.5 * libm::erfc(-t / std::f64::consts::SQRT_2);
     let mut data = vec![0u8; w * h];
     for y in 0..h {
         for x in 0..w {
-            let mut cov = 0.0;
-            for sx in 0..8 {
-                let xs = x as f64 - 0.5 + (sx as f64 + 0.5) / 8.0;
-                let e = y0 + k * (xs - xa).powi(2);
-                for sy in 0..8 {
-                    let ys = y as f64 - 0.5 + (sy as f64 + 0.5) / 8.0;
-                    cov += cdf((ys - e) / 1.2) / 64.0;
-                }
-            }
+            let cov = coverage(x, y, (xa, y0, k), 1.2);
             data[y * w + x] = (200.0 - 140.0 * cov).round() as u8;
         }
     }
