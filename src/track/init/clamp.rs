@@ -175,12 +175,8 @@ pub(super) fn find_clamp(
     // and whether a second step almost as strong lies above it.
     let reach = (0.04 * a0).max(8.0) as i64;
     let column = |x: i64, sign: Option<f64>| -> Option<ColumnEdge> {
-        let xs = [x - 1, x, x + 1].map(|c| c as usize);
-        let p = |j: i64| {
-            let j = j.clamp(0, h - 1) as usize;
-            xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
-        };
-        let mean = |a: i64, b: i64| (a..b).map(p).sum::<f64>() / (b - a) as f64;
+        let p = img.three_columns(x);
+        let mean = |a: i64, b: i64| (a..b).map(&p).sum::<f64>() / (b - a) as f64;
         let steps: Vec<(i64, f64)> = (lo_row..hi_row)
             .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
             .collect();
@@ -210,7 +206,7 @@ pub(super) fn find_clamp(
         let upper = peaks
             .iter()
             .find(|&&i| steps[lowest].0 - steps[i].0 > 4 && steps[i].1 * g >= 0.8 * gmax.abs());
-        let (e, step) = profile_edge(p, h, steps[lowest].0 as f64 + 0.5, 3.0)?;
+        let (e, step) = profile_edge(&p, h, steps[lowest].0 as f64 + 0.5, 3.0)?;
         let two = upper.is_some();
         // The upper step located with a window that stays off the lower
         // (its half-width at most half the gap less a row each side), and
@@ -224,7 +220,7 @@ pub(super) fn find_clamp(
             let gap = (steps[lowest].0 - steps[i].0) as f64;
             let hw = (0.5 * (gap - 2.0)).clamp(1.0, 3.0);
             let slopes = gap > hw + 1.0 + SLOPE_ROWS as f64;
-            profile_edge_with(p, h, steps[i].0 as f64 + 0.5, hw, slopes)
+            profile_edge_with(&p, h, steps[i].0 as f64 + 0.5, hw, slopes)
         });
         Some((e, step, two, upper))
     };
@@ -598,11 +594,7 @@ fn dome_base(
             if x < 2 || x >= w - 2 {
                 return None;
             }
-            let xs = [x - 1, x, x + 1].map(|c| c as usize);
-            let p = |j: i64| {
-                let j = j.clamp(0, h - 1) as usize;
-                xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
-            };
+            let p = img.three_columns(x);
             let end = (front(u as f64).round() as i64 + 6).min(h - 3);
             let start = (end - reach).max(2);
             if end <= start + 4 {
@@ -634,7 +626,7 @@ fn dome_base(
             if hw < 1.5 {
                 return None;
             }
-            let (e, step) = profile_edge(p, h, steps[b].0 as f64 + 0.5, hw)?;
+            let (e, step) = profile_edge(&p, h, steps[b].0 as f64 + 0.5, hw)?;
             ((e - (steps[b].0 as f64 + 0.5)).abs() < 1.5).then_some((u as f64, e, step))
         })
         .collect()

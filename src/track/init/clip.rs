@@ -26,16 +26,10 @@ const REACH_ROWS: i64 = 8;
 /// when at least half the columns of `pts` are clipped: a light at or
 /// above `at_ceiling` (the light of the code value one below the largest).
 pub(super) fn clipped_reach(img: &Plane, x0: f64, pts: &[Point], at_ceiling: f64) -> Option<f64> {
-    let (w, h) = (img.w as i64, img.h as i64);
     let mut reach: Vec<f64> = pts
         .iter()
         .filter_map(|&(d, e, step)| {
-            let x = (x0 + d).round() as i64;
-            let xs = [x - 1, x, x + 1].map(|c| c.clamp(0, w - 1) as usize);
-            let p = |j: i64| {
-                let j = j.clamp(0, h - 1) as usize;
-                xs.iter().map(|&c| img.at(c, j)).sum::<f64>() / 3.0
-            };
+            let p = img.three_columns((x0 + d).round() as i64);
             // the bright side: below the edge for a step that rises downwards
             let dir = if step > 0.0 { 1 } else { -1 };
             let from = e.round() as i64;
