@@ -67,13 +67,18 @@ pub(super) fn rows_read_below(e: f64, hw: f64) -> (i64, i64) {
 /// Whether the dome side under an edge at row `e` of column `c` (step
 /// `step`) turns back towards the background by more than [`TURN_SHARE`]
 /// of the step within the rows below the edge that its location reads
-/// ([`rows_read_below`]; means of neighbouring rows, against the noise). A
-/// broad highlight whose flank rises slowly from the edge does this
-/// without turning away again within those rows, so [`spot_below`] does
-/// not leave the column out; its rise cuts the lower tail of the blurred
-/// step short and lifts the centroid (0.27 px on a drawn dome), which the
-/// minmod slope below the edge misses where the flank turns within the
-/// slope rows. A flat dome side stays within the noise.
+/// ([`rows_read_below`]) and the slope rows' length beyond them (means of
+/// neighbouring rows, against the noise). A broad highlight whose flank
+/// rises slowly from the edge does this without turning away again within
+/// those rows, so [`spot_below`] does not leave the column out; its rise
+/// cuts the lower tail of the blurred step short and lifts the centroid
+/// (0.27 px on a drawn dome), which the minmod slope below the edge misses
+/// where the flank turns within the slope rows. A highlight whose flank
+/// rises through the window and peaks within the slope rows pulls the
+/// centroid into the dome while the slope subtracted there is flat; it
+/// turns back beyond them, hence the further rows (on the tracker sweep's
+/// light domes before a dark wall, 0.3-0.5 px at a stated 0.05-0.11 px
+/// before they were read). A flat dome side stays within the noise.
 pub(super) fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     let grey = |j: i64| turned(img, c, step, j);
     turn_back(img, &grey, e, hw, step).is_some_and(|(rise, ..)| rise > TURN_SHARE * step.abs())
@@ -92,7 +97,7 @@ fn turn_back(
     step: f64,
 ) -> Option<(f64, f64, f64)> {
     let (j0, j1) = rows_read_below(e, hw);
-    let j1 = j1.min(img.height as i64 - 2);
+    let j1 = (j1 + SLOPE_ROWS).min(img.height as i64 - 2);
     if j0 >= j1 || step == 0.0 {
         return None;
     }
