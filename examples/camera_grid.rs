@@ -11,7 +11,8 @@
 //! alone. Per combination, the ranges over the seeds (`--seeds 3,5,9`, the
 //! default) of: the scale's error and its stated relative deviation, the
 //! ring centre's row error, the largest height error, the apex row's RMS
-//! error, RMS(error / `height_std_m`) and RMS(error / all stated terms);
+//! error, RMS(error / `height_std_m`) and RMS(error / all stated terms),
+//! and the last over every photo of the combination's framings together;
 //! then RMS(scale error / its stated deviation) over every framing.
 //!
 //! Run: `cargo run --release --features harness --example camera_grid [-- --seeds 3,5,9]`
@@ -46,9 +47,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )
     };
     println!(
-        "| D, m | above the ring, deg | lens, distance | scale error, % | stated scale std, % | row error, px | largest height error, % | apex row RMS, px | RMS(error / height_std_m) | RMS(error / all stated) |"
+        "| D, m | above the ring, deg | lens, distance | scale error, % | stated scale std, % | row error, px | largest height error, % | apex row RMS, px | RMS(error / height_std_m) | RMS(error / all stated) | RMS(error / all stated), pooled |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut scale_z = Vec::new();
     let tmp = std::env::temp_dir().join(format!("bulge-camera-grid-{}", std::process::id()));
     for lens in [None, Some(barrel)] {
@@ -89,8 +90,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 };
                 let worst = all.iter().map(|t| t.heights).fold(0.0, f64::max);
+                // Over every photo of the combination's framings.
+                let photos: usize = all.iter().map(|t| t.tracked[0]).sum();
+                let pooled = (all
+                    .iter()
+                    .map(|t| t.rms_z_all.powi(2) * t.tracked[0] as f64)
+                    .sum::<f64>()
+                    / photos.max(1) as f64)
+                    .sqrt();
                 println!(
-                    "| {d} | {e} | {} | {} | {} | {} | {:.3} | {} | {} | {} |",
+                    "| {d} | {e} | {} | {} | {} | {} | {:.3} | {} | {} | {} | {pooled:.2} |",
                     if lens.is_some() {
                         "k1 -0.1, from focal"
                     } else {
