@@ -750,6 +750,10 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // undistorted image (the clamp row is already).
     let (mut axis_x_px, mut clamp_row_px, mut radius_px, mut metres_per_pixel) =
         (axis_x_px, clamp.row, radius_px, metres_per_pixel);
+    // The ring's edge is located by the same centroid as the apex: the
+    // edge fit's bias that no residual shows is added as to every edge fit
+    // ([`super::tracker::EDGE_BIAS_FLOOR_PX`]).
+    clamp_row_px.std = clamp_row_px.std.hypot(super::tracker::EDGE_BIAS_FLOOR_PX);
     // a clipped face: the edge anywhere within `t` of where it was located
     if let Some(t) = clamp.clipped_px {
         clamp_row_px.std = clamp_row_px.std.hypot(t / 3f64.sqrt());
