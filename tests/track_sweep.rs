@@ -90,8 +90,11 @@ fn a_light_domes_highlight_peaking_under_the_window_is_stated() {
     ] {
         let case = sweep::draw(seed, true, &[size]).expect("the law's bubble is solved");
         let dir = tempfile::tempdir().unwrap();
-        for p in sweep::run(&case, dir.path()) {
+        let photos = sweep::run(&case, dir.path());
+        let mut written = 0;
+        for p in &photos {
             if let Some((e, s)) = p.written {
+                written += 1;
                 assert!(
                     (e / s).abs() <= 4.0,
                     "seed {seed}, frame {}: {e:+.3} px off, std {s:.3} px",
@@ -99,5 +102,12 @@ fn a_light_domes_highlight_peaking_under_the_window_is_stated() {
                 );
             }
         }
+        // (none of them refused when measured: the test is not passed by
+        // refusing them)
+        assert!(
+            2 * written >= photos.len(),
+            "seed {seed}: {written} of {} photos written",
+            photos.len()
+        );
     }
 }

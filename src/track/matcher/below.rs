@@ -77,7 +77,7 @@ pub(super) fn rows_read_below(e: f64, hw: f64) -> (i64, i64) {
 /// rises through the window and peaks within the slope rows pulls the
 /// centroid into the dome while the slope subtracted there is flat; it
 /// turns back beyond them, hence the further rows (on the tracker sweep's
-/// light domes before a dark wall, 0.3-0.5 px at a stated 0.05-0.11 px
+/// light domes before a dark wall, 0.23-0.51 px at a stated 0.05-0.11 px
 /// before they were read). A flat dome side stays within the noise.
 pub(super) fn turns_back(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
     let grey = |j: i64| turned(img, c, step, j);
