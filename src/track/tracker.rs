@@ -368,8 +368,7 @@ impl Tracker<'_> {
     /// near it may be that (on the sweep's dirty photos: edges 0.9-1.5 px
     /// off, written where they had been refused).
     fn clean(&self, e: &EdgeFit) -> bool {
-        let span = self.edge_settings.half_span_px;
-        let sampled = 2 * span / (span / 64).max(1) + 1;
+        let sampled = matcher::sampled_columns(self.edge_settings.half_span_px);
         !e.two_sided && 10 * e.columns >= 9 * sampled
     }
 

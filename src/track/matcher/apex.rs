@@ -54,6 +54,18 @@ pub fn edge_fit_about(
     edge_fit_core(cols, axis.0, y0, apex.curvature, s, Some(axis))
 }
 
+/// Every how many columns the apex fit samples its span `x0 +- half_span`:
+/// at most about 129 columns, wider spans (large photos) sampled.
+pub(crate) fn span_stride(half_span: usize) -> usize {
+    (half_span / 64).max(1)
+}
+
+/// How many columns the apex fit samples over a span `x0 +- half_span`
+/// within the image ([`span_stride`]).
+pub fn sampled_columns(half_span: usize) -> usize {
+    2 * half_span / span_stride(half_span) + 1
+}
+
 /// The passes of [`edge_fit_in`], or of [`edge_fit_about`] when `axis` is
 /// given.
 pub(super) fn edge_fit_core(
@@ -95,10 +107,8 @@ pub(super) fn edge_fit_core(
         let xc = centre.round() as i64;
         let mut located = Vec::with_capacity((2 * span + 1) as usize);
         let mut on_line = 0;
-        // At most about 129 columns: wider spans (large photos) are sampled.
-        let stride = (span as usize / 64).max(1);
         for c in (xc - span..=xc + span)
-            .step_by(stride)
+            .step_by(span_stride(s.half_span_px))
             .filter(|&c| c >= 0 && c < w)
         {
             let u = c as f64 - centre;
@@ -215,15 +225,27 @@ pub(super) fn edge_fit_core(
     } else {
         0.0
     };
+    // Which strong columns the fit kept.
+    let in_fit: Vec<bool> = strong
+        .iter()
+        .map(|l| kept.iter().any(|k| k.0 == l.0))
+        .collect();
+    // The kept columns whose dome side turns back under the edge (`true`)
+    // or not.
+    let kept_turning = |turning: bool| {
+        strong
+            .iter()
+            .zip(&turns)
+            .zip(&in_fit)
+            .filter(move |((_, t), k)| **t == turning && **k)
+            .map(|((&l, _), _)| l)
+    };
     // Where the dome side turns back under the edge, the centroids' shift
     // that its rise can cause, averaged over the columns kept
     // ([`turn_back_shift`]).
     let turn = if !strong.is_empty() {
-        let shifts: f64 = strong
-            .iter()
-            .zip(&turns)
-            .filter(|(l, turns)| **turns && kept.iter().any(|k| k.0 == l.0))
-            .map(|(&(u, e, step), _)| {
+        let shifts: f64 = kept_turning(true)
+            .map(|(u, e, step)| {
                 turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step)
             })
             .sum();
@@ -236,12 +258,7 @@ pub(super) fn edge_fit_core(
     // edge: the centroids' shift it implies, stated as a bias bound (the
     // apex is not moved: a shade or a highlight's flank can look alike).
     let rim = if test.is_none() {
-        let quiet: Vec<(f64, f64, f64)> = strong
-            .iter()
-            .zip(&turns)
-            .filter(|(l, turns)| !**turns && kept.iter().any(|k| k.0 == l.0))
-            .map(|(&l, _)| l)
-            .collect();
+        let quiet: Vec<(f64, f64, f64)> = kept_turning(false).collect();
         rim_bias(cols.img, &quiet, centre, cols.hw, 0.5 / coef[2])
     } else {
         0.0
