@@ -237,6 +237,74 @@ pub(super) fn densify(s: &Silhouette, max_seg_m: f64) -> Vec<(f64, f64)> {
     out
 }
 
+/// The envelope of a family of latitudes in one image column: the least
+/// first value and the greatest second value of `rows(rho, z)` (`None`
+/// where a latitude misses the column) over the meridian `dense`
+/// ([`densify`]), each refined between the neighbours of the best sample
+/// on the meridian's polyline by golden-section search. The samples alone
+/// fall short: from a camera near the clamp plane a latitude is a thin
+/// ellipse, and near the sides the best one in a column is the highest
+/// that still reaches it, so the samples' envelope is a staircase inside
+/// the outline (level at 0.25 m, about 0.05 px inside on each side with
+/// samples half a pixel apart: 0.02 % of the opening's width).
+pub(super) fn envelope(
+    dense: &[(f64, f64)],
+    rows: impl Fn(f64, f64) -> Option<(f64, f64)>,
+) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = ((f64::INFINITY, 0usize), (f64::NEG_INFINITY, 0usize));
+    for (i, &(r, z)) in dense.iter().enumerate() {
+        if let Some((a, b)) = rows(r, z) {
+            if a < lo.0 {
+                lo = (a, i);
+            }
+            if b > hi.0 {
+                hi = (b, i);
+            }
+        }
+    }
+    if !lo.0.is_finite() || dense.len() < 2 {
+        return lo.0.is_finite().then_some((lo.0, hi.0));
+    }
+    let last = (dense.len() - 1) as f64;
+    let at = |t: f64| {
+        let i = (t.floor().max(0.0) as usize).min(dense.len() - 2);
+        let s = t - i as f64;
+        let (p, q) = (dense[i], dense[i + 1]);
+        rows(p.0 + s * (q.0 - p.0), p.1 + s * (q.1 - p.1))
+    };
+    let least = |i: usize, key: &dyn Fn(f64) -> f64| {
+        let i = i as f64;
+        golden_min(key, (i - 1.0).max(0.0), (i + 1.0).min(last))
+    };
+    let top = least(lo.1, &|t| at(t).map_or(f64::INFINITY, |v| v.0));
+    let bottom = -least(hi.1, &|t| at(t).map_or(f64::INFINITY, |v| -v.1));
+    Some((top.min(lo.0), bottom.max(hi.0)))
+}
+
+/// The least value of `g` found by golden-section search over `[a, b]`
+/// (60 steps: the bracket shrinks below 1e-12 of its width).
+fn golden_min(g: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut gc, mut gd) = (g(c), g(d));
+    for _ in 0..60 {
+        if gc < gd {
+            b = d;
+            d = c;
+            gd = gc;
+            c = b - r * (b - a);
+            gc = g(c);
+        } else {
+            a = c;
+            c = d;
+            gc = gd;
+            d = a + r * (b - a);
+            gd = g(d);
+        }
+    }
+    gc.min(gd)
+}
+
 /// Adds the signed area of segment p0-p1 (raster coordinates) to the
 /// accumulation buffer (R. Levien's font-rs algorithm); a running sum of the
 /// buffer gives each cell's coverage.

@@ -15,6 +15,7 @@
 //! `rho >= |u|`. The clamp fixture's top face, a ring of radius 1.25 a,
 //! is an ellipse too.
 
+use super::draw::envelope;
 use super::{Rng, Scene, Silhouette, densify};
 
 /// What the photos show besides the plain side view (all off by default).
@@ -406,17 +407,16 @@ pub(super) fn outline_px(scene: &Scene, s: &Silhouette) -> Vec<(f64, f64)> {
     for k in 0..=n {
         let psi = std::f64::consts::PI * (1.0 - k as f64 / n as f64);
         let u = (rho_max * psi.cos()).clamp(-rho_max, rho_max);
-        let (mut t, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
-        for &(r, z) in &dense {
-            if r >= u.abs() {
+        // Heights negated: the envelope takes the least first value.
+        let Some((t, b)) = envelope(&dense, |r, z| {
+            (r >= u.abs()).then(|| {
                 let q = (r * r - u * u).max(0.0).sqrt() * se;
-                t = t.max(z * ce + q);
-                b = b.min(z * ce - q);
-            }
-        }
-        if !t.is_finite() {
+                (-(z * ce + q), -(z * ce - q))
+            })
+        }) else {
             continue;
-        }
+        };
+        let (t, b) = (-t, -b);
         let x = scene.axis_x_px + u / mpp + 0.5;
         top.push((x, scene.clamp_row_px - t / mpp + 0.5));
         bottom.push((x, scene.clamp_row_px - b / mpp + 0.5));

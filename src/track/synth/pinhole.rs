@@ -15,6 +15,7 @@
 //! the highest and the lowest of these points over the latitudes; the
 //! clamp fixture's top face is its outer circle (radius 1.25 a) the same way.
 
+use super::draw::envelope;
 use super::{Scene, Silhouette, densify};
 use crate::track::persp::Pinhole;
 
@@ -88,16 +89,9 @@ pub(super) fn outline_px(scene: &Scene, p: &Pinhole, s: &Silhouette) -> Vec<(f64
     for k in 0..=n {
         let psi = std::f64::consts::PI * (1.0 - k as f64 / n as f64);
         let x = p.principal_px[0] + half * psi.cos();
-        let (mut t, mut b) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &(r, z) in &dense {
-            if let Some((rt, rb)) = circle_rows(p, r.abs(), z, x) {
-                t = t.min(rt);
-                b = b.max(rb);
-            }
-        }
-        if !t.is_finite() {
+        let Some((t, b)) = envelope(&dense, |r, z| circle_rows(p, r.abs(), z, x)) else {
             continue;
-        }
+        };
         top.push((x + 0.5, t + 0.5));
         bottom.push((x + 0.5, b + 0.5));
     }
@@ -158,5 +152,59 @@ mod tests {
         let w = circle_half_width_px(&p, rho, z);
         assert!(circle_rows(&p, rho, z, 321.0 + w - 1e-6).is_some());
         assert!(circle_rows(&p, rho, z, 321.0 + w + 1e-6).is_none());
+    }
+
+    /// The outline's top per column, the envelope of the sampled latitudes
+    /// of a sphere (half a pixel of meridian apart, as the photos are
+    /// drawn), against the sphere's image in closed form: the rays at the
+    /// angle `alpha = asin(R / L)` from the one to its centre. A camera
+    /// level with the clamp plane 0.25 m away, where each latitude is a
+    /// thin ellipse and the samples alone leave a staircase inside the
+    /// outline near its sides.
+    #[test]
+    fn the_outline_is_the_envelope_of_the_latitudes() {
+        let (f, cx, cy) = (1280.0, 639.5, 479.5);
+        let p = Pinhole::aimed(0.25, 0.0, 0.01, f, [cx, cy]);
+        // A sphere of radius 0.03 m centred 0.012 m above the plane.
+        let (r, z0) = (0.03f64, 0.012);
+        let n = 4000;
+        let sphere = Silhouette {
+            rho_m: (0..=n)
+                .map(|i| r * (std::f64::consts::PI * 0.7 * i as f64 / n as f64).sin())
+                .collect(),
+            z_m: (0..=n)
+                .map(|i| z0 + r * (std::f64::consts::PI * 0.7 * i as f64 / n as f64).cos())
+                .collect(),
+        };
+        let mpp = 0.25 / f;
+        let dense = densify(&sphere, 0.5 * mpp);
+        // The ray through (x, v): (X, c + U s, U c - s), X = (x - cx) / f,
+        // U = (cy - v) / f; on the cone where its angle to the centre's
+        // direction m = (0, D, z0 - H) / L is alpha.
+        let (s, c) = p.pitch_rad.sin_cos();
+        let (d, dz) = (p.distance_m, z0 - p.height_m);
+        let l = d.hypot(dz);
+        let cos2 = 1.0 - (r / l).powi(2);
+        let top_row = |x: f64| {
+            let xx = (x - cx) / f;
+            // k(U) = (k0 + k1 U) / L against cos2 (X^2 + (c + U s)^2 +
+            // (U c - s)^2) = cos2 (X^2 + 1 + U^2): a quadratic in U.
+            let (k0, k1) = ((c * d - s * dz) / l, (s * d + c * dz) / l);
+            let (qa, qb, qc) = (
+                k1 * k1 - cos2,
+                2.0 * k0 * k1,
+                k0 * k0 - cos2 * (xx * xx + 1.0),
+            );
+            let disc = (qb * qb - 4.0 * qa * qc).sqrt();
+            let u = [(-qb + disc) / (2.0 * qa), (-qb - disc) / (2.0 * qa)];
+            cy - f * u[0].max(u[1])
+        };
+        let widest = circle_half_width_px(&p, r, z0);
+        for share in [0.0, 0.5, 0.9, 0.99, 0.999] {
+            let x = cx + share * widest;
+            let (t, _) = envelope(&dense, |rho, z| circle_rows(&p, rho.abs(), z, x)).unwrap();
+            let want = top_row(x);
+            assert!((t - want).abs() < 2e-3, "{share}: {t} against {want}");
+        }
     }
 }
