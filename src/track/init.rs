@@ -575,7 +575,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         let p = d.map(|d| ring::camera(d, e, row, mpp, x0, principal_row));
         let h_over_a = match &p {
             Some(p) => p
-                .membrane_height(top, 0.0, radius_m)
+                .membrane_height(top, 0.0, radius_m, None)
                 .map_or(f64::NAN, |h| h.0 / radius_m),
             None => (row - top) / e.cos() / a0,
         };

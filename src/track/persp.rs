@@ -216,34 +216,83 @@ impl Pinhole {
 impl Pinhole {
     /// The apex height of a membrane of free radius `a_m` from its
     /// silhouette's top at `row` (standard deviation `row_std`), m, with its
-    /// standard deviation: the pole's radius is
-    /// [`super::POLE_FLATTENING`] times the spherical cap's through the rim,
-    /// with [`super::POLE_FLATTENING_REL_STD`]; the row's deviation and the
-    /// radius's are carried through by central differences. `None` when no
-    /// dome up to `1.5 a` has its top at that row.
-    pub fn membrane_height(&self, row: f64, row_std: f64, a_m: f64) -> Option<(f64, f64)> {
+    /// standard deviation. The pole's curvature is the inverse-variance
+    /// mean of two estimates: [`super::POLE_FLATTENING`] times the
+    /// spherical cap's through the rim (with
+    /// [`super::POLE_FLATTENING_REL_STD`]), and, when given, the edge fit's
+    /// `curvature` at the top (value and standard error, 1/px, in the
+    /// undistorted image) through [`Pinhole::pole_radius_from_outline`].
+    /// The row's deviation and the curvature's are carried through by
+    /// central differences. `None` when no dome up to `1.5 a` has its top
+    /// at that row.
+    pub fn membrane_height(
+        &self,
+        row: f64,
+        row_std: f64,
+        a_m: f64,
+        curvature: Option<(f64, f64)>,
+    ) -> Option<(f64, f64)> {
         use super::{POLE_FLATTENING, POLE_FLATTENING_REL_STD};
-        let solve = |row: f64, k: f64| {
-            self.height_from_top_row(row, a_m, 1.5 * a_m, |h| k * cap_radius(a_m, h))
+        let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
+        // The pole's curvature, 1/m, and its standard deviation, at the
+        // height `h`.
+        let pole = |h: f64| {
+            let k_p = 1.0 / (POLE_FLATTENING * cap_radius(a_m, h));
+            let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
+            let (k_m, w_m) = match measured {
+                Some((k, ks)) => {
+                    let (r, rel) = self.pole_radius_from_outline(h, 1.0 / k_p, 1.0 / k, ks / k);
+                    (1.0 / r, (rel / r).powi(-2))
+                }
+                None => (0.0, 0.0),
+            };
+            (
+                (k_p * w_p + k_m * w_m) / (w_p + w_m),
+                (w_p + w_m).sqrt().recip(),
+            )
         };
-        let h = solve(row, POLE_FLATTENING)?;
+        let solve = |row: f64, sd: f64| {
+            self.height_from_top_row(row, a_m, 1.5 * a_m, |h| {
+                let (k, k_std) = pole(h);
+                1.0 / (k + sd * k_std)
+            })
+        };
+        let h = solve(row, 0.0)?;
         let dv = 0.05;
-        let per_px = match (
-            solve(row - dv, POLE_FLATTENING),
-            solve(row + dv, POLE_FLATTENING),
-        ) {
+        let per_px = match (solve(row - dv, 0.0), solve(row + dv, 0.0)) {
             (Some(up), Some(down)) => (up - down) / (2.0 * dv),
             _ => 0.0,
         };
-        let dk = POLE_FLATTENING * POLE_FLATTENING_REL_STD;
-        let per_k = match (
-            solve(row, POLE_FLATTENING + dk),
-            solve(row, POLE_FLATTENING - dk),
-        ) {
+        let per_k = match (solve(row, -1.0), solve(row, 1.0)) {
             (Some(p), Some(m)) => 0.5 * (p - m),
             _ => 0.0,
         };
         Some((h, (per_px * row_std).hypot(per_k)))
+    }
+
+    /// The pole's radius of curvature, m, and its relative standard
+    /// deviation, from the outline's radius of curvature at its top,
+    /// `rho_px` px (relative standard error `rel`), for a dome of apex
+    /// height `h` whose pole radius is first taken as `r0`. A sphere of
+    /// radius `R` whose centre is `L` from the camera's centre is seen
+    /// within the cone of half-angle `alpha = asin(R / L)`; the outline's
+    /// radius of curvature where its tangent is horizontal is `f tan alpha`
+    /// wherever the sphere lies in the picture (docs/theory.md), so `R = L
+    /// rho / sqrt(f^2 + rho^2)`, `L` from the centre `(0, h - R)`: solved by
+    /// iteration.
+    pub fn pole_radius_from_outline(&self, h: f64, r0: f64, rho_px: f64, rel: f64) -> (f64, f64) {
+        let f = self.focal_px;
+        let mut r = r0;
+        for _ in 0..20 {
+            let l = self.distance_m.hypot(h - r - self.height_m);
+            let next = l * rho_px / f.hypot(rho_px);
+            let done = (next - r).abs() < 1e-12 * r0;
+            r = next;
+            if done {
+                break;
+            }
+        }
+        (r, rel * f * f / (f * f + rho_px * rho_px))
     }
 }
 
@@ -328,6 +377,61 @@ mod tests {
     }
 
     /// The tangent-point width against 2 million points of the circle.
+    /// The pole's radius back from the outline's curvature at its top: the
+    /// image of a sphere's tangent circle (its points projected), a
+    /// parabola fitted to those within 2 px of the top's column.
+    #[test]
+    fn the_pole_radius_comes_back_from_the_outline_curvature() {
+        for (d, up, aim) in [(0.25, 0.0, 0.02), (0.45, 4.0, 0.0), (1.0, 5.0, 0.01)] {
+            let c = cam(d, up, aim);
+            for (h, r) in [(0.01, 0.08), (0.02, 0.045), (0.035, 0.04)] {
+                // The tangent circle: in the plane normal to the camera's
+                // direction, `r^2 / l` from the centre towards it, of radius
+                // `r sqrt(l^2 - r^2) / l`.
+                let centre = [0.0, 0.0, h - r];
+                let cam_pt = [0.0, -c.distance_m, c.height_m];
+                let v: Vec<f64> = (0..3).map(|i| cam_pt[i] - centre[i]).collect();
+                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                let n = [v[0] / l, v[1] / l, v[2] / l];
+                let e1 = [1.0, 0.0, 0.0];
+                let e2 = [
+                    n[1] * e1[2] - n[2] * e1[1],
+                    n[2] * e1[0] - n[0] * e1[2],
+                    n[0] * e1[1] - n[1] * e1[0],
+                ];
+                let (off, rad) = (r * r / l, r * (l * l - r * r).sqrt() / l);
+                let pts: Vec<[f64; 2]> = (0..200_000)
+                    .map(|i| {
+                        let t = std::f64::consts::TAU * i as f64 / 200_000.0;
+                        let p: Vec<f64> = (0..3)
+                            .map(|k| {
+                                centre[k] + off * n[k] + rad * (t.cos() * e1[k] + t.sin() * e2[k])
+                            })
+                            .collect();
+                        c.project([p[0], p[1], p[2]])
+                    })
+                    .collect();
+                let top = pts.iter().fold(
+                    [0.0, f64::INFINITY],
+                    |b, p| if p[1] < b[1] { *p } else { b },
+                );
+                // Least squares y - y0 = k (x - x0)^2 over the points near the top.
+                let (mut sxx, mut sxy) = (0.0, 0.0);
+                for p in pts
+                    .iter()
+                    .filter(|p| (p[0] - top[0]).abs() < 2.0 && p[1] < top[1] + 1.0)
+                {
+                    let q = (p[0] - top[0]).powi(2);
+                    sxx += q * q;
+                    sxy += q * (p[1] - top[1]);
+                }
+                let rho = 1.0 / (2.0 * sxy / sxx);
+                let (back, _) = c.pole_radius_from_outline(h, 1.1 * r, rho, 0.0);
+                assert!((back / r - 1.0).abs() < 1e-4, "{d} {up}: {back} vs {r}");
+            }
+        }
+    }
+
     #[test]
     fn the_opening_width_is_the_widest_projected_point_of_the_circle() {
         let a = 0.0375;

@@ -5,6 +5,7 @@
 //! a pinhole at a known distance: the ray tangent to the dome), each height
 //! with its standard deviation.
 
+use super::super::guards::pole_curvature;
 use super::super::tracker::{Located, Tracker};
 use super::*;
 
@@ -100,7 +101,16 @@ pub(super) fn rows(
                 (h_px * mpp + offset_m, h_std_px * mpp)
             }
             Some(p) => p
-                .membrane_height(apex[1], std_total, setup.calibration.opening_radius_m)
+                .membrane_height(
+                    apex[1],
+                    std_total,
+                    setup.calibration.opening_radius_m,
+                    // The pole's, from the parabola's over the span.
+                    edge.as_ref().map(|e| {
+                        let k = pole_curvature(e.curvature, state.edge_settings.half_span_px as f64);
+                        (k, e.curvature_std * k / e.curvature)
+                    }),
+                )
                 .ok_or_else(|| TrackError::Config {
                     path: setup.experiment.clone(),
                     message: format!(
