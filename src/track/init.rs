@@ -656,20 +656,20 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
             let o = find_radius(&pl, x0, a0, &in_photo, sin_e)?;
             let e = e_of(elevation_deg);
-            let a = unbiased(
-                &o,
-                camera_distance_m,
-                e,
-                radius_m / o.a.value,
-                clamp.row.value,
-            );
-            let sides = o.sides;
-            let mpp = match camera_distance_m {
+            let scale_of = |a: f64| match camera_distance_m {
                 Some(d) => {
-                    ring::centre_scale(radius_m, a.value, d, e, clamp.row.value, x0, principal_row)
+                    ring::centre_scale(radius_m, a, d, e, clamp.row.value, x0, principal_row)
                 }
-                None => radius_m / a.value,
+                None => radius_m / a,
             };
+            // The bias is measured through the camera of the scale it
+            // leaves: three rounds reach that fixed point.
+            let mut a = o.a;
+            for _ in 0..3 {
+                a = unbiased(&o, camera_distance_m, e, scale_of(a.value), clamp.row.value);
+            }
+            let sides = o.sides;
+            let mpp = scale_of(a.value);
             (
                 Some(a),
                 Estimate {
