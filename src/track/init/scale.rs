@@ -99,12 +99,19 @@ pub(super) fn find_radius(
     let f = 1.0 + sin_e * sin_e * big_c;
     let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
     // The edge models' spread: the largest change of the opening between
-    // the windows (on 5 level framings at 1 m, 0.01-0.16 px, where the
-    // opening was 0.005-0.16 px off).
+    // the windows, less the part of it that is the windows' own noise
+    // (counted already in the fit's variance), is a bound on the edge
+    // model's error, stated as a uniform spread within it (variance
+    // bound^2 / 3). On 20 framings per combination of the camera grid the
+    // whole change, stated as one deviation, over-stated the heights of
+    // cameras 3 degrees up by up to twice.
     let var_edge = (1..WINDOWS.len())
-        .filter_map(|m| opening_from_sides(&half_widths(m), sin_e, a0).ok())
-        .map(|f| (f.a - a).powi(2))
-        .fold(0.0, f64::max);
+        .filter_map(|m| {
+            let change = opening_from_sides(&half_widths(m), sin_e, a0).ok()?.a - a;
+            Some((change * change - window_change_var(&rows, m, &fit, a0)).max(0.0))
+        })
+        .fold(0.0, f64::max)
+        / 3.0;
     // The meridian departs from the conic over the fitted rows: that bias
     // and its deviation are the caller's ([`super::meridian::unbiased`]).
     Ok(Opening {
@@ -116,6 +123,36 @@ pub(super) fn find_radius(
         us: pts.iter().map(|p| p.0).collect(),
         coef: fit.coef,
     })
+}
+
+/// The variance of the change of the opening between the edge window `m`
+/// and the first (`rows`: `(u, [[left; windows], [right; windows]])`) that
+/// the windows' own noise gives, px^2: the change is, to first order, the
+/// fit's gradient `fit.grad` applied to the coefficients of the
+/// row-by-row change of `W^2` fitted the same way, whose covariance comes
+/// from that change's scatter about its quadratic (inflated for its lag-1
+/// correlation). Two windows read the same pixels, so most of each row's
+/// noise is common and cancels; what is left is the noise the windows do
+/// not share. 0 when too few rows have both.
+fn window_change_var(rows: &[(f64, [[f64; 3]; 2])], m: usize, fit: &SidesFit, a0: f64) -> f64 {
+    let (x, y): (Vec<Vec<f64>>, Vec<f64>) = rows
+        .iter()
+        .filter_map(|(u, xs)| {
+            let w = |k: usize| 0.5 * (xs[1][k] - xs[0][k]);
+            let (w0, wm) = (w(0), w(m));
+            (w0.is_finite() && wm.is_finite()).then(|| (vec![1.0, *u, u * u], wm * wm - w0 * w0))
+        })
+        .unzip();
+    if y.len() < 5 {
+        return 0.0;
+    }
+    match robust_lstsq(&x, &y, 0.1 * a0) {
+        Some(((_, cov, res), _)) => {
+            let infl = lag1_inflation(&res);
+            super::super::matcher::quad_form(&cov, &fit.grad) * infl * infl
+        }
+        None => 0.0,
+    }
 }
 
 /// The axis's column: the mean midpoint of the sides located in the same
@@ -143,6 +180,8 @@ pub(super) struct SidesFit {
     pub(super) var: f64,
     /// `[A, B, C]` of `W^2 = A + B u + C u^2`.
     pub(super) coef: [f64; 3],
+    /// The half-width's gradient with respect to `[A, B, C]`.
+    pub(super) grad: [f64; 3],
 }
 
 /// The silhouette's half-width at the clamp plane from its half-widths
@@ -194,5 +233,6 @@ pub(super) fn opening_from_sides(
         a,
         var: var_fit,
         coef: [big_a, big_b, big_c],
+        grad: g,
     })
 }
