@@ -376,7 +376,6 @@ mod tests {
         }
     }
 
-    /// The tangent-point width against 2 million points of the circle.
     /// The pole's radius back from the outline's curvature at its top: the
     /// image of a sphere's tangent circle (its points projected), a
     /// parabola fitted to those within 2 px of the top's column.
@@ -432,6 +431,7 @@ mod tests {
         }
     }
 
+    /// The tangent-point width against 2 million points of the circle.
     #[test]
     fn the_opening_width_is_the_widest_projected_point_of_the_circle() {
         let a = 0.0375;
