@@ -272,37 +272,15 @@ pub(super) fn envelope(
         let (p, q) = (dense[i], dense[i + 1]);
         rows(p.0 + s * (q.0 - p.0), p.1 + s * (q.1 - p.1))
     };
+    // 60 sections shrink the bracket below 1e-12 of its width.
     let least = |i: usize, key: &dyn Fn(f64) -> f64| {
         let i = i as f64;
-        golden_min(key, (i - 1.0).max(0.0), (i + 1.0).min(last))
+        let (lo, hi) = ((i - 1.0).max(0.0), (i + 1.0).min(last));
+        crate::numerics::golden::golden_section(lo, hi, 60, |t| (key(t), ())).score
     };
     let top = least(lo.1, &|t| at(t).map_or(f64::INFINITY, |v| v.0));
     let bottom = -least(hi.1, &|t| at(t).map_or(f64::INFINITY, |v| -v.1));
     Some((top.min(lo.0), bottom.max(hi.0)))
-}
-
-/// The least value of `g` found by golden-section search over `[a, b]`
-/// (60 steps: the bracket shrinks below 1e-12 of its width).
-fn golden_min(g: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-    let (mut gc, mut gd) = (g(c), g(d));
-    for _ in 0..60 {
-        if gc < gd {
-            b = d;
-            d = c;
-            gd = gc;
-            c = b - r * (b - a);
-            gc = g(c);
-        } else {
-            a = c;
-            c = d;
-            gc = gd;
-            d = a + r * (b - a);
-            gd = g(d);
-        }
-    }
-    gc.min(gd)
 }
 
 /// Adds the signed area of segment p0-p1 (raster coordinates) to the
