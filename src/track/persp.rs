@@ -232,24 +232,18 @@ impl Pinhole {
         a_m: f64,
         curvature: Option<(f64, f64)>,
     ) -> Option<(f64, f64)> {
-        use super::{POLE_FLATTENING, POLE_FLATTENING_REL_STD};
+        use super::POLE_FLATTENING;
+        use super::types::pole_curvature_mean;
         let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
         // The pole's curvature, 1/m, and its standard deviation, at the
         // height `h`.
         let pole = |h: f64| {
             let k_p = 1.0 / (POLE_FLATTENING * cap_radius(a_m, h));
-            let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
-            let (k_m, w_m) = match measured {
-                Some((k, ks)) => {
-                    let (r, rel) = self.pole_radius_from_outline(h, 1.0 / k_p, 1.0 / k, ks / k);
-                    (1.0 / r, (rel / r).powi(-2))
-                }
-                None => (0.0, 0.0),
-            };
-            (
-                (k_p * w_p + k_m * w_m) / (w_p + w_m),
-                (w_p + w_m).sqrt().recip(),
-            )
+            let in_m = measured.map(|(k, ks)| {
+                let (r, rel) = self.pole_radius_from_outline(h, 1.0 / k_p, 1.0 / k, ks / k);
+                (1.0 / r, rel / r)
+            });
+            pole_curvature_mean(k_p, in_m)
         };
         let solve = |row: f64, sd: f64| {
             self.height_from_top_row(row, a_m, 1.5 * a_m, |h| {

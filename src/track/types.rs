@@ -74,6 +74,20 @@ pub const POLE_FLATTENING: f64 = 1.06;
 /// uniform spread over 1.00-1.12.
 pub const POLE_FLATTENING_REL_STD: f64 = 0.035;
 
+/// The pole's curvature and its standard deviation: the inverse-variance
+/// mean of the membrane's estimate `k_p` ([`POLE_FLATTENING`] times the
+/// spherical cap's radius through the rim, relative deviation
+/// [`POLE_FLATTENING_REL_STD`]) and, when given, one measured on the
+/// outline (value and standard deviation, in the same units).
+pub(crate) fn pole_curvature_mean(k_p: f64, measured: Option<(f64, f64)>) -> (f64, f64) {
+    let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
+    let (k_m, w_m) = measured.map_or((0.0, 0.0), |(k, ks)| (k, 1.0 / (ks * ks)));
+    (
+        (k_p * w_p + k_m * w_m) / (w_p + w_m),
+        (w_p + w_m).sqrt().recip(),
+    )
+}
+
 impl Elevation {
     /// The apex height `h`, px, from the height `t` (px) of the
     /// silhouette's top above the clamp ring's centre. An orthographic
@@ -93,16 +107,11 @@ impl Elevation {
     /// from the curvature's, px.
     pub fn height_px(&self, t: f64, curvature: Option<(f64, f64)>, a_px: f64) -> (f64, f64) {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
-        let measured = curvature
-            .filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0)
-            .map(|(k, ks)| (k, 1.0 / (ks * ks)));
+        let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
         let pole = |h: f64| {
-            let k_p = 2.0 * h / (POLE_FLATTENING * (a_px * a_px + h * h));
-            let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
-            let (k_m, w_m) = measured.unwrap_or((0.0, 0.0));
-            (
-                (k_p * w_p + k_m * w_m) / (w_p + w_m),
-                (w_p + w_m).sqrt().recip(),
+            pole_curvature_mean(
+                2.0 * h / (POLE_FLATTENING * (a_px * a_px + h * h)),
+                measured,
             )
         };
         let mut h = t;
