@@ -146,13 +146,20 @@ fn window_change_var(rows: &[(f64, [[f64; 3]; 2])], m: usize, fit: &SidesFit, a0
     if y.len() < 5 {
         return 0.0;
     }
-    match robust_lstsq(&x, &y, 0.1 * a0) {
+    match robust_lstsq(&x, &y, w2_floor(a0)) {
         Some(((_, cov, res), _)) => {
             let infl = lag1_inflation(&res);
             super::super::matcher::quad_form(&cov, &fit.grad) * infl * infl
         }
         None => 0.0,
     }
+}
+
+/// The least cut, px^2, under which [`robust_lstsq`] keeps every row of a
+/// fit of the squared half-width `W^2` (or of its change between windows):
+/// `0.1 a0`, a change of 0.05 px in `W` about `a0`.
+fn w2_floor(a0: f64) -> f64 {
+    0.1 * a0
 }
 
 /// The axis's column: the mean midpoint of the sides located in the same
@@ -203,7 +210,7 @@ pub(super) fn opening_from_sides(
     // bubble 0.53 a high, 11 % on one 0.26 a high.)
     let x: Vec<Vec<f64>> = pts.iter().map(|(u, _)| vec![1.0, *u, u * u]).collect();
     let y: Vec<f64> = pts.iter().map(|(_, hw)| hw * hw).collect();
-    let ((coef, cov, res), _) = robust_lstsq(&x, &y, 0.1 * a0).ok_or(TrackError::NotFound {
+    let ((coef, cov, res), _) = robust_lstsq(&x, &y, w2_floor(a0)).ok_or(TrackError::NotFound {
         what: "the scale".into(),
         detail: "the bubble's sides near the clamp do not fit a smooth curve".into(),
         keys: "metres_per_pixel",
