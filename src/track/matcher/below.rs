@@ -153,42 +153,103 @@ pub(super) fn rim_rows(e: f64, hw: f64) -> (i64, i64) {
     (j0, j0 + 2 * SLOPE_ROWS - 1)
 }
 
-/// How much of a glossy surface's reflection of what lies behind its
-/// outline it still shows `d` px inside an outline of radius of curvature
-/// `r` px: Schlick's approximation of the Fresnel factor,
-/// `(1 - cos(theta))^5`, with `cos(theta) = sqrt(2 d / r)` the cosine of the
-/// angle between the line of sight and the surface's normal there (C.
-/// Schlick, "An inexpensive BRDF model for physically-based rendering",
-/// Computer Graphics Forum 13 (1994), doi:10.1111/1467-8659.1330233).
-pub(super) fn rim_factor(d: f64, r: f64) -> f64 {
-    (1.0 - (2.0 * d.max(0.0) / r).sqrt()).max(0.0).powi(5)
+/// How a dome's light varies near its outline, `d` px inside an outline
+/// of radius of curvature `r` px, where the cosine of the angle between
+/// the line of sight and the surface's normal is `t = sqrt(2 d / r)`. Each
+/// is a factor `G(d)`, 1 at the outline and falling inwards; the dome side
+/// reads `a + A G(d)`, with `A > 0` where it is lighter (for a dark dome,
+/// darker for a light one) towards the outline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum RimShape {
+    /// Light that is smooth across the outline, `G = 1 - t^2 = 1 - 2 d / r`:
+    /// a highlight's flank, a shade across the dome or uneven light. It is
+    /// linear in `d`, and the slope below the edge that a column's centroid
+    /// subtracts removes it: it moves the centroid by nothing.
+    Ramp,
+    /// A matte (Lambertian) surface lit from about the camera's side: its
+    /// light goes as the cosine between the light and the normal, `t`
+    /// near the outline, so it falls short of its inner level by
+    /// `G = 1 - t` (J. H. Lambert, "Photometria", 1760; B. K. P. Horn,
+    /// "Robot Vision", MIT Press 1986, ch. 10).
+    Matte,
+    /// A glossy (dielectric) surface reflecting what lies behind its
+    /// outline, the more the closer to grazing: Schlick's approximation
+    /// of the Fresnel factor, `G = (1 - t)^5` (C. Schlick, "An inexpensive
+    /// BRDF model for physically-based rendering", Computer Graphics Forum
+    /// 13 (1994), doi:10.1111/1467-8659.1330233).
+    Glossy,
 }
 
-/// A glossy dome's rim under an edge at row `e` of column `c` (grey step
-/// `step`), the outline's radius of curvature `r` px: the amplitude `A` of
-/// `a + A rim_factor(d, r)` ([`rim_factor`]) fitted by least squares to
-/// the dome side's light `d` px under the edge, over the rows
-/// [`rim_rows`], as a share of the step in light (from the background just
-/// above the window to the fit at the first row read); positive where the
-/// dome side is lighter towards the outline as a glossy surface's is (for
-/// a dark dome on a light wall; the opposite way round for a light dome).
-/// A dielectric surface seen near grazing reflects what lies behind its
-/// outline, the more the closer to grazing, so near the outline the dome
-/// shows the background and falls away from it inwards. `None` where the
-/// rows leave the image.
-pub(super) fn rim_tail(img: &Gray, c: usize, e: f64, hw: f64, step: f64, r: f64) -> Option<f64> {
+impl RimShape {
+    pub(super) const ALL: [RimShape; 3] = [RimShape::Ramp, RimShape::Matte, RimShape::Glossy];
+}
+
+/// The factor `G(d)` of a rim of shape `shape` `d` px inside an outline of
+/// radius of curvature `r` px ([`RimShape`]).
+pub(super) fn rim_factor(shape: RimShape, d: f64, r: f64) -> f64 {
+    let t2 = 2.0 * d.max(0.0) / r;
+    match shape {
+        RimShape::Ramp => 1.0 - t2,
+        RimShape::Matte => (1.0 - t2.sqrt()).max(0.0),
+        RimShape::Glossy => (1.0 - t2.sqrt()).max(0.0).powi(5),
+    }
+}
+
+/// A dome's rim of shape `shape` under an edge at row `e` of column `c`
+/// (grey step `step`), the outline's radius of curvature `r` px: the
+/// amplitude `A` of `a + A G(d)` ([`rim_factor`]) fitted by least squares
+/// to the dome side's light `d` px under the edge, over the rows
+/// [`rim_rows`], as a share of the step in light, and the fit's sum of
+/// squared residuals in shares of the step. A lens's blur spreads the step
+/// in light evenly about the edge, so its tail under the edge is the
+/// mirror of its tail above: each row under the edge is read with the
+/// light `d` px above it added, which cancels the tail of a blur wider
+/// than the window and leaves the dome's own light (the step is the
+/// background's mean over those rows above less the dome's fit at the
+/// first row read). `A` is positive where the dome side is lighter towards
+/// the outline (for a dark dome on a light wall; darker for a light dome).
+/// `None` where the rows leave the image.
+pub(super) fn rim_tail(
+    img: &Gray,
+    c: usize,
+    e: f64,
+    hw: f64,
+    step: f64,
+    r: f64,
+    shape: RimShape,
+) -> Option<(f64, f64)> {
     let light = |j: i64| -step.signum() * img.light(c, j as usize);
     let (j0, j1) = rim_rows(e, hw);
-    let above = first_row_read_above(e, hw) + SLOPE_ROWS;
-    if above < 0 || j1 >= img.height as i64 || step == 0.0 || r.is_nan() || r <= 0.0 {
+    let top = 2.0 * e - j1 as f64;
+    if top < 0.0 || j1 >= img.height as i64 || step == 0.0 || r.is_nan() || r <= 0.0 {
         return None;
     }
-    let ys: Vec<f64> = (j0..=j1).map(light).collect();
+    // The light at a row between two pixels' centres, linearly.
+    let at = |y: f64| {
+        let j = y.floor();
+        let f = y - j;
+        light(j as i64) * (1.0 - f) + light(j as i64 + 1) * f
+    };
     let d = |k: usize| (j0 + k as i64) as f64 - e;
-    let (a, amp) = least_squares(&ys, |k| rim_factor(d(k), r))?;
-    let background = 0.5 * (light(above) + light(above + 1));
-    let s = background - (a + amp * rim_factor(d(0), r));
-    (s > 0.0).then_some(amp / s)
+    let above: Vec<f64> = (0..=(j1 - j0) as usize).map(|k| at(e - d(k))).collect();
+    let ys: Vec<f64> = above
+        .iter()
+        .enumerate()
+        .map(|(k, b)| light(j0 + k as i64) + b)
+        .collect();
+    let g = |k: usize| rim_factor(shape, d(k), r);
+    let (a, amp) = least_squares(&ys, g)?;
+    let background = above.iter().sum::<f64>() / above.len() as f64;
+    let s = 2.0 * background - (a + amp * g(0));
+    if s <= 0.0 {
+        return None;
+    }
+    let rss = ys
+        .iter()
+        .enumerate()
+        .map(|(k, y)| (y - a - amp * g(k)).powi(2))
+        .sum::<f64>();
+    Some((amp / s, rss / (s * s)))
 }
 
 /// The least-squares fit `y_k = a + b x(k)`: `(a, b)`, `None` where the
@@ -212,15 +273,16 @@ fn least_squares(ys: &[f64], x: impl Fn(usize) -> f64) -> Option<(f64, f64)> {
 }
 
 /// The shift into the dome of a column's centroid (window half-height
-/// `hw`) that a rim's tail `A rim_factor(d, r)` ([`rim_tail`], `A` a share
-/// of the step) puts there: the tail's fall within the window's lower half
-/// `L = hw + 1/2`, less the slope below the edge that the centroid
-/// subtracts (the tail's, where that is read, about `hw + 6` px under the
-/// edge), weighted by its offset from the edge:
-/// `A (int_0^L G - L G(L) + G'(hw + 6) L^2 / 2)`, px, `G = rim_factor`.
-pub(super) fn rim_shift(amp: f64, hw: f64, r: f64) -> f64 {
+/// `hw`) that a rim's tail `A G(d)` of shape `shape` ([`rim_tail`], `A` a
+/// share of the step) puts there: the tail's fall within the window's
+/// lower half `L = hw + 1/2`, less the slope below the edge that the
+/// centroid subtracts (the tail's, where that is read, about `hw + 6` px
+/// under the edge), weighted by its offset from the edge:
+/// `A (int_0^L G - L G(L) + G'(hw + 6) L^2 / 2)`, px. It is 0 for a
+/// [`RimShape::Ramp`], whose slope is the same everywhere.
+pub(super) fn rim_shift(shape: RimShape, amp: f64, hw: f64, r: f64) -> f64 {
     let l = hw + 0.5;
-    let g = |d: f64| rim_factor(d, r);
+    let g = |d: f64| rim_factor(shape, d, r);
     // Simpson's rule on 64 intervals for the integral of G (smooth in
     // sqrt(d): substituted d = t^2).
     let m = 64;
@@ -236,19 +298,25 @@ pub(super) fn rim_shift(amp: f64, hw: f64, r: f64) -> f64 {
     (amp * (int - l * g(l) + 0.5 * slope * l * l)).max(0.0)
 }
 
-/// The shift into the dome of the apex row that a glossy rim puts there,
-/// px, which the caller adds to the apex row's deviation as a bias bound:
-/// the mean of [`rim_tail`] over the columns `(u from centre, edge row,
-/// step)`, where it lies beyond two of its standard errors (from the
-/// columns' spread, at least 5 columns) towards the background, through
-/// [`rim_shift`]; 0 otherwise, and where the outline's radius of curvature
-/// `radius` px is not positive. On path-traced photos of a glossy dark dome
-/// (rough plastic of roughness 0.1, 1280x960 at 0.25 m) it gave 0.20-0.28
-/// px where the centroids were 0.18-0.31 px into the dome. A matte dark
-/// dome lit from the front darkens towards its outline, away from a light
-/// background, and it gives 0; a matte light dome on a dark wall darkens
-/// towards the background, which pulls the centroids too (0.08-0.13 px on
-/// such path-traced photos), and it gives 0.16-0.20 px.
+/// The shift into the dome of the apex row that a dome's rim puts there,
+/// px, which the caller adds to the apex row's deviation as a bias bound.
+/// The rim's shape ([`RimShape`]) is the one whose fits ([`rim_tail`])
+/// leave the least squared residual summed over the columns `(u from
+/// centre, edge row, step)`: the three have two parameters each, so the
+/// sum compares them fairly, and the columns together tell a matte
+/// dome's fall-off from a glossy one's where one column's noise cannot.
+/// The shift is that shape's [`rim_shift`] of the mean amplitude over the
+/// columns, where the mean lies beyond two of its standard errors (from
+/// the columns' spread, at least 5 columns) towards the background; 0
+/// otherwise, and where the outline's radius of curvature `radius` px is
+/// not positive. On path-traced photos of a glossy dark dome (rough
+/// plastic of roughness 0.1, 1280x960 at 0.25 m) the glossy shape gave
+/// 0.21-0.29 px where the centroids were 0.18-0.31 px into the dome. A
+/// matte dark dome lit from the front darkens towards its outline, away
+/// from a light background, and it gives 0; a matte light dome on a dark
+/// wall darkens towards the background, which pulls the centroids too
+/// (0.08-0.13 px on such path-traced photos, where it gives 0-0.07 px;
+/// 0.16-0.20 px with the glossy shape alone and the blur's tail unmirrored).
 pub(super) fn rim_bias(
     img: &Gray,
     columns: &[(f64, f64, f64)],
@@ -256,12 +324,49 @@ pub(super) fn rim_bias(
     hw: f64,
     radius: f64,
 ) -> f64 {
-    let shares: Vec<f64> = columns
-        .iter()
-        .filter_map(|&(u, e, step)| {
-            rim_tail(img, (u + centre).round() as usize, e, hw, step, radius)
-        })
-        .collect();
+    let fits = |shape: RimShape| -> Vec<(f64, f64)> {
+        columns
+            .iter()
+            .filter_map(|&(u, e, step)| {
+                rim_tail(
+                    img,
+                    (u + centre).round() as usize,
+                    e,
+                    hw,
+                    step,
+                    radius,
+                    shape,
+                )
+            })
+            .collect()
+    };
+    // A dome lighter than the background (its steps rise into it) is
+    // darker towards its outline by any of the three shapes; one darker
+    // than the background is lighter there only by what it reflects (a
+    // matte surface darkens towards its outline whatever lies behind it),
+    // so the glossy shape bounds it, a highlight at the outline included.
+    let light_dome = 2 * columns.iter().filter(|c| c.2 > 0.0).count() > columns.len();
+    let shapes: &[RimShape] = if light_dome {
+        &RimShape::ALL
+    } else {
+        &[RimShape::Glossy]
+    };
+    let by_shape: Vec<(RimShape, Vec<(f64, f64)>)> = shapes.iter().map(|&s| (s, fits(s))).collect();
+    // The shape whose fits leave the least squared residual; where the
+    // shapes did not all fit the same columns (a fit that leaves no
+    // contrast), the glossy one, whose shift is the largest.
+    let n = by_shape[0].1.len();
+    let same = by_shape.iter().all(|(_, f)| f.len() == n);
+    let rss = |f: &[(f64, f64)]| f.iter().map(|x| x.1).sum::<f64>();
+    let (shape, fit) = if same {
+        by_shape
+            .into_iter()
+            .min_by(|a, b| rss(&a.1).total_cmp(&rss(&b.1)))
+            .unwrap()
+    } else {
+        by_shape.into_iter().last().unwrap()
+    };
+    let shares: Vec<f64> = fit.iter().map(|x| x.0).collect();
     let n = shares.len() as f64;
     if n < 5.0 {
         return 0.0;
@@ -269,7 +374,7 @@ pub(super) fn rim_bias(
     let mean = shares.iter().sum::<f64>() / n;
     let var = shares.iter().map(|b| (b - mean).powi(2)).sum::<f64>() / (n - 1.0);
     if mean > 2.0 * (var / n).sqrt() {
-        rim_shift(mean, hw, radius)
+        rim_shift(shape, mean, hw, radius)
     } else {
         0.0
     }

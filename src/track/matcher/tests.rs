@@ -620,7 +620,7 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
                         if y < e {
                             200.0
                         } else {
-                            60.0 + amp * rim_factor(y - e, r)
+                            60.0 + amp * rim_factor(RimShape::Glossy, y - e, r)
                         }
                     },
                     sigma,
@@ -633,8 +633,8 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
                     tone: crate::track::image::Tone::LINEAR,
                 };
                 let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
-                let share = rim_tail(&img, 0, c, 3.0, step, r).unwrap();
-                let predicted = rim_shift(share, 3.0, r);
+                let (share, _) = rim_tail(&img, 0, c, 3.0, step, r, RimShape::Glossy).unwrap();
+                let predicted = rim_shift(RimShape::Glossy, share, 3.0, r);
                 assert!(
                     c - e > 0.05,
                     "sigma {sigma} e {e} amp {amp}: the centroid {c} is not pulled"
@@ -645,6 +645,91 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
                     c - e
                 );
             }
+        }
+    }
+}
+
+/// A profile as a `width`-column image of grey levels (linear light).
+fn columns_image(p: &[f64], width: usize) -> Gray {
+    Gray {
+        width,
+        height: p.len(),
+        data: p
+            .iter()
+            .flat_map(|v| std::iter::repeat_n(v.round() as u8, width))
+            .collect(),
+        tone: crate::track::image::Tone::LINEAR,
+    }
+}
+
+/// A plain step (200 over a dark dome of 60) blurred wider than the
+/// window (a Gaussian of 2-3 px, whose tail reaches past the rows the
+/// rim is read on) shows no rim: the tail under the edge is the mirror
+/// of the tail above it, and what [`rim_tail`] reads of what is left
+/// would shift the centroid ([`rim_shift`]) by less than 0.01 px in every
+/// shape.
+#[test]
+fn a_blur_wider_than_the_window_is_not_read_as_a_rim() {
+    let r = 300.0;
+    for sigma in [2.0, 2.5, 3.0] {
+        for e in [30.0, 30.4] {
+            let p = blurred(|y| if y < e { 200.0 } else { 60.0 }, sigma, 64);
+            let img = columns_image(&p, 1);
+            let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
+            for shape in RimShape::ALL {
+                let (share, _) = rim_tail(&img, 0, c, 3.0, step, r, shape).unwrap();
+                let shift = rim_shift(shape, share.abs(), 3.0, r);
+                assert!(
+                    shift < 0.01,
+                    "sigma {sigma} e {e} {shape:?}: {shift:.4} px from the blur (share {share:.4})"
+                );
+            }
+        }
+    }
+}
+
+/// A matte light dome (a level of 200 falling as the cosine towards its
+/// outline, `60 + 140 t`, Lambert's law lit from the camera's side) on a
+/// dark wall (30), blurred and pixel-averaged over eight columns: the
+/// matte shape fits it best, and the shift [`rim_bias`] states is within
+/// half of the centroid's pull. Schlick's glossy shape fitted to the same
+/// rows states more than 1.5 times the matte one's.
+#[test]
+fn a_matte_domes_fall_off_is_told_from_a_glossy_rim() {
+    let r = 300.0;
+    for sigma in [0.8, 1.5] {
+        for e in [30.0, 30.4] {
+            let p = blurred(
+                |y| {
+                    if y < e {
+                        30.0
+                    } else {
+                        60.0 + 140.0 * (2.0 * (y - e) / r).sqrt()
+                    }
+                },
+                sigma,
+                64,
+            );
+            let img = columns_image(&p, 8);
+            let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
+            let columns: Vec<(f64, f64, f64)> = (0..8).map(|u| (u as f64 - 3.5, c, step)).collect();
+            let stated = rim_bias(&img, &columns, 3.5, 3.0, r);
+            let fit = |shape| rim_tail(&img, 0, c, 3.0, step, r, shape).unwrap();
+            let (matte, glossy) = (fit(RimShape::Matte), fit(RimShape::Glossy));
+            assert!(
+                matte.1 < glossy.1,
+                "sigma {sigma} e {e}: {matte:?} {glossy:?}"
+            );
+            let glossy_shift = rim_shift(RimShape::Glossy, glossy.0, 3.0, r);
+            let pulled = c - e;
+            assert!(
+                pulled > 0.05 && (pulled - stated).abs() <= 0.5 * stated,
+                "sigma {sigma} e {e}: pulled {pulled:.3} px, stated {stated:.3}"
+            );
+            assert!(
+                glossy_shift > 1.5 * stated,
+                "sigma {sigma} e {e}: glossy {glossy_shift:.3} px, matte {stated:.3}"
+            );
         }
     }
 }
