@@ -22,7 +22,8 @@
 //!
 //! The standard deviations of the inputs (`[specimen] thickness_std_m`,
 //! `radius_std_m`; `[pressure] std_pa`, `relative_std`; `[calibration]
-//! metres_per_pixel_std`, `clamp_row_std_px`) are gathered by
+//! metres_per_pixel_std`, `clamp_row_std_px`, with `scale_per_clamp_row`
+//! where the scale was read at the clamp row) are gathered by
 //! [`Experiment::uncertainty`] and carried to the fitted parameters
 //! ([`crate::fit::uncertainty`]).
 //!
@@ -430,6 +431,14 @@ impl Experiment {
                 "2e-7",
             )?;
             positive("calibration", "clamp_row_std_px", c.clamp_row_std_px, "0.5")?;
+            if let Some(k) = c.scale_per_clamp_row.filter(|k| !k.is_finite()) {
+                return Err(InputError::file(
+                    path,
+                    format!(
+                        "[calibration] scale_per_clamp_row = {k} must be a finite number, 1/px (e.g. -0.004), or left out"
+                    ),
+                ));
+            }
         }
         e.base_dir = path
             .parent()
@@ -511,6 +520,11 @@ impl Experiment {
             (Some(s), Some(px)) => s * px,
             _ => 0.0,
         };
+        // per px of clamp row, `d ln(mpp) / d c`; per metre of offset, over the scale
+        let offset_scale_per_m = match (scale, cal.and_then(|c| c.scale_per_clamp_row)) {
+            (Some(s), Some(k)) if s > 0.0 => k / s,
+            _ => 0.0,
+        };
         crate::fit::uncertainty::Sources {
             pressure_std_pa: self.pressure.as_ref().and_then(|p| p.std_pa).unwrap_or(0.0),
             pressure_relative_std: self
@@ -522,6 +536,7 @@ impl Experiment {
             radius_std_m: self.specimen_std.radius_std_m,
             scale_relative_std,
             height_offset_std_m,
+            offset_scale_per_m,
             // found with the dome height, when it is (`bulge run`)
             prebulge_std_m: 0.0,
             prebulge_in_heights: false,

@@ -123,6 +123,13 @@ pub struct CalibrationConfig {
     /// offset.
     #[serde(default)]
     pub clamp_row_std_px: Option<f64>,
+    /// The scale's relative change per px that the clamp row lies lower,
+    /// 1/px (`bulge init` writes it when the scale is read on the opening
+    /// at the clamp row): a clamp row `d` px off then puts a height `h`
+    /// off by `d (mpp + h scale_per_clamp_row)` m, the two parts of one
+    /// error, instead of by `d mpp` besides an independent scale error.
+    #[serde(default)]
+    pub scale_per_clamp_row: Option<f64>,
     /// Elevation of the camera above the clamp plane, degrees (0 to 30;
     /// absent: a level camera): the heights are corrected for it.
     #[serde(default)]

@@ -56,6 +56,22 @@ fn uncertainty_inputs_read_and_checked() {
     // scale 0.1 m / 500 px = 2e-4 m/px
     assert!((u.scale_relative_std - 2e-3).abs() < 1e-15);
     assert!((u.height_offset_std_m - 1e-4).abs() < 1e-15);
+    assert_eq!(u.offset_scale_per_m, 0.0);
+    // the scale read at the clamp row: -0.004 per px is -0.004 / 2e-4 m
+    let shared = base.replace(
+        "clamp_row_std_px = 0.5\n",
+        "clamp_row_std_px = 0.5\nscale_per_clamp_row = -0.004\n",
+    );
+    std::fs::write(&path, &shared).unwrap();
+    let k = Experiment::read(&path)
+        .unwrap()
+        .uncertainty()
+        .offset_scale_per_m;
+    assert!((k + 20.0).abs() < 1e-9, "{k}");
+    std::fs::write(&path, shared.replace("-0.004", "nan")).unwrap();
+    let err = Experiment::read(&path).unwrap_err().to_string();
+    assert!(err.contains("scale_per_clamp_row = NaN"), "{err}");
+    std::fs::write(&path, base).unwrap();
     assert_eq!(
         (u.thickness_std_m, u.radius_std_m, u.pressure_std_pa),
         (1.2e-5, 2e-4, 3.0)

@@ -42,11 +42,15 @@ impl Shared {
             radius_m: nominal.radius_m - s.radius_std_m * rng.normal(),
             ..*nominal
         };
+        let gain = 1.0 + s.pressure_relative_std * rng.normal();
+        let scale = 1.0 + s.scale_relative_std * rng.normal();
+        let offset_m = s.height_offset_std_m * rng.normal();
         Shared {
             real,
-            gain: 1.0 + s.pressure_relative_std * rng.normal(),
-            scale: 1.0 + s.scale_relative_std * rng.normal(),
-            offset_m: s.height_offset_std_m * rng.normal(),
+            gain,
+            // the scale read at the clamp plane moves with its offset
+            scale: scale + s.offset_scale_per_m * offset_m,
+            offset_m,
         }
     }
 }

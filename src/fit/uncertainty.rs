@@ -75,6 +75,13 @@ pub struct Sources {
     /// Height of the clamp plane in the photos, m: every height by the same
     /// offset.
     pub height_offset_std_m: f64,
+    /// The scale's relative change per metre of the clamp plane's offset,
+    /// 1/m, where the scale was read at the clamp plane (the opening's
+    /// width there): the offset's error `d` then moves a height `h` by `d
+    /// (1 + h offset_scale_per_m)`, one error in two parts, while
+    /// `scale_relative_std` is the scale's error besides it. 0: independent.
+    #[serde(default)]
+    pub offset_scale_per_m: f64,
     /// The stress-free dome height of a slack membrane, m, when it was
     /// found from the heights (`prebulge_height_m = "fit"`): the law is
     /// then fitted on a specimen whose dome may be off by that much. The
@@ -110,6 +117,15 @@ impl Sources {
                     format!("{name} = {v}: a standard deviation is a finite number >= 0"),
                 ));
             }
+        }
+        if !self.offset_scale_per_m.is_finite() {
+            return Err(crate::io::BadValue::new(
+                "offset_scale_per_m",
+                format!(
+                    "offset_scale_per_m = {}: a finite number, 1/m",
+                    self.offset_scale_per_m
+                ),
+            ));
         }
         Ok(())
     }
@@ -499,9 +515,10 @@ pub fn point_shifts(
         out.push((SourceKind::Scale, d));
     }
     if sources.height_offset_std_m > 0.0 {
+        let k = 1.0 + pt.height_m * sources.offset_scale_per_m;
         out.push((
             SourceKind::HeightOffset,
-            along_height(sources.height_offset_std_m),
+            along_height(sources.height_offset_std_m * k),
         ));
     }
     if sources.prebulge_std_m > 0.0 {

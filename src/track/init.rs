@@ -32,14 +32,12 @@
 //!    standard deviations left out, gives both with standard errors; a
 //!    level camera gives `s` within its noise of 0.
 //! 4. **Scale from the clamp opening.** The silhouette is `2a` wide at the
-//!    clamp plane. Its two sides are located row by row (sub-pixel) in the
-//!    last photo a little above the plane, and a circle `w^2 + u^2 = 2 U u
-//!    + k` (w the half-width, u the height above the plane) is fitted to
-//!    them: near the rim the meridian is close to its osculating circle.
-//!    From a raised camera the outline of a sphere is a circle of its
-//!    radius centred on the projected centre `U = (h - R) cos e`, so
-//!    `a^2 = k - U^2 tan^2 e` (level: `a^2 = k`, the circle's width at
-//!    `u = 0`). The scale is `radius_m / a_px`.
+//!    clamp plane. Its sides are located row by row (sub-pixel) in the last
+//!    photo a little above the plane, and the squared half-width is fitted
+//!    as a quadratic in the height above it ([`scale`]: the outline of a
+//!    conic meridian from any elevation). The scale is `radius_m / a_px`
+//!    (through the pinhole when the camera's distance is known); read at
+//!    the clamp row, it shares that row's error.
 //! 5. **Template and region.** The template (30 % of `a` wide, at most a
 //!    tenth of the photo, half as tall) is cut around the apex of the first
 //!    photo whose template stays clear of the clamp, and the region covers
@@ -159,6 +157,9 @@ pub struct Found {
     pub metres_per_pixel: Estimate,
     /// Where the scale came from.
     pub scale_from: ScaleSource,
+    /// The scale's relative change per px that the clamp row lies lower, 1/px: read on the
+    /// opening at the clamp row, the scale shares the row's error (0 when the scale is given).
+    pub scale_per_clamp_row: f64,
     /// The apex in every photo, image coordinates (about a pixel: the
     /// tracker measures it precisely).
     pub apexes_px: Vec<[f64; 2]>,
@@ -251,11 +252,10 @@ fn strongest_step(p: &dyn Fn(i64) -> f64, lo: i64, hi: i64) -> Option<(i64, f64)
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
 }
 
-/// The largest roll of the camera about its view axis, degrees, that init
-/// takes. The heights, measured along the photo's columns, and the scale,
-/// from the silhouette's width along its rows, are then a few hundredths of
-/// a per cent off; beyond about 1.5 degrees the apex moves sideways by more
-/// than the tracker's guard on the axis allows as the bubble grows.
+/// The largest roll of the camera about its view axis, degrees, that init takes. The heights,
+/// measured along the photo's columns, and the scale, from the silhouette's width along its rows,
+/// are then a few hundredths of a per cent off; beyond about 1.5 degrees the apex moves sideways
+/// by more than the tracker's guard on the axis allows as the bubble grows.
 pub const MAX_ROLL_DEG: f64 = 1.0;
 
 /// Template size for a bubble of free radius `a_px` in a photo `width` px
@@ -564,11 +564,10 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         let mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
         focal_px.map(|f| distance_of(f, mpp, elevation_deg, clamp.row.value))
     });
-    // The opening's half-width from the sides, less the bias of their
-    // extrapolation measured on the neo-Hookean dome as high as the last
-    // photo's, through the camera ([`meridian::unbiased`]; through a
-    // pinhole the bias changes by 0.3 px for 0.02 a of height at 0.25 m
-    // and 5 degrees, so the height is the pinhole's).
+    // The opening's half-width from the sides, less the bias of their extrapolation measured
+    // on the neo-Hookean dome as high as the last photo's, through the camera
+    // ([`meridian::unbiased`]; through a pinhole the bias changes by 0.3 px for 0.02 a of
+    // height at 0.25 m and 5 degrees, so the height is the pinhole's).
     let e_of = |e: Option<Estimate>| e.map_or(0.0, |e| e.value.to_radians());
     let top = apexes_px.last().map_or(f64::NAN, |p| p[1]);
     let unbiased = |o: &scale::Opening, d: Option<f64>, e: f64, mpp: f64, row: f64| {
@@ -641,7 +640,8 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     }
     let sin_e = elevation_deg.map_or(0.0, |e| e.value.max(0.0).to_radians().sin());
 
-    // Step 4: the scale.
+    // Step 4: the scale (`d ln(mpp) / d c = -(d a / d c) / a`).
+    let mut scale_per_clamp_row = 0.0;
     let (radius_px, metres_per_pixel, scale_from, side_points_px) = match given.metres_per_pixel {
         Some(m) => (
             None,
@@ -670,6 +670,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             }
             let sides = o.sides;
             let mpp = scale_of(a.value);
+            scale_per_clamp_row = -o.per_clamp_row / a.value;
             (
                 Some(a),
                 Estimate {
@@ -786,6 +787,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         radius_px,
         metres_per_pixel,
         scale_from,
+        scale_per_clamp_row,
         apexes_px: apexes,
         reference_frame,
         layout,

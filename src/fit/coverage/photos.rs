@@ -170,6 +170,8 @@ pub fn write_experiment(plan: &PhotoPlan, index: usize, out: &Path) -> anyhow::R
     if let Some(cal) = &mut d.calibration {
         cal.metres_per_pixel_std = Some(s.scale_relative_std * mpp);
         cal.clamp_row_std_px = Some(s.height_offset_std_m / mpp);
+        cal.scale_per_clamp_row =
+            (s.offset_scale_per_m != 0.0).then_some(s.offset_scale_per_m * mpp);
     }
     let path = out.join("experiment.toml");
     crate::io::write_atomic(&path, file.render().as_bytes())

@@ -99,7 +99,10 @@ pub fn band(
                 .and_then(|i| unc.column(SourceKind::PressureNoise, i));
             let measured = [
                 (SourceKind::Scale, -g.height_m * sources.scale_relative_std),
-                (SourceKind::HeightOffset, -sources.height_offset_std_m),
+                (
+                    SourceKind::HeightOffset,
+                    -sources.height_offset_std_m * (1.0 + g.height_m * sources.offset_scale_per_m),
+                ),
             ];
             let all: Vec<_> = m.iter().chain(&measured).copied().collect();
             // A dome height fitted beside the law moves the prediction by

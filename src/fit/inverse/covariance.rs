@@ -178,7 +178,7 @@ pub(super) fn covariance(
         (
             SourceKind::HeightOffset,
             sources.height_offset_std_m,
-            &|_| -1.0,
+            &|i| -(1.0 + pts[i].height_m * sources.offset_scale_per_m),
         ),
     ];
     for (kind, size, of) in shared {

@@ -450,3 +450,58 @@ fn finds_the_dome_height_of_a_slack_membrane_beside_the_law() {
     let after = Refined::max_abs(&r.after).unwrap();
     assert!(after < 1e-4, "height error {after}");
 }
+
+/// A clamp plane whose offset also moves the scale read at it
+/// (`offset_scale_per_m = k`) moves every height by `d (1 + k h)`: the
+/// parameters respond to it as to the offset alone plus a scale error of
+/// relative size `k d`, by linearity of the first-order response.
+#[test]
+fn an_offset_that_moves_the_scale_acts_as_both() {
+    let truth = material(Model::MooneyRivlin {
+        c1_pa: 0.12e6,
+        c2_pa: 0.03e6,
+    });
+    let data = heights(&truth, &[600.0, 1200.0, 1800.0, 2400.0, 3000.0]);
+    let (d, k) = (2e-5, -40.0);
+    let at = |sources: Sources| {
+        let opts = Options {
+            uncertainty: sources,
+            ..Options::default()
+        };
+        refine(&truth, &specimen(), &data, &opts)
+            .unwrap()
+            .uncertainty
+            .unwrap()
+    };
+    let shared = at(Sources {
+        height_offset_std_m: d,
+        offset_scale_per_m: k,
+        ..Sources::default()
+    });
+    let apart = at(Sources {
+        height_offset_std_m: d,
+        scale_relative_std: -k * d,
+        ..Sources::default()
+    });
+    let col = |u: &crate::fit::uncertainty::ParamUncertainty, kind| {
+        u.response
+            .column(u.sources.iter().position(|s| *s == kind).unwrap())
+            .into_owned()
+    };
+    // the scale's column is a positive deviation times `-h`, the offset's
+    // `-(1 + k h)`: with `k < 0` the scale's part enters with its sign
+    let both = col(&apart, SourceKind::HeightOffset) - col(&apart, SourceKind::Scale);
+    let one = col(&shared, SourceKind::HeightOffset);
+    for i in 0..one.len() {
+        assert!(
+            (one[i] - both[i]).abs() <= 1e-9 * both[i].abs().max(1e-300),
+            "parameter {i}: {} against {}",
+            one[i],
+            both[i]
+        );
+    }
+    assert!(
+        (one[0] - col(&apart, SourceKind::HeightOffset)[0]).abs() > 1e-3 * one[0].abs(),
+        "the scale's part changes nothing"
+    );
+}

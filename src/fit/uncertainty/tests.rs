@@ -121,6 +121,15 @@ fn point_shifts_follow_the_scaling_of_the_cap_formulas() {
             let sd = |k: SourceKind| of(k).strain.unwrap() / dh.strain.unwrap();
             assert!((sd(SourceKind::Scale) / (h * f) - 1.0).abs() < 1e-12);
             assert!((sd(SourceKind::HeightOffset) / 3e-5 - 1.0).abs() < 1e-12);
+            // An offset that moves the scale read at it: d (1 + k h).
+            let with_scale = Sources {
+                offset_scale_per_m: -10.0,
+                ..sources
+            };
+            let got = point_shifts(&spec, &opts, &pt, &with_scale).unwrap();
+            let off = got.iter().find(|(g, _)| *g == SourceKind::HeightOffset);
+            let moved = off.unwrap().1.strain.unwrap() / dh.strain.unwrap();
+            assert!((moved / (3e-5 * (1.0 - 10.0 * h)) - 1.0).abs() < 1e-12);
             assert!((sd(SourceKind::Points) / 1e-5 - 1.0).abs() < 1e-12);
         }
     }

@@ -181,6 +181,15 @@ impl Found {
                         self.side_points_px.len(),
                     ),
                 ));
+                calibration.scale_per_clamp_row = Some(significant(self.scale_per_clamp_row, 3));
+                notes.push((
+                    Place::Key("calibration", "scale_per_clamp_row"),
+                    format!(
+                        "the opening is read at the clamp row: a row 1 px lower changes the scale by {:+.4} %,\n\
+                         one error with the row's (metres_per_pixel_std is the scale's error besides it)",
+                        100.0 * self.scale_per_clamp_row
+                    ),
+                ));
             }
         }
         let face = match self.clamp_half_width_px {

@@ -396,6 +396,7 @@ mod tests {
             sides: Vec::new(),
             us: pts.iter().map(|p| p.0).collect(),
             coef: fit.coef,
+            per_clamp_row: 0.0,
         };
         let truth = p.opening_half_width_px(a_m);
         let domes = Meridian::domes(0.5).unwrap();

@@ -8,8 +8,12 @@ use super::*;
 /// The silhouette's half-width at the clamp plane found by [`find_radius`].
 #[derive(Debug, Clone)]
 pub(super) struct Opening {
-    /// The half-width, px.
+    /// The half-width, px; its deviation leaves out the clamp row's, which
+    /// moves it by [`Opening::per_clamp_row`].
     pub(super) a: Estimate,
+    /// How much the half-width grows per px that the clamp row (the
+    /// plane the sides are extrapolated to) lies lower: `d a / d c`.
+    pub(super) per_clamp_row: f64,
     /// The points located on the sides, `[column, row]`.
     pub(super) sides: Vec<[f64; 2]>,
     /// The rows the sides were located in, as heights above the clamp row, px.
@@ -93,11 +97,10 @@ pub(super) fn find_radius(
     }
     let fit = opening_from_sides(&pts, sin_e, a0)?;
     let a = fit.a;
-    // A clamp row off by dc moves the plane along the sides:
-    // d a / d c = B / (2 a (1 + s^2 C)).
-    let [_, big_b, big_c] = fit.coef;
-    let f = 1.0 + sin_e * sin_e * big_c;
-    let var_row = (big_b / (2.0 * a * f)).powi(2) * clamp.row.std.powi(2);
+    // The scale's error through the clamp row and the row's own are one
+    // error, which the heights carry together (`[calibration]
+    // scale_per_clamp_row`).
+    let per_clamp_row = per_clamp_row(&fit, sin_e);
     // The edge models' spread: the largest change of the opening between
     // the windows, less the part of it that is the windows' own noise
     // (counted already in the fit's variance), is a bound on the edge
@@ -117,8 +120,9 @@ pub(super) fn find_radius(
     Ok(Opening {
         a: Estimate {
             value: a,
-            std: (fit.var + var_row + var_edge).sqrt(),
+            std: (fit.var + var_edge).sqrt(),
         },
+        per_clamp_row,
         sides,
         us: pts.iter().map(|p| p.0).collect(),
         coef: fit.coef,
@@ -177,6 +181,17 @@ pub(super) fn axis_from_sides(sides: &[[f64; 2]]) -> Option<Estimate> {
         value: mean,
         std: (var / n).sqrt(),
     })
+}
+
+/// How much the opening's half-width grows per px that the clamp row lies
+/// lower, `d a / d c`. A row `dc` px lower moves the plane down the sides
+/// and `u` (the height above it) up by `dc` at every row: the fit's `A`
+/// and `B` become `A - B dc` and `B - 2 C dc`, so `d a^2 / d c = -B / (1 +
+/// s^2 C)` ([`opening_from_sides`]'s `a^2`) and `d a / d c = -B / (2 a (1 +
+/// s^2 C))`, `s = sin_e`.
+pub(super) fn per_clamp_row(fit: &SidesFit, sin_e: f64) -> f64 {
+    let [_, big_b, big_c] = fit.coef;
+    -big_b / (2.0 * fit.a * (1.0 + sin_e * sin_e * big_c))
 }
 
 /// The fit of [`opening_from_sides`].
@@ -242,4 +257,50 @@ pub(super) fn opening_from_sides(
         coef: [big_a, big_b, big_c],
         grad: g,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sphere of radius `r` px whose centre lies `z0` px above the clamp
+    /// plane, seen level: its outline's half-width at `u` above the plane
+    /// is `sqrt(r^2 - (u - z0)^2)`, the opening `a = sqrt(r^2 - z0^2)`, and
+    /// a plane `dc` lower cuts it at `sqrt(r^2 - (z0 + dc)^2)`: `d a / d c
+    /// = -z0 / a` in closed form. From a raised camera, the opening's change
+    /// when the sides are fitted again with the plane 0.5 px lower and
+    /// higher (a finite difference of the whole fit).
+    #[test]
+    fn the_openings_change_with_the_clamp_row_is_the_spheres() {
+        let (r, a0) = (300.0f64, 250.0);
+        for z0 in [-150.0f64, -60.0, 40.0] {
+            let sides = |shift: f64| -> Vec<(f64, f64)> {
+                (0..20)
+                    .map(|i| {
+                        let u = 8.0 + i as f64;
+                        (u + shift, (r * r - (u - z0).powi(2)).sqrt())
+                    })
+                    .collect()
+            };
+            let fit = opening_from_sides(&sides(0.0), 0.0, a0).unwrap();
+            let a = (r * r - z0 * z0).sqrt();
+            assert!((fit.a - a).abs() < 1e-6, "z0 {z0}: a {} for {a}", fit.a);
+            let k = per_clamp_row(&fit, 0.0);
+            assert!(
+                (k + z0 / a).abs() < 1e-6,
+                "z0 {z0}: d a / d c {k} for {}",
+                -z0 / a
+            );
+            for e in [3f64, 5.0] {
+                let s = e.to_radians().sin();
+                let at = |shift: f64| opening_from_sides(&sides(shift), s, a0).unwrap();
+                let fd = (at(0.5).a - at(-0.5).a) / 1.0;
+                let k = per_clamp_row(&at(0.0), s);
+                assert!(
+                    (k - fd).abs() < 1e-3 * fd.abs().max(0.1),
+                    "z0 {z0} e {e}: d a / d c {k} against {fd} refitted"
+                );
+            }
+        }
+    }
 }

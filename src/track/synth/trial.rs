@@ -34,7 +34,8 @@ pub struct InitTrial {
     pub rms_z: f64,
     /// RMS of (height error / all the stated terms): `height_std_m`, the
     /// height times the scale's relative deviation and the clamp row's
-    /// deviation times the scale, in quadrature.
+    /// deviation times `mpp + h scale_per_clamp_row` (the scale read at
+    /// the clamp row moves with it), in quadrature.
     pub rms_z_all: f64,
     /// Photos tracked, of those written.
     pub tracked: [usize; 2],
@@ -102,7 +103,8 @@ pub fn init_and_track(
         heights = heights.max((err / tr.height_m).abs());
         apex2 += (r.apex_y_px - tr.apex_y_px).powi(2);
         z2 += (err / r.height_std_m).powi(2);
-        let all = r.height_std_m.hypot(r.height_m * scale_rel).hypot(row_m);
+        let row = row_m * (1.0 + r.height_m * found.scale_per_clamp_row / mpp.value);
+        let all = r.height_std_m.hypot(r.height_m * scale_rel).hypot(row);
         z2_all += (err / all).powi(2);
     }
     let n = t.rows.len().max(1) as f64;
