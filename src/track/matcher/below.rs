@@ -362,9 +362,9 @@ pub(super) fn rim_bias(
         by_shape
             .into_iter()
             .min_by(|a, b| rss(&a.1).total_cmp(&rss(&b.1)))
-            .unwrap()
+            .expect("one shape at least")
     } else {
-        by_shape.into_iter().last().unwrap()
+        by_shape.into_iter().last().expect("one shape at least")
     };
     let shares: Vec<f64> = fit.iter().map(|x| x.0).collect();
     let n = shares.len() as f64;
