@@ -34,7 +34,7 @@
 //! 4. **Scale from the clamp opening.** The silhouette is `2a` wide at the
 //!    clamp plane. Its sides are located row by row (sub-pixel) in the last
 //!    photo a little above the plane, and the squared half-width is fitted
-//!    as a quadratic in the height above it ([`scale`]: the outline of a
+//!    as a quadratic in the height above it (`init/scale.rs`: the outline of a
 //!    conic meridian from any elevation). The scale is `radius_m / a_px`
 //!    (through the pinhole when the camera's distance is known); read at
 //!    the clamp row, it shares that row's error.
