@@ -99,6 +99,13 @@ pub struct Sources {
 }
 
 impl Sources {
+    /// How far the clamp plane's offset moves a height `height_m`, per
+    /// metre of offset: `1 + h offset_scale_per_m` (the offset itself and
+    /// the scale read at the plane with it).
+    pub fn offset_factor(&self, height_m: f64) -> f64 {
+        1.0 + height_m * self.offset_scale_per_m
+    }
+
     /// Checks that every field is a finite, non-negative number; the error
     /// names the field.
     pub fn validate(&self) -> Result<(), crate::io::BadValue> {
@@ -515,7 +522,7 @@ pub fn point_shifts(
         out.push((SourceKind::Scale, d));
     }
     if sources.height_offset_std_m > 0.0 {
-        let k = 1.0 + pt.height_m * sources.offset_scale_per_m;
+        let k = sources.offset_factor(pt.height_m);
         out.push((
             SourceKind::HeightOffset,
             along_height(sources.height_offset_std_m * k),

@@ -101,7 +101,7 @@ pub fn band(
                 (SourceKind::Scale, -g.height_m * sources.scale_relative_std),
                 (
                     SourceKind::HeightOffset,
-                    -sources.height_offset_std_m * (1.0 + g.height_m * sources.offset_scale_per_m),
+                    -sources.height_offset_std_m * sources.offset_factor(g.height_m),
                 ),
             ];
             let all: Vec<_> = m.iter().chain(&measured).copied().collect();

@@ -178,7 +178,7 @@ pub(super) fn covariance(
         (
             SourceKind::HeightOffset,
             sources.height_offset_std_m,
-            &|i| -(1.0 + pts[i].height_m * sources.offset_scale_per_m),
+            &|i| -sources.offset_factor(pts[i].height_m),
         ),
     ];
     for (kind, size, of) in shared {
