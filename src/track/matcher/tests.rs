@@ -615,23 +615,13 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
     for sigma in [0.8, 1.5] {
         for e in [30.0, 30.4] {
             for amp in [40.0, 80.0] {
-                let p = blurred(
-                    |y| {
-                        if y < e {
-                            200.0
-                        } else {
-                            60.0 + amp * rim_factor(RimShape::Glossy, y - e, r)
-                        }
-                    },
+                let p = blurred_dome(
+                    200.0,
+                    |d| 60.0 + amp * rim_factor(RimShape::Glossy, d, r),
+                    e,
                     sigma,
-                    64,
                 );
-                let img = Gray {
-                    width: 1,
-                    height: p.len(),
-                    data: p.iter().map(|v| v.round() as u8).collect(),
-                    tone: crate::track::image::Tone::LINEAR,
-                };
+                let img = columns_image(&p, 1);
                 let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
                 let (share, _) = rim_tail(&img, 0, c, 3.0, step, r, RimShape::Glossy).unwrap();
                 let predicted = rim_shift(RimShape::Glossy, share, 3.0, r);
@@ -647,6 +637,13 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
             }
         }
     }
+}
+
+/// A step at row `e` from `above` to the dome's light `dome(d)` `d` px
+/// under it, blurred by a Gaussian of `sigma` px and pixel-averaged, 64
+/// rows ([`blurred`]; [`blurred_step`] with a straight dome side).
+fn blurred_dome(above: f64, dome: impl Fn(f64) -> f64, e: f64, sigma: f64) -> Vec<f64> {
+    blurred(|y| if y < e { above } else { dome(y - e) }, sigma, 64)
 }
 
 /// A profile as a `width`-column image of grey levels (linear light).
@@ -673,7 +670,7 @@ fn a_blur_wider_than_the_window_is_not_read_as_a_rim() {
     let r = 300.0;
     for sigma in [2.0, 2.5, 3.0] {
         for e in [30.0, 30.4] {
-            let p = blurred(|y| if y < e { 200.0 } else { 60.0 }, sigma, 64);
+            let p = blurred_step(e, sigma, 0.0, 64);
             let img = columns_image(&p, 1);
             let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
             for shape in RimShape::ALL {
@@ -699,17 +696,7 @@ fn a_matte_domes_fall_off_is_told_from_a_glossy_rim() {
     let r = 300.0;
     for sigma in [0.8, 1.5] {
         for e in [30.0, 30.4] {
-            let p = blurred(
-                |y| {
-                    if y < e {
-                        30.0
-                    } else {
-                        60.0 + 140.0 * (2.0 * (y - e) / r).sqrt()
-                    }
-                },
-                sigma,
-                64,
-            );
+            let p = blurred_dome(30.0, |d| 60.0 + 140.0 * (2.0 * d / r).sqrt(), e, sigma);
             let img = columns_image(&p, 8);
             let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
             let columns: Vec<(f64, f64, f64)> = (0..8).map(|u| (u as f64 - 3.5, c, step)).collect();
