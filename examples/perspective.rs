@@ -23,7 +23,7 @@ use bulge::experiment::Specimen;
 use bulge::material::{Material, Model};
 use bulge::track::persp::{Pinhole, cap_radius};
 use bulge::track::synth::{self, Look, SequenceSpec};
-use bulge::track::{Elevation, POLE_FLATTENING, image, setup_from_experiment, track};
+use bulge::track::{Elevation, image, pole_flattening, setup_from_experiment, track};
 
 fn main() {
     let a = 0.0375;
@@ -97,7 +97,9 @@ fn main() {
                 }
                 last = today;
                 let back = cam
-                    .height_from_top_row(top, a, 2.0 * a, |h| POLE_FLATTENING * cap_radius(a, h))
+                    .height_from_top_row(top, a, 2.0 * a, |h| {
+                        pole_flattening(h / a).0 * cap_radius(a, h)
+                    })
                     .unwrap();
                 worst = worst.max((100.0 * (back / h - 1.0)).abs());
             }

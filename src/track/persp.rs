@@ -217,9 +217,9 @@ impl Pinhole {
     /// The apex height of a membrane of free radius `a_m` from its
     /// silhouette's top at `row` (standard deviation `row_std`), m, with its
     /// standard deviation. The pole's curvature is the inverse-variance
-    /// mean of two estimates: [`super::POLE_FLATTENING`] times the
-    /// spherical cap's through the rim (with
-    /// [`super::POLE_FLATTENING_REL_STD`]), and, when given, the edge fit's
+    /// mean of two estimates: [`super::pole_flattening`] times the
+    /// spherical cap's through the rim (with its deviation), and, when
+    /// given, the edge fit's
     /// `curvature` at the top (value and standard error, 1/px, in the
     /// undistorted image) through [`Pinhole::pole_radius_from_outline`].
     /// The row's deviation and the curvature's are carried through by
@@ -232,18 +232,18 @@ impl Pinhole {
         a_m: f64,
         curvature: Option<(f64, f64)>,
     ) -> Option<(f64, f64)> {
-        use super::POLE_FLATTENING;
         use super::types::pole_curvature_mean;
         let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
         // The pole's curvature, 1/m, and its standard deviation, at the
         // height `h`.
         let pole = |h: f64| {
-            let k_p = 1.0 / (POLE_FLATTENING * cap_radius(a_m, h));
+            let r_cap = cap_radius(a_m, h);
+            let r0 = super::pole_flattening(h / a_m).0 * r_cap;
             let in_m = measured.map(|(k, ks)| {
-                let (r, rel) = self.pole_radius_from_outline(h, 1.0 / k_p, 1.0 / k, ks / k);
+                let (r, rel) = self.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
                 (1.0 / r, rel / r)
             });
-            pole_curvature_mean(k_p, in_m)
+            pole_curvature_mean(r_cap, h / a_m, in_m)
         };
         let solve = |row: f64, sd: f64| {
             self.height_from_top_row(row, a_m, 1.5 * a_m, |h| {

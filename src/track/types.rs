@@ -63,24 +63,39 @@ pub struct Elevation {
 }
 
 /// The pole's radius of curvature of an inflated membrane over that of the
-/// spherical cap through its rim with the same height. A flat clamped
-/// membrane's top is flatter than the cap: exact axisymmetric solutions
-/// (neo-Hookean, Mooney-Rivlin, Yeoh and linear elastic, apex heights
-/// 0.19-0.55 a) give 1.09-1.12. A slack membrane near its stress-free shape
-/// (a cap) gives about 1. The middle of 1.00-1.12.
-pub const POLE_FLATTENING: f64 = 1.06;
-
-/// The relative standard deviation taken for [`POLE_FLATTENING`]: that of a
-/// uniform spread over 1.00-1.12.
-pub const POLE_FLATTENING_REL_STD: f64 = 0.035;
+/// spherical cap through its rim with the same height, at the apex height
+/// `h_over_a` (`h / a`): its mean and relative standard deviation, those
+/// of a uniform spread between the bounds that hold for every law. A flat
+/// clamped membrane's top is flatter than the cap. The exact axisymmetric
+/// solutions (`cargo run --release --example pole_curvature -- --rows`:
+/// neo-Hookean, Mooney-Rivlin with C2/C1 0.05-1, Yeoh, Ogden, Gent with
+/// Jm 10-100, linear elastic and a quartic law, flat or slack, from small
+/// heights to 0.97 of the limit pressure or a pole stretch of 3) give
+/// 1.01-1.12 up to `h = 0.8 a`; beyond, the most strain-stiffening of
+/// them (Gent, Jm 10) rises to 1.43 at `h = 1.83 a`, under `1.12 + 0.3 (h
+/// / a - 0.8)` everywhere, which is continued beyond. A slack membrane near
+/// its stress-free shape (a cap) gives about 1, the lower bound.
+pub fn pole_flattening(h_over_a: f64) -> (f64, f64) {
+    let lo = 1.0;
+    let hi = 1.12 + 0.3 * (h_over_a - 0.8).max(0.0);
+    let mean = 0.5 * (lo + hi);
+    (mean, (hi - lo) / (12f64.sqrt() * mean))
+}
 
 /// The pole's curvature and its standard deviation: the inverse-variance
-/// mean of the membrane's estimate `k_p` ([`POLE_FLATTENING`] times the
-/// spherical cap's radius through the rim, relative deviation
-/// [`POLE_FLATTENING_REL_STD`]) and, when given, one measured on the
-/// outline (value and standard deviation, in the same units).
-pub(crate) fn pole_curvature_mean(k_p: f64, measured: Option<(f64, f64)>) -> (f64, f64) {
-    let w_p = (POLE_FLATTENING_REL_STD * k_p).powi(-2);
+/// mean of the membrane's estimate, `1 / (F r_cap)` for a spherical cap of
+/// radius `r_cap` through the rim with the dome's height `h_over_a` times
+/// the free radius ([`pole_flattening`]'s mean `F`, with its relative
+/// deviation), and, when given, one measured on the outline (value and
+/// standard deviation, in the units of `1 / r_cap`).
+pub(crate) fn pole_curvature_mean(
+    r_cap: f64,
+    h_over_a: f64,
+    measured: Option<(f64, f64)>,
+) -> (f64, f64) {
+    let (f, rel) = pole_flattening(h_over_a);
+    let k_p = 1.0 / (f * r_cap);
+    let w_p = (rel * k_p).powi(-2);
     let (k_m, w_m) = measured.map_or((0.0, 0.0), |(k, ks)| (k, 1.0 / (ks * ks)));
     (
         (k_p * w_p + k_m * w_m) / (w_p + w_m),
@@ -100,20 +115,16 @@ impl Elevation {
     /// `1 / R` is the inverse-variance mean of two estimates: the edge
     /// fit's curvature at the top (`curvature` = value and standard error,
     /// 1/px; the outline of a sphere is a circle of its radius from any
-    /// direction), and the membrane's, [`POLE_FLATTENING`] times the
+    /// direction), and the membrane's, [`pole_flattening`] times the
     /// spherical cap's `(a^2 + h^2) / (2 h)` through the rim (`a_px` the
-    /// free radius in px), with [`POLE_FLATTENING_REL_STD`]; solved for `h`
+    /// free radius in px), with its deviation; solved for `h`
     /// by fixed-point iteration. Returns `h` and its standard deviation
     /// from the curvature's, px.
     pub fn height_px(&self, t: f64, curvature: Option<(f64, f64)>, a_px: f64) -> (f64, f64) {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
         let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
-        let pole = |h: f64| {
-            pole_curvature_mean(
-                2.0 * h / (POLE_FLATTENING * (a_px * a_px + h * h)),
-                measured,
-            )
-        };
+        let pole =
+            |h: f64| pole_curvature_mean((a_px * a_px + h * h) / (2.0 * h), h / a_px, measured);
         let mut h = t;
         for _ in 0..200 {
             let (k, _) = pole(h.max(1e-9));
