@@ -384,8 +384,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         });
     }
     let y_top = on_axis.iter().map(|c| c.0).min().unwrap_or(0);
-    // The band's first run down the axis (a highlight that moved leaves
-    // another patch below it).
+    // The band's first run down the axis (a moved highlight leaves a patch below).
     let y_bot = {
         let mut y = y_top;
         while y + 1 < h && band.iter().any(|&c| sw.joined[(y + 1) * w + c]) {
@@ -493,6 +492,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         distance_known: given.camera_distance_m.is_some()
             || (given.lens.is_some() && given.distance_from_focal),
         at_ceiling: tone.light(254),
+        response: given.response,
     };
     let clamp = find_clamp(
         &mean,
@@ -511,7 +511,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         return Err(TrackError::NotFound {
             what: "a level clamp".into(),
             detail: format!(
-                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows): level the camera or rotate the photos",
+                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: either the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows): level the camera or rotate the photos; or the edge found is not the clamp's (something beside the bubble's base, or a clamp hardly lighter or darker than the wall)",
                 roll_deg.value, roll_deg.std
             ),
             keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",

@@ -137,6 +137,8 @@ pub(super) struct Hint {
     /// The light of the code value one below the largest: a step whose
     /// bright side reaches it is clipped ([`super::clip`]).
     pub(super) at_ceiling: f64,
+    /// The camera's tone curve: a step's floor is counted in its levels.
+    pub(super) response: crate::camera::Response,
 }
 
 pub(super) fn find_clamp(
@@ -189,7 +191,17 @@ pub(super) fn find_clamp(
             .filter(|s| sign.is_none_or(|g| s.1 * g > 0.0))
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
             .1;
-        if gmax.abs() < min_step {
+        // The floor in the photo's own levels where its tone curve
+        // compresses dark light into fewer: 8 levels of light, or 8 levels
+        // of the encoding above the step's dark side, whichever is less.
+        let dark = {
+            let i = steps.iter().position(|s| s.1 == gmax).unwrap_or(0);
+            let j = steps[i].0;
+            (0.5 * (p(j + 2) + p(j + 1))).min(0.5 * (p(j) + p(j - 1)))
+        };
+        let r = hint.response;
+        let eight = 255.0 * r.to_linear((r.encode(dark / 255.0) + 8.0 / 255.0).min(1.0)) - dark;
+        if gmax.abs() < (6.0 * noise).max(eight.min(8.0)) {
             return None;
         }
         let g = gmax.signum();
@@ -416,6 +428,16 @@ pub(super) fn find_clamp(
     // Each fit has a slope across the photo: a camera rolled about its
     // view axis sees the clamp's edge tilted (the row at the axis stays
     // the clamp ring's centre's).
+    let few = |n: usize, ends: Option<f64>| {
+        not_found(match ends {
+            Some(a_f) => format!(
+                "only {n} columns of the clamp's top edge lie between its ends, found {a_f:.0} px either side of the bubble's axis: the ends found may be other edges (a clamp hardly lighter or darker than the wall, or its ends outside the picture)"
+            ),
+            None => format!(
+                "only {n} columns show the clamp's top edge beside the bubble's base: the clamp is hardly lighter or darker than the wall, hidden, or out of the picture"
+            ),
+        })
+    };
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
             let used: Vec<&(f64, f64, f64)> =
@@ -426,7 +448,7 @@ pub(super) fn find_clamp(
                 .collect();
             let y: Vec<f64> = used.iter().map(|p| p.1).collect();
             let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), Some(a_f)))?;
             half_below = ends_below(coef[0], coef[1], a_f).or(half);
             check_inliers(&keep, ambiguous)?;
             let infl = lag1_inflation(&res);
@@ -458,7 +480,7 @@ pub(super) fn find_clamp(
                 .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
                 .collect();
             let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), Some(a_f)))?;
             half_below = ends_below(coef[0], s, a_f).or(half);
             check_inliers(&keep, ambiguous)?;
             let row = Estimate {
@@ -473,7 +495,7 @@ pub(super) fn find_clamp(
             let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0, p.0]).collect();
             let y: Vec<f64> = pts.iter().map(|p| p.1).collect();
             let (((coef, cov, res), keep), bent_slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| not_found("too few columns".into()))?;
+                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), None))?;
             check_inliers(&keep, ambiguous)?;
             let dmax = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
             let bend = coef[1] * dmax * dmax;
@@ -507,7 +529,7 @@ pub(super) fn find_clamp(
                     .map(|((r, v), _)| (vec![r[0], r[2]], *v))
                     .unzip();
                 let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
-                    .ok_or_else(|| not_found("too few columns".into()))?;
+                    .ok_or_else(|| few(kept_x.len(), None))?;
                 let row = Estimate {
                     value: c[0],
                     std: ccov[0][0].sqrt() * lag1_inflation(&cres),
