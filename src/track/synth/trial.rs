@@ -54,7 +54,8 @@ pub fn init_and_track(
     let seed = spec.seed;
     let at = || format!("seed {seed}");
     let w = write_sequence(dir, spec, frames).with_context(at)?;
-    let photos = list_photos(&dir.join("photos"), "*.jpg").with_context(at)?;
+    let glob = format!("*.{}", spec.encoding.extension());
+    let photos = list_photos(&dir.join("photos"), &glob).with_context(at)?;
     let given = Given {
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
@@ -72,7 +73,7 @@ pub fn init_and_track(
         &spec.specimen,
         &Sources {
             dir: "photos".into(),
-            glob: "*.jpg".into(),
+            glob,
             video_every: None,
             count: photos.len(),
             pressure_csv: Some("pressure.csv".into()),
