@@ -492,7 +492,6 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         distance_known: given.camera_distance_m.is_some()
             || (given.lens.is_some() && given.distance_from_focal),
         at_ceiling: tone.light(254),
-        response: given.response,
     };
     let clamp = find_clamp(
         &mean,

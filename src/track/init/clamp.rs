@@ -137,8 +137,6 @@ pub(super) struct Hint {
     /// The light of the code value one below the largest: a step whose
     /// bright side reaches it is clipped ([`super::clip`]).
     pub(super) at_ceiling: f64,
-    /// The camera's tone curve: a step's floor is counted in its levels.
-    pub(super) response: crate::camera::Response,
 }
 
 pub(super) fn find_clamp(
@@ -191,17 +189,7 @@ pub(super) fn find_clamp(
             .filter(|s| sign.is_none_or(|g| s.1 * g > 0.0))
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
             .1;
-        // The floor in the photo's own levels where its tone curve
-        // compresses dark light into fewer: 8 levels of light, or 8 levels
-        // of the encoding above the step's dark side, whichever is less.
-        let dark = {
-            let i = steps.iter().position(|s| s.1 == gmax).unwrap_or(0);
-            let j = steps[i].0;
-            (0.5 * (p(j + 2) + p(j + 1))).min(0.5 * (p(j) + p(j - 1)))
-        };
-        let r = hint.response;
-        let eight = 255.0 * r.to_linear((r.encode(dark / 255.0) + 8.0 / 255.0).min(1.0)) - dark;
-        if gmax.abs() < (6.0 * noise).max(eight.min(8.0)) {
+        if gmax.abs() < min_step {
             return None;
         }
         let g = gmax.signum();
