@@ -16,7 +16,9 @@
 //! and elevation): sequences, set-ups refused (clean, dirty), RMS(scale
 //! error / its stated deviation) and the share within 1.96, the largest
 //! scale error and the largest height error, %, and RMS(height error / all
-//! stated terms) over the photos tracked. `--verbose` lists every refusal
+//! stated terms) over the photos tracked, and the set-ups whose heights
+//! are off by more than 3 of all their stated deviations (RMS over their
+//! photos: the set-up itself wrong). `--verbose` lists every refusal
 //! with its message; `--keep DIR --seed S` runs the one sequence of seed
 //! `S` in `DIR` and keeps its photos and `init.toml`.
 //!
@@ -43,6 +45,9 @@ struct Tally {
     heights: f64,
     z2: f64,
     photos: usize,
+    /// Set-ups whose heights are off by more than 3 stated deviations, RMS
+    /// over their photos.
+    misstated: usize,
 }
 
 impl Tally {
@@ -56,6 +61,7 @@ impl Tally {
                 self.heights = self.heights.max(t.heights);
                 self.z2 += t.rms_z_all.powi(2) * t.tracked[0] as f64;
                 self.photos += t.tracked[0];
+                self.misstated += usize::from(t.rms_z_all > 3.0);
             }
         }
     }
@@ -65,7 +71,7 @@ impl Tally {
         let rms = (self.scale_z.iter().map(|z| z * z).sum::<f64>() / n).sqrt();
         let within = self.scale_z.iter().filter(|z| z.abs() < 1.96).count() as f64 / n;
         format!(
-            "| {factor} | {level} | {} | {} | {} | {rms:.2} | {:.0} % | {:.3} | {:.3} | {:.2} |",
+            "| {factor} | {level} | {} | {} | {} | {rms:.2} | {:.0} % | {:.3} | {:.3} | {:.2} | {} |",
             self.sequences,
             self.refused[0],
             self.refused[1],
@@ -73,6 +79,7 @@ impl Tally {
             100.0 * self.scale,
             100.0 * self.heights,
             (self.z2 / self.photos.max(1) as f64).sqrt(),
+            self.misstated,
         )
     }
 }
@@ -196,9 +203,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!(
-        "| factor | level | sequences | set-ups refused (clean) | set-ups refused (dirty) | RMS(scale error / std) | scale within 1.96 std | largest scale error, % | largest height error, % | RMS(height error / all stated) |"
+        "| factor | level | sequences | set-ups refused (clean) | set-ups refused (dirty) | RMS(scale error / std) | scale within 1.96 std | largest scale error, % | largest height error, % | RMS(height error / all stated) | set-ups beyond 3 stated |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     println!("{}", all.row("all", "all"));
     for ((_, name, level), t) in &by {
         if name != "sequence" {
@@ -220,10 +227,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     e.replace('\n', " ")
                 ),
                 Ok(t) if t.heights > 0.003 || (t.scale / t.scale_std).abs() > 3.0 => println!(
-                    "seed {seed}: scale {:+.3} % ({:.2} std), heights up to {:.3} % [{look}]",
+                    "seed {seed}: scale {:+.3} % ({:.2} std), heights up to {:.3} % (RMS {:.2} stated) [{look}]",
                     100.0 * t.scale,
                     t.scale / t.scale_std,
-                    100.0 * t.heights
+                    100.0 * t.heights,
+                    t.rms_z_all
                 ),
                 Ok(_) => {}
             }
