@@ -413,9 +413,7 @@ pub(super) fn find_clamp(
             })
             .flatten()
     };
-    // Each fit has a slope across the photo: a camera rolled about its
-    // view axis sees the clamp's edge tilted (the row at the axis stays
-    // the clamp ring's centre's).
+    // Too few columns for a fit, said with what they are.
     let few = |n: usize, ends: Option<f64>| {
         not_found(match ends {
             Some(a_f) => format!(
@@ -426,6 +424,9 @@ pub(super) fn find_clamp(
             ),
         })
     };
+    // Each fit has a slope across the photo: a camera rolled about its
+    // view axis sees the clamp's edge tilted (the row at the axis stays
+    // the clamp ring's centre's).
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
             let used: Vec<&(f64, f64, f64)> =

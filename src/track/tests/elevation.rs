@@ -52,8 +52,9 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
 /// of laws that stiffen little and much: the pole's radius of curvature
 /// (from the meridian's points nearest the axis) over the spherical cap's
 /// through the rim lies within `pole_flattening`'s uniform spread, up to a
-/// pole stretch of 2.4 (h up to 1.68 a). Gent's law with Jm 10 leaves the bound of low domes
-/// (1.12) beyond `h = 0.8 a`, which a single constant missed.
+/// pole stretch of 2.4 (`h` up to 1.68 a). Mooney-Rivlin and Gent (Jm 10)
+/// domes leave the bound of low domes (1.12) beyond `h = 0.8 a`, which a
+/// single constant missed.
 #[test]
 fn the_pole_flattening_bounds_the_exact_solutions() {
     use crate::axisym::{Options, solve_pole_stretch};
