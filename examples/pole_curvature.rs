@@ -21,28 +21,6 @@ use bulge::material::{Material, Model, StrainMeasure};
 
 const A: f64 = 0.0375;
 
-/// Pole curvature times `a`: `z = h - kappa s / 2 + c s^2` (s = rho^2)
-/// fitted by least squares to the profile's points nearest the pole.
-fn pole_curvature(s: &Solution) -> f64 {
-    let p = &s.profile;
-    let pts: Vec<(f64, f64)> = (1..8).map(|i| (p.rho_m[i] / A, p.z_m[i] / A)).collect();
-    let h = s.height_m / A;
-    // Two unknowns (kappa, c) on y = (z - h) = -kappa/2 s + c s^2.
-    let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for (rho, z) in pts {
-        let s = rho * rho;
-        let y = z - h;
-        a11 += s * s;
-        a12 += s * s * s;
-        a22 += s * s * s * s;
-        b1 += s * y;
-        b2 += s * s * y;
-    }
-    let det = a11 * a22 - a12 * a12;
-    let k_half = (b1 * a22 - b2 * a12) / det;
-    -2.0 * k_half
-}
-
 /// Curvature times `a` of the parabola `z = c0 - k x^2 / 2` fitted by least
 /// squares to the meridian at 201 evenly spaced columns `x` within `w a` of
 /// the axis (both sides; the profile interpolated linearly in `rho`).
@@ -231,7 +209,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut hr = (f64::INFINITY, f64::NEG_INFINITY);
         for s in &sols {
             let h = s.height_m / A;
-            let r = pole_curvature(s) / cap(h);
+            let r = s.pole_curvature_per_m() * A / cap(h);
             let r15 = fitted_curvature(s, 0.15) / cap(h);
             let r30 = fitted_curvature(s, 0.3) / cap(h);
             if rows {

@@ -173,6 +173,22 @@ pub struct Solution {
     pub profile: Profile,
 }
 
+impl Solution {
+    /// The meridian's curvature at the pole, 1/m: `z = h - kappa s / 2 + c
+    /// s^2` (`s = rho^2`) fitted by least squares to the seven profile
+    /// points next to the pole.
+    pub fn pole_curvature_per_m(&self) -> f64 {
+        let p = &self.profile;
+        let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for i in 1..8.min(p.rho_m.len()) {
+            let (s, y) = (p.rho_m[i] * p.rho_m[i], p.z_m[i] - self.height_m);
+            (a11, a12, a22) = (a11 + s * s, a12 + s * s * s, a22 + s * s * s * s);
+            (b1, b2) = (b1 + s * y, b2 + s * s * y);
+        }
+        -2.0 * (b1 * a22 - b2 * a12) / (a11 * a22 - a12 * a12)
+    }
+}
+
 /// What can go wrong.
 #[derive(Debug, thiserror::Error)]
 pub enum AxisymError {

@@ -95,14 +95,7 @@ fn the_pole_flattening_bounds_the_exact_solutions() {
         for l0 in [1.05, 1.3, 1.6, 2.0, 2.4] {
             let s = solve_pole_stretch(m, &specimen, l0, &opts)
                 .unwrap_or_else(|e| panic!("law {i} at pole stretch {l0}: {e}"));
-            // z = h - s k / 2 + c s^2, s = rho^2, on the points next to the pole
-            let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-            for j in 1..8 {
-                let (u, y) = (s.profile.rho_m[j].powi(2), s.profile.z_m[j] - s.height_m);
-                (a11, a12, a22) = (a11 + u * u, a12 + u * u * u, a22 + u.powi(4));
-                (b1, b2) = (b1 + u * y, b2 + u * u * y);
-            }
-            let k_pole = -2.0 * (b1 * a22 - b2 * a12) / (a11 * a22 - a12 * a12);
+            let k_pole = s.pole_curvature_per_m();
             let h = s.height_m;
             let ratio = (a * a + h * h) / (2.0 * h) * k_pole;
             let (mean, rel) = pole_flattening(h / a);
