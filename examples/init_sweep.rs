@@ -26,11 +26,9 @@
 //! --clean 120 --dirty 60 [--sizes 640x480,800x600] [--verbose]`
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use bulge::track::synth::sweep::{self, FACTORS};
 use bulge::track::synth::trial::{InitTrial, init_and_track};
-use rayon::prelude::*;
 
 /// A sequence's seed, whether dirty, its factor levels and what init and
 /// track gave (or why the set-up was refused).
@@ -127,19 +125,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let clean = arg(&args, "--clean", 40)?;
     let dirty = arg(&args, "--dirty", 20)?;
     let verbose = args.iter().any(|a| a == "--verbose");
-    let sizes: Vec<(usize, usize)> = match args.iter().position(|a| a == "--sizes") {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or("--sizes needs a list such as 640x480,800x600")?
-            .split(',')
-            .map(|wh| {
-                let (w, h) = wh
-                    .split_once('x')
-                    .ok_or(format!("--sizes: {wh} is not WIDTHxHEIGHT"))?;
-                Ok((w.parse()?, h.parse()?))
-            })
-            .collect::<Result<_, Box<dyn std::error::Error>>>()?,
-        None => vec![(640, 480), (800, 600), (1024, 768), (1280, 960)],
+    let sizes = match args.iter().position(|a| a == "--sizes") {
+        Some(i) => sweep::parse_sizes(
+            args.get(i + 1)
+                .ok_or("--sizes needs a list such as 640x480,800x600")?,
+        )
+        .map_err(|e| format!("--sizes: {e}"))?,
+        None => sweep::SIZES.to_vec(),
     };
     if let Some(i) = args.iter().position(|a| a == "--keep") {
         let dir = std::path::PathBuf::from(args.get(i + 1).ok_or("--keep needs a folder")?);
@@ -152,42 +144,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return Ok(());
     }
-    let seeds: Vec<(u64, bool)> = (1..=clean)
-        .map(|s| (s, false))
-        .chain((1..=dirty).map(|s| (1_000_000 + s, true)))
-        .collect();
-    let total = seeds.len();
-    let done = AtomicUsize::new(0);
-    // The sequences run on a pool of their own: `track` decodes on rayon's
-    // global pool and waits for it, so it must not run on that pool itself.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(rayon::current_num_threads())
-        .build()?;
-    let results: Vec<Outcome> = pool.install(|| {
-        seeds
-            .par_iter()
-            .filter_map(|&(seed, dirty)| {
-                let (case, levels) = match case(seed, &sizes) {
-                    Ok(c) => c,
-                    Err(e) => {
-                        eprintln!("seed {seed}: not drawn: {e}");
-                        return None;
-                    }
-                };
-                let out = tempfile::tempdir()
-                    .map_err(|e| format!("no temporary folder: {e}"))
-                    .and_then(|dir| {
-                        init_and_track(dir.path(), &case.spec, &case.frames, false)
-                            .map_err(|e| format!("{e:#}"))
-                    });
-                let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if k.is_multiple_of(10) || k == total {
-                    eprintln!("{k} of {total} sequences");
+    let results: Vec<Outcome> =
+        sweep::for_each_seed(&sweep::seeds(clean, dirty), |seed, dirty| {
+            let (case, levels) = match case(seed, &sizes) {
+                Ok(c) => c,
+                Err(e) => {
+                    eprintln!("seed {seed}: not drawn: {e}");
+                    return None;
                 }
-                Some((seed, dirty, levels, out))
-            })
-            .collect()
-    });
+            };
+            let out = tempfile::tempdir()
+                .map_err(|e| format!("no temporary folder: {e}"))
+                .and_then(|dir| {
+                    init_and_track(dir.path(), &case.spec, &case.frames, false)
+                        .map_err(|e| format!("{e:#}"))
+                });
+            Some((seed, dirty, levels, out))
+        })?
+        .into_iter()
+        .flatten()
+        .collect();
     let mut all = Tally::default();
     let mut by: BTreeMap<(usize, String, String), Tally> = BTreeMap::new();
     for (_, dirty, levels, t) in &results {

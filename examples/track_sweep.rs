@@ -25,10 +25,8 @@
 //! at a photo the table lists).
 
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use bulge::track::synth::sweep::{self, FACTORS, Photo};
-use rayon::prelude::*;
 
 /// A sequence's seed, whether dirty, its factor levels and its photos.
 type Outcome = (u64, bool, Vec<(&'static str, String)>, Vec<Photo>);
@@ -95,18 +93,12 @@ fn arg(args: &[String], name: &str, default: u64) -> Result<u64, Box<dyn std::er
 /// The photo sizes of `--sizes` (by default 640x480 to 1280x960).
 fn sizes_arg(args: &[String]) -> Result<Vec<(usize, usize)>, Box<dyn std::error::Error>> {
     Ok(match args.iter().position(|a| a == "--sizes") {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or("--sizes needs a list such as 640x480,800x600")?
-            .split(',')
-            .map(|wh| {
-                let (w, h) = wh
-                    .split_once('x')
-                    .ok_or(format!("--sizes: {wh} is not WIDTHxHEIGHT"))?;
-                Ok((w.parse()?, h.parse()?))
-            })
-            .collect::<Result<Vec<(usize, usize)>, Box<dyn std::error::Error>>>()?,
-        None => vec![(640, 480), (800, 600), (1024, 768), (1280, 960)],
+        Some(i) => sweep::parse_sizes(
+            args.get(i + 1)
+                .ok_or("--sizes needs a list such as 640x480,800x600")?,
+        )
+        .map_err(|e| format!("--sizes: {e}"))?,
+        None => sweep::SIZES.to_vec(),
     })
 }
 
@@ -137,46 +129,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(|i| args.get(i + 1).cloned().ok_or("--csv needs a path"))
         .transpose()?;
     let sizes = sizes_arg(&args)?;
-    let seeds: Vec<(u64, bool)> = (1..=clean)
-        .map(|s| (s, false))
-        .chain((1..=dirty).map(|s| (1_000_000 + s, true)))
-        .collect();
-    let total = seeds.len();
-    let done = AtomicUsize::new(0);
-    // The sequences run on a pool of their own: `track` decodes on rayon's
-    // global pool and waits for it, so it must not run on that pool itself.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(rayon::current_num_threads())
-        .build()?;
-    let results: Vec<Outcome> = pool.install(|| {
-        seeds
-            .par_iter()
-            .map(|&(seed, dirty)| {
-                let out = match sweep::draw(seed, dirty, &sizes) {
-                    Ok(case) => {
-                        let photos = match tempfile::tempdir() {
-                            Ok(dir) => sweep::run(&case, dir.path()),
-                            Err(e) => vec![Photo {
-                                frame: 0,
-                                written: None,
-                                refused: Some(format!("no temporary folder: {e}")),
-                            }],
-                        };
-                        (seed, dirty, case.levels, photos)
-                    }
-                    Err(e) => {
-                        eprintln!("seed {seed}: not drawn: {e}");
-                        (seed, dirty, Vec::new(), Vec::new())
-                    }
+    let results: Vec<Outcome> = sweep::for_each_seed(
+        &sweep::seeds(clean, dirty),
+        |seed, dirty| match sweep::draw(seed, dirty, &sizes) {
+            Ok(case) => {
+                let photos = match tempfile::tempdir() {
+                    Ok(dir) => sweep::run(&case, dir.path()),
+                    Err(e) => vec![Photo {
+                        frame: 0,
+                        written: None,
+                        refused: Some(format!("no temporary folder: {e}")),
+                    }],
                 };
-                let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if k.is_multiple_of(10) || k == total {
-                    eprintln!("{k} of {total} sequences");
-                }
-                out
-            })
-            .collect()
-    });
+                (seed, dirty, case.levels, photos)
+            }
+            Err(e) => {
+                eprintln!("seed {seed}: not drawn: {e}");
+                (seed, dirty, Vec::new(), Vec::new())
+            }
+        },
+    )?;
     let mut all = Tally::default();
     let mut by: BTreeMap<(usize, String), Tally> = BTreeMap::new();
     for (_, dirty, levels, photos) in &results {

@@ -331,3 +331,56 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
         })
         .collect()
 }
+
+/// The photo sizes the sweeps draw from when none are given.
+pub const SIZES: [(usize, usize); 4] = [(640, 480), (800, 600), (1024, 768), (1280, 960)];
+
+/// Photo sizes from a list such as `640x480,800x600`; the error names the
+/// item that is not `WIDTHxHEIGHT`.
+pub fn parse_sizes(list: &str) -> Result<Vec<(usize, usize)>, String> {
+    list.split(',')
+        .map(|wh| {
+            let bad = || format!("{wh} is not WIDTHxHEIGHT (such as 640x480)");
+            let (w, h) = wh.split_once('x').ok_or_else(bad)?;
+            Ok((w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?))
+        })
+        .collect()
+}
+
+/// The seeds of `clean` sequences (1 on) and of `dirty` ones (1_000_001
+/// on), with whether each is dirty.
+pub fn seeds(clean: u64, dirty: u64) -> Vec<(u64, bool)> {
+    (1..=clean)
+        .map(|s| (s, false))
+        .chain((1..=dirty).map(|s| (1_000_000 + s, true)))
+        .collect()
+}
+
+/// `f(seed, dirty)` for every seed, in parallel, in the seeds' order,
+/// saying on stderr every tenth sequence done. The sequences run on a pool
+/// of their own: `track` decodes on rayon's global pool and waits for it,
+/// so it must not run on that pool itself.
+pub fn for_each_seed<T: Send>(
+    seeds: &[(u64, bool)],
+    f: impl Fn(u64, bool) -> T + Sync,
+) -> Result<Vec<T>, rayon::ThreadPoolBuildError> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let (total, done) = (seeds.len(), AtomicUsize::new(0));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(rayon::current_num_threads())
+        .build()?;
+    Ok(pool.install(|| {
+        seeds
+            .par_iter()
+            .map(|&(seed, dirty)| {
+                let out = f(seed, dirty);
+                let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+                if k.is_multiple_of(10) || k == total {
+                    eprintln!("{k} of {total} sequences");
+                }
+                out
+            })
+            .collect()
+    }))
+}
