@@ -14,13 +14,14 @@
 //!
 //! The table gives per level of every factor (and of the camera's distance
 //! and elevation): sequences, set-ups refused (clean, dirty), RMS(scale
-//! error / its stated deviation) and the share within 1.96, the largest
-//! scale error and the largest height error, %, and RMS(height error / all
-//! stated terms) over the photos tracked, and the set-ups whose heights
-//! are off by more than 3 of all their stated deviations (RMS over their
-//! photos: the set-up itself wrong). `--verbose` lists every refusal
-//! with its message; `--keep DIR --seed S` runs the one sequence of seed
-//! `S` in `DIR` and keeps its photos and `init.toml`.
+//! error / its stated deviation, the clamp row's part included) and the
+//! share within 1.96, the largest scale error and the largest height
+//! error, %, and RMS(height error / all stated terms) over the photos
+//! tracked, and the set-ups whose heights are off by more than 3 of all
+//! their stated deviations (RMS over their photos: the set-up itself
+//! wrong). `--verbose` lists every refusal with its message; `--keep
+//! DIR --seed S` runs the one sequence of seed `S` in `DIR` and keeps its
+//! photos and `init.toml`.
 //!
 //! Run: `cargo run --release --features harness --example init_sweep --
 //! --clean 120 --dirty 60 [--sizes 640x480,800x600] [--verbose]`
@@ -54,7 +55,7 @@ impl Tally {
         match t {
             Err(_) => self.refused[usize::from(dirty)] += 1,
             Ok(t) => {
-                self.scale_z.push(t.scale / t.scale_std);
+                self.scale_z.push(t.scale / t.scale_std_all);
                 self.scale = self.scale.max(t.scale.abs());
                 self.heights = self.heights.max(t.heights);
                 self.z2 += t.rms_z_all.powi(2) * t.tracked[0] as f64;
@@ -202,10 +203,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     if *dirty { "dirty" } else { "clean" },
                     e.replace('\n', " ")
                 ),
-                Ok(t) if t.heights > 0.003 || (t.scale / t.scale_std).abs() > 3.0 => println!(
+                Ok(t) if t.heights > 0.003 || (t.scale / t.scale_std_all).abs() > 3.0 => println!(
                     "seed {seed}: scale {:+.3} % ({:.2} std), heights up to {:.3} % (RMS {:.2} stated) [{look}]",
                     100.0 * t.scale,
-                    t.scale / t.scale_std,
+                    t.scale / t.scale_std_all,
                     100.0 * t.heights,
                     t.rms_z_all
                 ),

@@ -62,6 +62,7 @@ use super::matcher::{
 use super::synth::Layout;
 
 mod band;
+mod base;
 mod bubble;
 mod clamp;
 mod clip;

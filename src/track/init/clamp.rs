@@ -2,6 +2,7 @@
 //! its row at the axis, the camera's elevation from its ellipse and the
 //! roll from its slope; and the (robust) linear least squares it uses.
 
+use super::base;
 use super::*;
 
 /// The clamp's top edge beside the bubble (step 3).
@@ -30,10 +31,10 @@ pub(super) struct Clamp {
     pub(super) points: Vec<[f64; 2]>,
     /// With `near`: the dome's base in front of the face (image column,
     /// row), the near half of the opening's circle, which places the
-    /// clamp plane ([`dome_base`]); empty when it was not found.
+    /// clamp plane ([`base::dome_base`]); empty when it was not found.
     pub(super) base_points: Vec<[f64; 2]>,
     /// The clamp plane is placed on the dome's base: the face's front
-    /// lies more than [`BASE_GAP_PX`] below where the base puts it (a
+    /// lies more than [`base::BASE_GAP_PX`] below where the base puts it (a
     /// flange), or the ring's ends are out of the picture.
     pub(super) on_base: bool,
     /// The edge was located on a step clipped at the sensor's ceiling: the
@@ -42,26 +43,19 @@ pub(super) struct Clamp {
     pub(super) clipped_px: Option<f64>,
 }
 
-/// How far, px, the face's front may lie below the clamp plane that the
-/// dome's base gives before it is taken for a flange's lower edge. The
-/// base is read against the face, which the dome shades where they meet:
-/// on path-traced photos of a dark dome on a light face (0.45 m, 2.6
-/// degrees, 1280x960) its points came out 0.16 px low on average (0.05-0.4
-/// px by column), the plane fitted on them 0.38 px low, while the front
-/// put it within 0.02 px.
-pub(super) const BASE_GAP_PX: f64 = 1.0;
-
-/// Whether the face's front lying `gap` px below the clamp plane that the
-/// dome's base gives (the two with deviation `std`) is a flange's.
-pub(super) fn flange(gap: f64, std: f64) -> bool {
-    gap > BASE_GAP_PX + 4.0 * std
-}
-
-/// The standard deviation, px, of the clamp plane placed on the dome's
-/// base for the dome's shade on the face beside it: the base's points came
-/// out 0.16 px low on average on the path-traced photos of
-/// [`BASE_GAP_PX`], the plane 0.16 px low with the front's elevation held.
-pub(super) const BASE_SHADE_PX: f64 = 0.2;
+/// How far, px, from the ring's end (its outline's column) the face's far
+/// side is left out of the ring's fit. Towards the end the far side curves
+/// ever more sharply (its radius of curvature at the end is `s^2 A`, half
+/// a pixel for a ring 316 px wide seen 2.4 degrees from above) and meets
+/// the side's upright outline: within a blur's reach of that corner a
+/// column's edge is pulled down (0.1-0.3 px in the last 2-4 columns), and
+/// those columns fix the fit's end, where the ellipse's row changes the
+/// fastest with the centre's and the elevation. With only one end in the
+/// picture they decided the fit: on the init sweep's three worst such
+/// set-ups the centre's row came out 2.0-6.4 px high at 3.1-3.4 of its
+/// stated deviations, and 0.4-1.8 px off within 0.9 leaving out the last
+/// 6 px.
+pub(super) const CORNER_PX: f64 = 6.0;
 
 /// One column's clamp edge: its row and step, whether a second step almost
 /// as strong lies above it, and that step's row and step when located.
@@ -430,7 +424,7 @@ pub(super) fn find_clamp(
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
             let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+                pts.iter().filter(|p| p.0.abs() < a_f - CORNER_PX).collect();
             let x: Vec<Vec<f64>> = used
                 .iter()
                 .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
@@ -462,7 +456,7 @@ pub(super) fn find_clamp(
                 ));
             };
             let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - 1.5).collect();
+                pts.iter().filter(|p| p.0.abs() < a_f - CORNER_PX).collect();
             let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
             let y: Vec<f64> = used
                 .iter()
@@ -530,7 +524,7 @@ pub(super) fn find_clamp(
     // The face's front seen, not its far side: the dome's base, the
     // opening's near half in the clamp plane, checks that the front is the
     // face's and not a flange's lower edge (the face's shade below it),
-    // which would put the plane the flange's height low ([`dome_base`]).
+    // which would put the plane the flange's height low ([`base::dome_base`]).
     let mut base_points = Vec::new();
     let mut on_base = false;
     let (mut row, mut sin_e) = (row, sin_e);
@@ -542,22 +536,22 @@ pub(super) fn find_clamp(
             }
             _ => row.value + bent.unwrap_or(0.0) * u * u + slope.value * u,
         };
-        let found = dome_base(img, x0, a0, &front, g, min_step);
+        let found = base::dome_base(img, x0, a0, &front, g, min_step);
         let (found, _) =
             super::super::lens::undistort_clamp(lens, x0, found, [None, None], row.value);
         // with the front's elevation when it is placed (the flange's
         // lower edge is the face's circle, lower), else fitted
         let held = bent.is_none().then_some(sin_e).flatten();
-        if let Some((c, s)) = base_fit(&found, a0, held, floor) {
+        if let Some((c, s)) = base::base_fit(&found, a0, held, floor) {
             base_points = found.iter().map(|p| [x0 + p.0, p.1]).collect();
             // (through a pinhole the two near halves are seen larger than
             // an ellipse: the pinhole decides, [`super::ring::place_ring`])
             on_base = bent.is_some()
-                || !hint.distance_known && flange(row.value - c.value, row.std.hypot(c.std));
+                || !hint.distance_known && base::flange(row.value - c.value, row.std.hypot(c.std));
             if on_base {
                 row = Estimate {
                     value: c.value,
-                    std: c.std.hypot(BASE_SHADE_PX),
+                    std: c.std.hypot(base::BASE_SHADE_PX),
                 };
                 sin_e = Some(s);
             }
@@ -576,125 +570,6 @@ pub(super) fn find_clamp(
         on_base,
         clipped_px,
     })
-}
-
-/// The dome's base in front of the ring's face, seen from above when only
-/// the face's front shows (`front(u)`, its row `u` px from the axis, a step
-/// of sign `g` going down): the membrane is clamped at the opening, so its
-/// base is the near half of the opening's circle in the clamp plane, below
-/// which the face shows down to its front (or to a flange's lower edge of
-/// the face's shade, which looks the same). Per column within 0.85 of the
-/// opening's half-width `a0`, the two lowest strong steps down to the
-/// front: the lowest of sign `g` is the front, the one above it the base,
-/// located to sub-pixel with a window that stays off the front. Returns
-/// `(u, row, step)`.
-fn dome_base(
-    img: &Plane,
-    x0: f64,
-    a0: f64,
-    front: &dyn Fn(f64) -> f64,
-    g: f64,
-    min_step: f64,
-) -> Vec<(f64, f64, f64)> {
-    let (w, h) = (img.w as i64, img.h as i64);
-    let reach = (0.3 * a0).max(12.0) as i64;
-    let half = (0.85 * a0) as i64;
-    (-half..=half)
-        .filter_map(|u| {
-            let x = x0.round() as i64 + u;
-            if x < 2 || x >= w - 2 {
-                return None;
-            }
-            let p = img.three_columns(x);
-            let end = (front(u as f64).round() as i64 + 6).min(h - 3);
-            let start = (end - reach).max(2);
-            if end <= start + 4 {
-                return None;
-            }
-            let steps: Vec<(i64, f64)> = (start..end)
-                .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
-                .collect();
-            let gmax = steps.iter().map(|s| s.1.abs()).fold(0.0, f64::max);
-            if gmax < min_step {
-                return None;
-            }
-            let peak = |i: usize| {
-                let v = steps[i].1;
-                v.abs() >= 0.3 * gmax
-                    && v.abs() >= min_step
-                    && v * steps[i - 1].1.signum() >= 0.0
-                    && v.abs() >= steps[i - 1].1.abs()
-                    && v.abs() >= steps[i + 1].1.abs()
-            };
-            let mut peaks = (1..steps.len() - 1).rev().filter(|&i| peak(i));
-            let f = peaks.next()?;
-            if steps[f].1 * g <= 0.0 {
-                return None;
-            }
-            let b = peaks.next()?;
-            let gap = (steps[f].0 - steps[b].0) as f64;
-            let hw = (0.5 * gap - 0.5).min(3.0);
-            if hw < 1.5 {
-                return None;
-            }
-            let (e, step) = profile_edge(&p, h, steps[b].0 as f64 + 0.5, hw)?;
-            ((e - (steps[b].0 as f64 + 0.5)).abs() < 1.5).then_some((u as f64, e, step))
-        })
-        .collect()
-}
-
-/// The clamp plane's row at the axis and the elevation's sine from the
-/// dome's base (`(u, row, _)`, [`dome_base`]): the near half of the
-/// opening's circle, `row = c + s sqrt(a0^2 - u^2)` with the roll's slope,
-/// fitted robustly, the sine `held` when given. `a0` is the opening's
-/// half-width read from the last photo's sides before the scale is
-/// measured; the change of `c` when it is 1 % off is added to the row's
-/// deviation. `None` on fewer than a third of the columns or a base that
-/// does not bend down.
-fn base_fit(
-    pts: &[(f64, f64, f64)],
-    a0: f64,
-    held: Option<Estimate>,
-    floor: f64,
-) -> Option<(Estimate, Estimate)> {
-    if (pts.len() as f64) < 0.3 * 1.7 * a0 {
-        return None;
-    }
-    let fit = |a: f64| {
-        let x: Vec<Vec<f64>> = pts
-            .iter()
-            .map(|p| {
-                let q = (a * a - p.0 * p.0).max(0.0).sqrt();
-                match held {
-                    Some(_) => vec![1.0, p.0],
-                    None => vec![1.0, q, p.0],
-                }
-            })
-            .collect();
-        let y: Vec<f64> = pts
-            .iter()
-            .map(|p| p.1 - held.map_or(0.0, |s| s.value * (a * a - p.0 * p.0).max(0.0).sqrt()))
-            .collect();
-        robust_lstsq(&x, &y, floor)
-    };
-    let ((coef, cov, res), _) = fit(a0)?;
-    let ((c_wide, _, _), _) = fit(1.01 * a0)?;
-    let infl = lag1_inflation(&res);
-    let s = match held {
-        Some(s) => s,
-        None => Estimate {
-            value: coef[1],
-            std: cov[1][1].sqrt() * infl,
-        },
-    };
-    if s.value <= 4.0 * s.std {
-        return None;
-    }
-    let row = Estimate {
-        value: coef[0],
-        std: (cov[0][0] * infl * infl + (c_wide[0] - coef[0]).powi(2)).sqrt(),
-    };
-    Some((row, s))
 }
 
 /// [`robust_lstsq`] of the clamp's edge whose rows end with the column's

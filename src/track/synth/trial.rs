@@ -21,6 +21,9 @@ pub struct InitTrial {
     pub scale: f64,
     /// The stated relative standard deviation of the scale.
     pub scale_std: f64,
+    /// The same with the clamp row's part (`scale_per_clamp_row` times the
+    /// row's deviation) in quadrature: the scale is read at the clamp row.
+    pub scale_std_all: f64,
     /// Error of the clamp row found, px.
     pub clamp_px: f64,
     /// Error of the elevation found, degrees (0 when none was found).
@@ -112,6 +115,8 @@ pub fn init_and_track(
     Ok(InitTrial {
         scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
+        scale_std_all: (found.metres_per_pixel.std / found.metres_per_pixel.value)
+            .hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
         clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
