@@ -503,44 +503,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         hint,
         given.lens.as_ref(),
     )?;
-    let roll_deg = Estimate {
-        value: clamp.slope.value.atan().to_degrees(),
-        std: (clamp.slope.std / (1.0 + clamp.slope.value.powi(2))).to_degrees(),
-    };
-    if roll_deg.value.abs() > MAX_ROLL_DEG + 4.0 * roll_deg.std {
-        return Err(TrackError::NotFound {
-            what: "a level clamp".into(),
-            detail: format!(
-                "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: either the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows): level the camera or rotate the photos; or the edge found is not the clamp's (something beside the bubble's base, or a clamp hardly lighter or darker than the wall)",
-                roll_deg.value, roll_deg.std
-            ),
-            keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
-        });
-    }
-    // (a far side placed through the pinhole is checked by its fit)
-    if clamp.bend.is_none()
-        && clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1)
-    {
-        return Err(TrackError::NotFound {
-            what: "the clamp plane".into(),
-            detail: format!(
-                "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp",
-                clamp.row.value
-            ),
-            keys: "clamp_row_px",
-        });
-    }
-    let elevation_deg = match (given.elevation_deg, clamp.sin_e) {
-        (Some(e), _) => Some(Estimate { value: e, std: 0.0 }),
-        (None, Some(s)) => {
-            let e = s.value.clamp(-1.0, 1.0).asin();
-            Some(Estimate {
-                value: e.to_degrees(),
-                std: (s.std / e.cos()).to_degrees(),
-            })
-        }
-        (None, None) => None,
-    };
+    let (roll_deg, elevation_deg) = clamp.checked(y_low, given.elevation_deg)?;
     // A pinhole camera at a known distance: the ring's centre row and the
     // elevation from the ring's far side seen through it, the scale from
     // the opening's tangent points (twice: each depends on the other).

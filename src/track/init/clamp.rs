@@ -43,6 +43,59 @@ pub(super) struct Clamp {
     pub(super) clipped_px: Option<f64>,
 }
 
+impl Clamp {
+    /// The camera's roll from the edge's slope and the elevation from the
+    /// ellipse's sine (`given` when the elevation is given, degrees),
+    /// refusing a roll beyond [`MAX_ROLL_DEG`] and an edge above the lowest
+    /// part of the bubble that moves (row `y_low`): not the clamp.
+    pub(super) fn checked(
+        &self,
+        y_low: f64,
+        given: Option<f64>,
+    ) -> Result<(Estimate, Option<Estimate>), TrackError> {
+        let clamp = self;
+        let roll_deg = Estimate {
+            value: clamp.slope.value.atan().to_degrees(),
+            std: (clamp.slope.std / (1.0 + clamp.slope.value.powi(2))).to_degrees(),
+        };
+        if roll_deg.value.abs() > MAX_ROLL_DEG + 4.0 * roll_deg.std {
+            return Err(TrackError::NotFound {
+                what: "a level clamp".into(),
+                detail: format!(
+                    "the clamp's top edge slopes by {:.2} +- {:.2} degrees across the photos: either the camera is rolled about its view axis (at most {MAX_ROLL_DEG} degree is taken: the tracker measures along the photo's columns, and beyond it the apex moves sideways as the bubble grows): level the camera or rotate the photos; or the edge found is not the clamp's (something beside the bubble's base, or a clamp hardly lighter or darker than the wall)",
+                    roll_deg.value, roll_deg.std
+                ),
+                keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
+            });
+        }
+        // (a far side placed through the pinhole is checked by its fit)
+        if clamp.bend.is_none()
+            && clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1)
+        {
+            return Err(TrackError::NotFound {
+                what: "the clamp plane".into(),
+                detail: format!(
+                    "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp",
+                    clamp.row.value
+                ),
+                keys: "clamp_row_px",
+            });
+        }
+        let elevation_deg = match (given, clamp.sin_e) {
+            (Some(e), _) => Some(Estimate { value: e, std: 0.0 }),
+            (None, Some(s)) => {
+                let e = s.value.clamp(-1.0, 1.0).asin();
+                Some(Estimate {
+                    value: e.to_degrees(),
+                    std: (s.std / e.cos()).to_degrees(),
+                })
+            }
+            (None, None) => None,
+        };
+        Ok((roll_deg, elevation_deg))
+    }
+}
+
 /// How far, px, from the ring's end (its outline's column) the face's far
 /// side is left out of the ring's fit. Towards the end the far side curves
 /// ever more sharply (its radius of curvature at the end is `s^2 A`, half
