@@ -53,10 +53,9 @@ impl Clamp {
         y_low: f64,
         given: Option<f64>,
     ) -> Result<(Estimate, Option<Estimate>), TrackError> {
-        let clamp = self;
         let roll_deg = Estimate {
-            value: clamp.slope.value.atan().to_degrees(),
-            std: (clamp.slope.std / (1.0 + clamp.slope.value.powi(2))).to_degrees(),
+            value: self.slope.value.atan().to_degrees(),
+            std: (self.slope.std / (1.0 + self.slope.value.powi(2))).to_degrees(),
         };
         if roll_deg.value.abs() > MAX_ROLL_DEG + 4.0 * roll_deg.std {
             return Err(TrackError::NotFound {
@@ -69,19 +68,19 @@ impl Clamp {
             });
         }
         // (a far side placed through the pinhole is checked by its fit)
-        if clamp.bend.is_none()
-            && clamp.row.value < y_low - 3.0 - clamp.half_width_px.map_or(0.0, |a| a * 0.1)
+        if self.bend.is_none()
+            && self.row.value < y_low - 3.0 - self.half_width_px.map_or(0.0, |a| a * 0.1)
         {
             return Err(TrackError::NotFound {
                 what: "the clamp plane".into(),
                 detail: format!(
                     "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp",
-                    clamp.row.value
+                    self.row.value
                 ),
                 keys: "clamp_row_px",
             });
         }
-        let elevation_deg = match (given, clamp.sin_e) {
+        let elevation_deg = match (given, self.sin_e) {
             (Some(e), _) => Some(Estimate { value: e, std: 0.0 }),
             (None, Some(s)) => {
                 let e = s.value.clamp(-1.0, 1.0).asin();
@@ -109,6 +108,12 @@ impl Clamp {
 /// stated deviations, and 0.4-1.8 px off within 0.9 leaving out the last
 /// 6 px.
 pub(super) const CORNER_PX: f64 = 6.0;
+
+/// Whether a column `d` px from the axis lies clear of the corners of a
+/// ring whose ends are `half` px either side of it ([`CORNER_PX`]).
+pub(super) fn clear_of_ends(d: f64, half: f64) -> bool {
+    d.abs() < half - CORNER_PX
+}
 
 /// One column's clamp edge: its row and step, whether a second step almost
 /// as strong lies above it, and that step's row and step when located.
@@ -477,7 +482,7 @@ pub(super) fn find_clamp(
     let (row, sin_e, slope) = match (half, given_sin_e) {
         (Some(a_f), None) => {
             let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - CORNER_PX).collect();
+                pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
             let x: Vec<Vec<f64>> = used
                 .iter()
                 .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
@@ -509,7 +514,7 @@ pub(super) fn find_clamp(
                 ));
             };
             let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| p.0.abs() < a_f - CORNER_PX).collect();
+                pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
             let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
             let y: Vec<f64> = used
                 .iter()

@@ -227,11 +227,10 @@ pub(super) fn place_ring(
     let front = match (on_base, ends) {
         (true, None) => None,
         _ => {
-            // clear of the ring's ends' corners ([`clamp::CORNER_PX`])
             let points: Vec<[f64; 2]> = clamp
                 .points
                 .iter()
-                .filter(|p| ends.is_none_or(|w| (p[0] - at.x0).abs() < w - clamp::CORNER_PX))
+                .filter(|p| ends.is_none_or(|w| clamp::clear_of_ends(p[0] - at.x0, w)))
                 .copied()
                 .collect();
             let radius = ends.map_or(Radius::Fitted, Radius::Ends);
@@ -430,7 +429,7 @@ mod tests {
         let all = fit_ring(&pts, &at, start, Radius::Ends(w), false, false).unwrap();
         let clear: Vec<[f64; 2]> = pts
             .iter()
-            .filter(|q| q[0] - x0 < w - clamp::CORNER_PX)
+            .filter(|q| clamp::clear_of_ends(q[0] - x0, w))
             .copied()
             .collect();
         let clear = fit_ring(&clear, &at, start, Radius::Ends(w), false, false).unwrap();

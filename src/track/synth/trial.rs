@@ -115,8 +115,7 @@ pub fn init_and_track(
     Ok(InitTrial {
         scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
-        scale_std_all: (found.metres_per_pixel.std / found.metres_per_pixel.value)
-            .hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
+        scale_std_all: scale_rel.hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
         clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
