@@ -106,7 +106,12 @@ impl Clamp {
 /// picture they decided the fit: on the init sweep's three worst such
 /// set-ups the centre's row came out 2.0-6.4 px high at 3.1-3.4 of its
 /// stated deviations, and 0.4-1.8 px off within 0.9 leaving out the last
-/// 6 px.
+/// 6 px. The mechanism is the blur's reach, but the value is chosen among
+/// measured ones (1.5, 3, 6 and 12 px on the sweep's ten one-sided
+/// set-ups; docs/track.md), not derived from the photo's own blur, which
+/// init does not measure: 6 px is 2.2 standard deviations of the widest
+/// blur the sweep draws (2.8 px: a Gaussian of 2 px, a defocus disc of
+/// radius 3 px and a motion of 4 px together).
 pub(super) const CORNER_PX: f64 = 6.0;
 
 /// Whether a column `d` px from the axis lies clear of the corners of a
