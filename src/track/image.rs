@@ -73,6 +73,26 @@ impl Tone {
             Some(t) => f64::from(t[v as usize]),
         }
     }
+
+    /// The grey level, fractional, whose light is `l`: [`Tone::light`]
+    /// inverted, linearly between the table's entries (light beyond its
+    /// ends gives 0 or 255).
+    pub fn encode(self, l: f64) -> f64 {
+        match self.0 {
+            None => l,
+            Some(t) => {
+                let i = t.partition_point(|&v| f64::from(v) <= l);
+                if i == 0 {
+                    return 0.0;
+                }
+                if i == t.len() {
+                    return 255.0;
+                }
+                let (a, b) = (f64::from(t[i - 1]), f64::from(t[i]));
+                (i - 1) as f64 + (l - a) / (b - a)
+            }
+        }
+    }
 }
 
 /// An 8-bit grayscale image (or a crop of one), row-major.

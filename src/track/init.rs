@@ -67,6 +67,7 @@ mod bubble;
 mod clamp;
 mod clip;
 pub mod command;
+mod contrast;
 mod file;
 mod frames;
 mod meridian;
@@ -249,7 +250,7 @@ fn sample(v: &[f32], stride: usize) -> Vec<f64> {
 /// its position and value.
 fn strongest_step(p: &dyn Fn(i64) -> f64, lo: i64, hi: i64) -> Option<(i64, f64)> {
     (lo..hi)
-        .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
+        .map(|j| (j, contrast::step_at(p, j)))
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
 }
 
@@ -493,16 +494,9 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         distance_known: given.camera_distance_m.is_some()
             || (given.lens.is_some() && given.distance_from_focal),
         at_ceiling: tone.light(254),
+        tone,
     };
-    let clamp = find_clamp(
-        &mean,
-        x0,
-        a0,
-        [y_low, base],
-        sw.noise,
-        hint,
-        given.lens.as_ref(),
-    )?;
+    let clamp = find_clamp(&mean, x0, a0, [y_low, base], hint, given.lens.as_ref())?;
     let (roll_deg, elevation_deg) = clamp.checked(y_low, given.elevation_deg)?;
     // A pinhole camera at a known distance: the ring's centre row and the
     // elevation from the ring's far side seen through it, the scale from

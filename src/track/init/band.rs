@@ -100,7 +100,7 @@ pub(super) fn no_stripe(
     x0: f64,
     pts: &[Point],
     reach: i64,
-    min_step: f64,
+    contrast: &super::contrast::Contrast,
 ) -> Result<(), TrackError> {
     if let Some(g) = pts.first().map(|p| p.2.signum()) {
         let stripes: Vec<f64> = pts
@@ -109,7 +109,7 @@ pub(super) fn no_stripe(
                 let p = img.three_columns(x0.round() as i64 + d as i64);
                 let top = (e.round() as i64 - 2 * reach).max(1);
                 let (j, step) = strongest_step(&p, top, e.round() as i64 - 3)?;
-                (step * g < 0.0 && step.abs() >= min_step).then_some(e - j as f64 - 1.5)
+                (step * g < 0.0 && contrast.counts(&p, j)).then_some(e - j as f64 - 1.5)
             })
             .collect();
         if stripes.len() * 5 >= pts.len() * 3 {

@@ -45,7 +45,7 @@ pub(super) fn dome_base(
     a0: f64,
     front: &dyn Fn(f64) -> f64,
     g: f64,
-    min_step: f64,
+    contrast: &super::contrast::Contrast,
 ) -> Vec<(f64, f64, f64)> {
     let (w, h) = (img.w as i64, img.h as i64);
     let reach = (0.3 * a0).max(12.0) as i64;
@@ -63,16 +63,19 @@ pub(super) fn dome_base(
                 return None;
             }
             let steps: Vec<(i64, f64)> = (start..end)
-                .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
+                .map(|j| (j, super::contrast::step_at(&p, j)))
                 .collect();
-            let gmax = steps.iter().map(|s| s.1.abs()).fold(0.0, f64::max);
-            if gmax < min_step {
+            let &(jmax, gmax) = steps
+                .iter()
+                .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+            let gmax = gmax.abs();
+            if !contrast.counts(&p, jmax) {
                 return None;
             }
             let peak = |i: usize| {
                 let v = steps[i].1;
                 v.abs() >= 0.3 * gmax
-                    && v.abs() >= min_step
+                    && contrast.counts(&p, steps[i].0)
                     && v * steps[i - 1].1.signum() >= 0.0
                     && v.abs() >= steps[i - 1].1.abs()
                     && v.abs() >= steps[i + 1].1.abs()

@@ -13,8 +13,6 @@ pub(super) struct Swept {
     pub(super) rows: Vec<Option<(usize, usize)>>,
     /// Per column: the top and bottom row of the region.
     pub(super) cols: Vec<Option<(usize, usize)>>,
-    /// Threshold and the difference's robust noise, grey levels.
-    pub(super) noise: f64,
 }
 
 /// The largest 8-connected region of `mask` (row-major `w x h`).
@@ -145,7 +143,6 @@ pub(super) fn swept(first: &Plane, last: &Plane, names: [&Path; 2]) -> Result<Sw
         joined: in_joined,
         rows,
         cols,
-        noise: sigma,
     })
 }
 

@@ -3,7 +3,9 @@
 //! roll from its slope; and the (robust) linear least squares it uses.
 
 use super::base;
+use super::contrast::Contrast;
 use super::*;
+use crate::track::image::Tone;
 
 /// The clamp's top edge beside the bubble (step 3).
 #[derive(Clone)]
@@ -194,6 +196,9 @@ pub(super) struct Hint {
     /// The light of the code value one below the largest: a step whose
     /// bright side reaches it is clipped ([`super::clip`]).
     pub(super) at_ceiling: f64,
+    /// The camera's tone curve: steps are judged in grey levels
+    /// ([`super::contrast`]).
+    pub(super) tone: Tone,
 }
 
 pub(super) fn find_clamp(
@@ -201,7 +206,6 @@ pub(super) fn find_clamp(
     x0: f64,
     a0: f64,
     [y_low, base]: [f64; 2],
-    noise: f64,
     hint: Hint,
     lens: Option<&super::super::lens::Lens>,
 ) -> Result<Clamp, TrackError> {
@@ -223,7 +227,18 @@ pub(super) fn find_clamp(
     }
     let d_lo = (1.04 * a0 + 3.0).ceil() as i64;
     let d_hi = (1.6 * a0).floor() as i64;
-    let min_step = (8.0f64).max(6.0 * noise);
+    let d_range = d_lo..=d_hi;
+    let columns: Vec<(f64, i64)> = [-1i64, 1]
+        .into_iter()
+        .flat_map(|side| d_range.clone().map(move |d| (side, d)))
+        .map(|(side, d)| ((side * d) as f64, x0.round() as i64 + side * d))
+        .filter(|&(_, x)| x >= 2 && x < w - 2)
+        .collect();
+    let contrast = {
+        let profiles: Vec<_> = columns.iter().map(|&(_, x)| img.three_columns(x)).collect();
+        let refs: Vec<&dyn Fn(i64) -> f64> = profiles.iter().map(|p| p as _).collect();
+        Contrast::measured(hint.tone, &refs, lo_row..hi_row)
+    };
     // Residuals below a quarter pixel are never outliers.
     let floor = 0.25;
     // One column: the lowest strong step of the polarity `sign` (or of the
@@ -235,7 +250,7 @@ pub(super) fn find_clamp(
         let p = img.three_columns(x);
         let mean = |a: i64, b: i64| (a..b).map(&p).sum::<f64>() / (b - a) as f64;
         let steps: Vec<(i64, f64)> = (lo_row..hi_row)
-            .map(|j| (j, 0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))))
+            .map(|j| (j, super::contrast::step_at(&p, j)))
             .collect();
         let persistent = |r: i64, g: f64| {
             (mean(r + reach, r + 2 * reach) - mean(r - 2 * reach, r - reach)) * g.signum()
@@ -246,10 +261,11 @@ pub(super) fn find_clamp(
             .filter(|s| sign.is_none_or(|g| s.1 * g > 0.0))
             .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
             .1;
-        if gmax.abs() < min_step {
+        let g = gmax.signum();
+        let at = steps.iter().position(|s| s.1 == gmax)?;
+        if !contrast.counts(&p, steps[at].0) {
             return None;
         }
-        let g = gmax.signum();
         let peaks: Vec<usize> = (1..steps.len().saturating_sub(1))
             .filter(|&i| {
                 let v = steps[i].1 * g;
@@ -281,13 +297,6 @@ pub(super) fn find_clamp(
         });
         Some((e, step, two, upper))
     };
-    let d_range = d_lo..=d_hi;
-    let columns: Vec<(f64, i64)> = [-1i64, 1]
-        .into_iter()
-        .flat_map(|side| d_range.clone().map(move |d| (side, d)))
-        .map(|(side, d)| ((side * d) as f64, x0.round() as i64 + side * d))
-        .filter(|&(_, x)| x >= 2 && x < w - 2)
-        .collect();
     let candidates = columns.len();
     let needed = (candidates / 10).max(6);
     // The ring's top edge, per polarity: each column's lowest strong step
@@ -337,7 +346,7 @@ pub(super) fn find_clamp(
         }
         _ => (pts, ambiguous),
     };
-    super::band::no_stripe(img, x0, &pts, reach, min_step)?;
+    super::band::no_stripe(img, x0, &pts, reach, &contrast)?;
     if pts.len() < needed {
         return Err(not_found(format!(
             "no horizontal edge beside the bubble's base (rows {lo_row}-{hi_row}, {} of {candidates} columns show one): the clamp is out of the picture or hidden, or its top face is as light as the wall behind it and its front lies further below the clamp plane than a tenth of the opening's radius (a flange of the face's shade)",
@@ -364,7 +373,20 @@ pub(super) fn find_clamp(
     // close to the wall's shade: on path-traced photos (a light face on a
     // dark wall, 1024x768) its steps were half the 0.3, the ends were not
     // read, and the ring placed from its far side alone put the centre's
-    // row 0.88 px high (0.10 px with the ends).
+    // row 0.88 px high (0.10 px with the ends). Each end is looked for
+    // beyond the innermost column where that side's far side was found
+    // (the ring reaches at least so far), not from the opening's estimate
+    // `a0` alone: `a0`, from the last photo's sides, can fall short of the
+    // opening by a few per cent, and below the far side the bubble's own
+    // outline then lay in the rows read (a light dome on a dark wall, `a0`
+    // 2.5 % short: both ends found on the dome's outline and the set-up
+    // refused).
+    let inner = [-1.0, 1.0].map(|side: f64| {
+        let on_side = pts.iter().filter(|p| p.0 * side > 0.0).map(|p| p.0.abs());
+        on_side
+            .min_by(f64::total_cmp)
+            .map_or(1.02 * a0, |d| d.max(1.02 * a0))
+    });
     let read_ends = |r0: i64| {
         let r1 = (r0 + rows_read).min(h - 1);
         let mut ends: [Option<(f64, f64)>; 2] = [None, None];
@@ -377,7 +399,7 @@ pub(super) fn find_clamp(
             rows.iter().map(|&r| img.at(x, r)).sum::<f64>() / rows.len() as f64
         };
         for (k, side) in [-1i64, 1].into_iter().enumerate() {
-            let a = x0 + side as f64 * 1.02 * a0;
+            let a = x0 + side as f64 * inner[k];
             let b = x0 + side as f64 * 2.2 * a0;
             let (lo, hi) = if side < 0 { (b, a) } else { (a, b) };
             let (lo, hi) = ((lo.floor() as i64).max(8), (hi.ceil() as i64).min(w - 10));
@@ -385,7 +407,7 @@ pub(super) fn find_clamp(
                 continue;
             }
             if let Some((j, g)) = strongest_step(&q, lo, hi)
-                && g.abs() >= min_step
+                && contrast.counts(&q, j)
                 && j > lo
                 && j < hi - 1
                 && let Some((e, _)) = profile_edge(q, w, j as f64 + 0.5, 3.0)
@@ -599,7 +621,7 @@ pub(super) fn find_clamp(
             }
             _ => row.value + bent.unwrap_or(0.0) * u * u + slope.value * u,
         };
-        let found = base::dome_base(img, x0, a0, &front, g, min_step);
+        let found = base::dome_base(img, x0, a0, &front, g, &contrast);
         let (found, _) =
             super::super::lens::undistort_clamp(lens, x0, found, [None, None], row.value);
         // with the front's elevation when it is placed (the flange's
