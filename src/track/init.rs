@@ -645,6 +645,12 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         value: x0,
         std: x0_std,
     });
+    // The apex track on that axis: the swept band's midpoints, which gave
+    // `x0`, lean towards the side that a light from one side brightens (its
+    // difference crosses the threshold further out there): on the init
+    // sweep a light dome lit from the right had its template 14 px left of
+    // the axis, and the tracker found no edge on the first photo.
+    let apexes_px: Vec<[f64; 2]> = apexes_px.iter().map(|p| [axis_x_px.value, p[1]]).collect();
 
     // Step 5: template and region.
     let a_px = radius_px.map_or(radius_m / metres_per_pixel.value, |a| a.value);
