@@ -507,35 +507,33 @@ fn init_takes_the_far_side_when_a_flange_shows_below_the_face_in_part() {
     );
 }
 
-/// A light dome in front of a dark wall, over a ring whose face is darker
-/// than the wall (grey 20 on 45) or a little lighter (58), seen from 0.6 m
-/// and 3 degrees up, one lit from the side: the ring's steps are 2-5 levels
-/// of light, judged in the photo's levels (`init/contrast.rs`); with the
-/// side light the apexes are placed on the sides' axis. Every photo
-/// tracked, the scale within 0.3 %, the heights within 1 % and within
-/// three of all their stated deviations (RMS over the photos).
+/// A light dome in front of a dark wall, over a ring whose face is a
+/// little lighter than the wall (grey 58 on 45, its side 38), seen from
+/// 0.6 m and 3 degrees up, lit from one side: the ring's steps are 2-5
+/// levels of light, judged in the photo's levels (`init/contrast.rs`), and
+/// the apexes are placed on the sides' axis. Every photo tracked, the
+/// scale within 0.3 %, the heights within 1 % and within three of all
+/// their stated deviations (RMS over the photos). (A face darker than the
+/// wall, grey 20, is still refused on these photos: beyond the ring's ends
+/// the wall's texture passes for a second edge, docs/track.md.)
 #[test]
 fn init_sets_up_a_light_dome_on_a_dark_wall() {
-    for (face, side_light, seed) in [(58.0, 0.35, 232)] {
-        let mut s =
-            SequenceSpec::plain(800, 600, seed, 1.5, 2.0, crate::track::image::Encoding::Png);
-        s.look = Look {
-            bubble_grey: 205.0,
-            background_grey: 45.0,
-            ring_face_grey: face,
-            side_light,
-            camera_distance_m: 0.6,
-            elevation_deg: 3.0,
-            ..Look::default()
-        };
-        let dir = tempfile::tempdir().unwrap();
-        let frames = bubble(&s.specimen, 6).unwrap();
-        let o = init_and_track(dir.path(), &s, &frames, false)
-            .unwrap_or_else(|e| panic!("face {face}: {e:#}"));
-        eprintln!("face {face}, side light {side_light}: {o:?}");
-        assert_eq!(o.tracked[0], o.tracked[1], "face {face}: {o:?}");
-        assert!(o.scale.abs() <= 0.003, "face {face}: scale {o:?}");
-        assert!(o.heights <= 0.01, "face {face}: heights {o:?}");
-        assert!(o.rms_z_all < 3.0, "face {face}: stated {o:?}");
-    }
+    let mut s = SequenceSpec::plain(800, 600, 232, 1.5, 2.0, crate::track::image::Encoding::Png);
+    s.look = Look {
+        bubble_grey: 205.0,
+        background_grey: 45.0,
+        ring_face_grey: 58.0,
+        side_light: 0.35,
+        camera_distance_m: 0.6,
+        elevation_deg: 3.0,
+        ..Look::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let frames = bubble(&s.specimen, 6).unwrap();
+    let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"));
+    eprintln!("{o:?}");
+    assert_eq!(o.tracked[0], o.tracked[1], "{o:?}");
+    assert!(o.scale.abs() <= 0.003, "scale {o:?}");
+    assert!(o.heights <= 0.01, "heights {o:?}");
+    assert!(o.rms_z_all < 3.0, "stated {o:?}");
 }
