@@ -7,10 +7,10 @@
 //! whose deviation grows as the square root of the light, comes out of an
 //! sRGB-like curve (close to a 1/2.4 power) about level across grey
 //! levels, and the read-out and the JPEG's rounding act on the grey levels
-//! themselves. In light, the same step is 5 times smaller on a dark wall
-//! (grey 45 to 20: 4.9 levels of light) than on a light one (grey 190 to
-//! 165: 24 levels), and a threshold set in light refused every ring in
-//! front of a dark wall however clear it was.
+//! themselves. In light, the same step of 25 grey levels is 7 times
+//! smaller on a dark wall (grey 45 to 20: 4.9 levels of light) than on a
+//! light one (grey 190 to 165: 35 levels), and a floor of 8 levels of light
+//! refused 45 of the init sweep's 77 clean light domes on a dark wall.
 //!
 //! The threshold is measured where it is used: the robust deviation of
 //! the step over every row and column searched, most of which hold no
