@@ -9,6 +9,15 @@ use super::synth::{self, Look, SequenceSpec};
 use super::*;
 use crate::experiment::Experiment;
 
+/// `bulge init` and `bulge track` on `photos` photos of `s` (a neo-Hookean
+/// bubble) in a temporary folder; panics with init's or the tracker's
+/// message when either refuses.
+fn set_up_and_track(s: &SequenceSpec, photos: usize) -> InitTrial {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = bubble(&s.specimen, photos).unwrap();
+    init_and_track(dir.path(), s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"))
+}
+
 /// Prints each case and holds the bounds.
 fn check(cases: impl IntoIterator<Item = (u64, SequenceSpec)>, n: usize, heights: bool) {
     let cases: Vec<(u64, SequenceSpec)> = cases.into_iter().collect();
@@ -333,9 +342,7 @@ fn init_places_a_ring_whose_ends_are_out_of_the_picture() {
             camera_distance_m: d,
             ..Look::default()
         };
-        let dir = tempfile::tempdir().unwrap();
-        let frames = bubble(&s.specimen, 6).unwrap();
-        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"));
+        let o = set_up_and_track(&s, 6);
         eprintln!("D {d} m, e {e} deg: {o:?}");
         assert_eq!(o.tracked[0], o.tracked[1], "{o:?}");
         assert!(o.scale.abs() <= 0.003, "D {d} e {e}: scale {o:?}");
@@ -370,9 +377,7 @@ fn pinhole_cases(
             },
         );
         s.framing.axis_x_px = Some(0.5 * (s.width as f64 - 1.0));
-        let dir = tempfile::tempdir().unwrap();
-        let frames = bubble(&s.specimen, 4).unwrap();
-        let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"));
+        let o = set_up_and_track(&s, 4);
         eprintln!("D {d} m, e {e} deg, lens {}: {o:?}", lens.is_some());
         out.push((d, e, o));
     }
@@ -528,9 +533,7 @@ fn init_sets_up_a_light_dome_on_a_dark_wall() {
         elevation_deg: 3.0,
         ..Look::default()
     };
-    let dir = tempfile::tempdir().unwrap();
-    let frames = bubble(&s.specimen, 6).unwrap();
-    let o = init_and_track(dir.path(), &s, &frames, false).unwrap_or_else(|e| panic!("{e:#}"));
+    let o = set_up_and_track(&s, 6);
     eprintln!("{o:?}");
     assert_eq!(o.tracked[0], o.tracked[1], "{o:?}");
     assert!(o.scale.abs() <= 0.003, "scale {o:?}");

@@ -256,14 +256,12 @@ pub(super) fn find_clamp(
             (mean(r + reach, r + 2 * reach) - mean(r - 2 * reach, r - reach)) * g.signum()
                 >= 0.5 * g.abs()
         };
-        let gmax = steps
+        let &(jmax, gmax) = steps
             .iter()
             .filter(|s| sign.is_none_or(|g| s.1 * g > 0.0))
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
-            .1;
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
         let g = gmax.signum();
-        let at = steps.iter().position(|s| s.1 == gmax)?;
-        if !contrast.counts(&p, steps[at].0) {
+        if !contrast.counts(&p, jmax) {
             return None;
         }
         let peaks: Vec<usize> = (1..steps.len().saturating_sub(1))
