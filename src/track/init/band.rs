@@ -12,19 +12,6 @@ use super::*;
 /// its step (signed).
 pub(super) type Point = (f64, f64, f64);
 
-impl Plane {
-    /// Column `x` as a profile of rows: the mean of columns `x - 1..=x + 1`
-    /// (clamped to the photo) at row `j` (clamped), the columns the clamp's
-    /// search reads.
-    pub(super) fn three_columns(&self, x: i64) -> impl Fn(i64) -> f64 + '_ {
-        let xs = [x - 1, x, x + 1].map(|c| c.clamp(0, self.w as i64 - 1) as usize);
-        move |j| {
-            let j = j.clamp(0, self.h as i64 - 1) as usize;
-            xs.iter().map(|&c| self.at(c, j)).sum::<f64>() / 3.0
-        }
-    }
-}
-
 /// How far apart, px, two steps of one polarity must lie in one column to
 /// be told apart as two edges (the column search's rule): also the most
 /// an edge of the ring moves per column, which its ellipse exceeds only
@@ -108,7 +95,8 @@ pub(super) fn no_stripe(
             .filter_map(|&(d, e, _)| {
                 let p = img.three_columns(x0.round() as i64 + d as i64);
                 let top = (e.round() as i64 - 2 * reach).max(1);
-                let (j, step) = strongest_step(&p, top, e.round() as i64 - 3)?;
+                let (j, step) =
+                    super::contrast::strongest_step(contrast.tone, &p, top, e.round() as i64 - 3)?;
                 (step * g < 0.0 && contrast.counts(&p, j)).then_some(e - j as f64 - 1.5)
             })
             .collect();

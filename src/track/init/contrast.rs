@@ -37,11 +37,37 @@ pub(super) fn step_at(p: &dyn Fn(i64) -> f64, j: i64) -> f64 {
     0.5 * (p(j + 2) + p(j + 1) - p(j) - p(j - 1))
 }
 
+/// The strongest step of a profile (light) inside `lo..hi`, judged in
+/// grey levels ([`step_at`]'s stencil on the encoded means): its position
+/// and its value in light. A step of light would favour the light side of
+/// a photo, whose noise in light is the largest: through an sRGB curve a
+/// grey level at 180 is 3.4 times more light than at 30, and on a light
+/// dome in front of a dark wall (noise 3-4 levels, blurred by 1.4 px and a
+/// motion of up to 4 px) the noise inside the dome beat the dome's side
+/// in 7 of 56 rows, which put the axis 12 px off.
+pub(super) fn strongest_step(
+    tone: Tone,
+    p: &dyn Fn(i64) -> f64,
+    lo: i64,
+    hi: i64,
+) -> Option<(i64, f64)> {
+    let j = (lo..hi)
+        .map(|j| (j, levels_at(tone, p, j)))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
+        .0;
+    // Within the step found, its steepest row in light: where the edge's
+    // location starts, as before levels chose the step (through the curve
+    // the steepest row in levels lies up to a row towards the dark side).
+    ((j - 2).max(lo)..(j + 3).min(hi))
+        .map(|j| (j, step_at(p, j)))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+}
+
 /// The smallest step that counts as an edge, in grey levels, and the
 /// camera's tone curve to judge steps of light by.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Contrast {
-    tone: Tone,
+    pub(super) tone: Tone,
     /// Grey levels.
     pub(super) min_levels: f64,
 }

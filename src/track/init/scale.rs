@@ -28,6 +28,7 @@ pub(super) fn find_radius(
     a0: f64,
     clamp: &Clamp,
     sin_e: f64,
+    tone: crate::track::image::Tone,
 ) -> Result<Opening, TrackError> {
     let (w, h) = (last.w as i64, last.h as i64);
     let c = clamp.row.value;
@@ -61,7 +62,7 @@ pub(super) fn find_radius(
             if hi <= lo + 2 {
                 continue;
             }
-            if let Some((j, _)) = strongest_step(&p, lo, hi) {
+            if let Some((j, _)) = super::contrast::strongest_step(tone, &p, lo, hi) {
                 for (x, hw) in xs[i].iter_mut().zip(WINDOWS) {
                     *x = profile_edge(p, w, j as f64 + 0.5, hw).map_or(f64::NAN, |e| e.0);
                 }
