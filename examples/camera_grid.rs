@@ -15,6 +15,11 @@
 //! and the last over every photo of the combination's framings together;
 //! then RMS(scale error / its stated deviation) over every framing.
 //!
+//! `--distances 0.25,1`, `--elevations 0,3` and `--lens none` (or `k1`)
+//! run part of the grid; `--terms` prints each framing's errors against
+//! each stated term (the scale's and the clamp row's, in their deviations;
+//! the frame's own) and each term's mean share of the stated variance.
+//!
 //! Run: `cargo run --release --features harness --example camera_grid [-- --seeds 3,5,9]`
 
 use bulge::track::image::Encoding;
@@ -22,17 +27,30 @@ use bulge::track::lens::Lens;
 use bulge::track::synth::trial::{InitTrial, init_and_track};
 use bulge::track::synth::{Look, SequenceSpec, neo_hookean_bubble};
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let seeds: Vec<u64> = match args.iter().position(|a| a == "--seeds") {
+/// The comma-separated list after `name`, or `default`.
+fn list<T>(args: &[String], name: &str, default: &[T]) -> Result<Vec<T>, Box<dyn std::error::Error>>
+where
+    T: std::str::FromStr + Clone,
+    T::Err: std::error::Error + 'static,
+{
+    Ok(match args.iter().position(|a| a == name) {
         Some(i) => args
             .get(i + 1)
-            .ok_or("--seeds needs a comma-separated list")?
+            .ok_or(format!("{name} needs a comma-separated list"))?
             .split(',')
             .map(str::parse)
             .collect::<Result<_, _>>()?,
-        None => vec![3, 5, 9],
-    };
+        None => default.to_vec(),
+    })
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let seeds: Vec<u64> = list(&args, "--seeds", &[3, 5, 9])?;
+    let distances: Vec<f64> = list(&args, "--distances", &[0.25, 0.45, 1.0])?;
+    let elevations: Vec<f64> = list(&args, "--elevations", &[0.0, 3.0, 5.0])?;
+    let lenses: Vec<String> = list(&args, "--lens", &["none".into(), "k1".into()])?;
+    let terms = args.iter().any(|a| a == "--terms");
     let (width, height) = (1280, 960);
     let base = SequenceSpec::plain(width, height, 0, 1.3, 2.0, Encoding::Jpeg(90));
     let frames = neo_hookean_bubble(&base.specimen, 8)?;
@@ -52,9 +70,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut scale_z = Vec::new();
     let tmp = std::env::temp_dir().join(format!("bulge-camera-grid-{}", std::process::id()));
-    for lens in [None, Some(barrel)] {
-        for d in [0.25, 0.45, 1.0] {
-            for e in [0.0, 3.0, 5.0] {
+    let lenses = lenses
+        .iter()
+        .map(|l| match l.as_str() {
+            "none" => Ok(None),
+            "k1" => Ok(Some(barrel)),
+            _ => Err(format!("--lens takes none or k1, not {l}")),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    for lens in lenses {
+        for &d in &distances {
+            for &e in &elevations {
                 let mut all: Vec<InitTrial> = Vec::new();
                 for &seed in &seeds {
                     let spec = SequenceSpec {
@@ -70,6 +96,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let dir = tmp.join(format!("{d}-{e}-{seed}-{}", lens.is_some()));
                     let t = init_and_track(&dir, &spec, &frames, false)?;
                     std::fs::remove_dir_all(&dir)?;
+                    if terms {
+                        eprintln!(
+                            "{d} m {e} deg lens {} seed {seed}: scale {:+.2} sd, row {:+.2} sd, frame {:.2}, all {:.2}; shares frame {:.2} scale {:.2} row {:.2}",
+                            lens.is_some(),
+                            t.scale / t.scale_std,
+                            t.clamp_px / t.clamp_std_px,
+                            t.rms_z,
+                            t.rms_z_all,
+                            t.shares[0],
+                            t.shares[1],
+                            t.shares[2],
+                        );
+                    }
                     scale_z.push(t.scale / t.scale_std);
                     all.push(t);
                 }

@@ -26,6 +26,8 @@ pub struct InitTrial {
     pub scale_std_all: f64,
     /// Error of the clamp row found, px.
     pub clamp_px: f64,
+    /// The clamp row's stated standard deviation, px.
+    pub clamp_std_px: f64,
     /// Error of the elevation found, degrees (0 when none was found).
     pub elevation_deg: f64,
     /// The largest relative height error over the photos tracked.
@@ -40,6 +42,10 @@ pub struct InitTrial {
     /// deviation times `mpp + h scale_per_clamp_row` (the scale read at
     /// the clamp row moves with it), in quadrature.
     pub rms_z_all: f64,
+    /// The mean share of each stated term in the stated variance over the
+    /// photos tracked: `height_std_m`, the scale's part and the clamp
+    /// row's part.
+    pub shares: [f64; 3],
     /// Photos tracked, of those written.
     pub tracked: [usize; 2],
 }
@@ -97,6 +103,7 @@ pub fn init_and_track(
     let mpp = &found.metres_per_pixel;
     let (scale_rel, row_m) = (mpp.std / mpp.value, found.clamp_row_px.std * mpp.value);
     let (mut heights, mut apex2, mut z2, mut z2_all) = (0.0f64, 0.0, 0.0, 0.0);
+    let mut shares = [0.0; 3];
     for r in &t.rows {
         let tr = w
             .truth
@@ -108,8 +115,12 @@ pub fn init_and_track(
         apex2 += (r.apex_y_px - tr.apex_y_px).powi(2);
         z2 += (err / r.height_std_m).powi(2);
         let row = row_m * (1.0 + r.height_m * found.scale_per_clamp_row / mpp.value);
-        let all = r.height_std_m.hypot(r.height_m * scale_rel).hypot(row);
+        let terms = [r.height_std_m, r.height_m * scale_rel, row];
+        let all = terms[0].hypot(terms[1]).hypot(terms[2]);
         z2_all += (err / all).powi(2);
+        for (s, t) in shares.iter_mut().zip(terms) {
+            *s += (t / all).powi(2);
+        }
     }
     let n = t.rows.len().max(1) as f64;
     Ok(InitTrial {
@@ -117,11 +128,13 @@ pub fn init_and_track(
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
         scale_std_all: scale_rel.hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
         clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
+        clamp_std_px: found.clamp_row_px.std,
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
         apex_rms_px: (apex2 / n).sqrt(),
         rms_z: (z2 / n).sqrt(),
         rms_z_all: (z2_all / n).sqrt(),
+        shares: shares.map(|s| s / n),
         tracked: [t.rows.len(), w.truth.len()],
     })
 }
