@@ -355,12 +355,7 @@ pub(super) fn rows_apart_differ(
 /// edge is measured), and in the rows of the window below it ([`line_in`],
 /// [`line_limit`]). Below the edge the emptiest frame's own edge counts
 /// as a line too, which is as it should be: its rows there are then no
-/// clean background. A blurred line's valley ([`valley_in`]) counts as
-/// clutter above when it lies anywhere in the rows read, across the edge
-/// too: where the top has grown into the line's trough, the line shows in
-/// the emptiest frame only as a valley across the edge found (the sweep's
-/// seed 1000346, frame 2: the top found on the line's upper border, 2.7 px
-/// high at a stated 0.096 px).
+/// clean background.
 pub(super) fn clutter_in_window(
     emptiest: &Gray,
     c: usize,
@@ -373,7 +368,7 @@ pub(super) fn clutter_in_window(
     let hi = (e + hw + 1.0).ceil() as i64;
     let mid = e.round() as i64;
     (
-        line_in(emptiest, c, lo, mid - 1, lim) || valley_in(emptiest, c, lo, hi + 1, lim),
+        line_in(emptiest, c, lo, mid - 1, lim) || valley_in(emptiest, c, lo, mid - 1, lim),
         line_in(emptiest, c, mid + 1, hi + 1, lim),
     )
 }
