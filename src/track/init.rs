@@ -644,7 +644,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             axis_x_px,
         );
     };
-    // The apex track on that axis: the swept band's midpoints, which gave
+    // The apex track on that axis: the swept band's midpoints, which gave step 2's
     // `x0`, lean towards the side that a light from one side brightens (its
     // difference crosses the threshold further out there): on the init
     // sweep a light dome lit from the right had its template 14 px left of

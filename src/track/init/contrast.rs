@@ -41,7 +41,7 @@ pub(super) fn step_at(p: &dyn Fn(i64) -> f64, j: i64) -> f64 {
 /// grey levels ([`step_at`]'s stencil on the encoded means): its position
 /// and its value in light. A step of light would favour the light side of
 /// a photo, whose noise in light is the largest: through an sRGB curve a
-/// grey level at 180 is 3.4 times more light than at 30, and on a light
+/// grey level at 180 is 8 times as much light as one at 30, and on a light
 /// dome in front of a dark wall (noise 3-4 levels, blurred by 1.4 px and a
 /// motion of up to 4 px) the noise inside the dome beat the dome's side
 /// in 7 of 56 rows, which put the axis 12 px off.
