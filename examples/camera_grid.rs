@@ -27,29 +27,15 @@ use bulge::track::lens::Lens;
 use bulge::track::synth::trial::{InitTrial, init_and_track};
 use bulge::track::synth::{Look, SequenceSpec, neo_hookean_bubble};
 
-/// The comma-separated list after `name`, or `default`.
-fn list<T>(args: &[String], name: &str, default: &[T]) -> Result<Vec<T>, Box<dyn std::error::Error>>
-where
-    T: std::str::FromStr + Clone,
-    T::Err: std::error::Error + 'static,
-{
-    Ok(match args.iter().position(|a| a == name) {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or(format!("{name} needs a comma-separated list"))?
-            .split(',')
-            .map(str::parse)
-            .collect::<Result<_, _>>()?,
-        None => default.to_vec(),
-    })
-}
+#[path = "common/args.rs"]
+mod args;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let seeds: Vec<u64> = list(&args, "--seeds", &[3, 5, 9])?;
-    let distances: Vec<f64> = list(&args, "--distances", &[0.25, 0.45, 1.0])?;
-    let elevations: Vec<f64> = list(&args, "--elevations", &[0.0, 3.0, 5.0])?;
-    let lenses: Vec<String> = list(&args, "--lens", &["none".into(), "k1".into()])?;
+    let seeds: Vec<u64> = args::list(&args, "--seeds", &[3, 5, 9])?;
+    let distances: Vec<f64> = args::list(&args, "--distances", &[0.25, 0.45, 1.0])?;
+    let elevations: Vec<f64> = args::list(&args, "--elevations", &[0.0, 3.0, 5.0])?;
+    let lenses: Vec<String> = args::list(&args, "--lens", &["none".into(), "k1".into()])?;
     let terms = args.iter().any(|a| a == "--terms");
     let (width, height) = (1280, 960);
     let base = SequenceSpec::plain(width, height, 0, 1.3, 2.0, Encoding::Jpeg(90));

@@ -31,6 +31,9 @@ use std::collections::BTreeMap;
 use bulge::track::synth::sweep::{self, FACTORS};
 use bulge::track::synth::trial::{InitTrial, init_and_track};
 
+#[path = "common/args.rs"]
+mod args;
+
 /// A sequence's seed, whether dirty, its factor levels and what init and
 /// track gave (or why the set-up was refused).
 type Outcome = (u64, bool, Levels, Result<InitTrial, String>);
@@ -83,16 +86,6 @@ impl Tally {
     }
 }
 
-fn arg(args: &[String], name: &str, default: u64) -> Result<u64, Box<dyn std::error::Error>> {
-    match args.iter().position(|a| a == name) {
-        Some(i) => Ok(args
-            .get(i + 1)
-            .ok_or(format!("{name} needs a number"))?
-            .parse()?),
-        None => Ok(default),
-    }
-}
-
 /// The sequence of `seed` (dirty from 1_000_001 on) seen by its camera,
 /// and its factor levels with the camera's.
 fn case(seed: u64, sizes: &[(usize, usize)]) -> Result<(sweep::Case, Levels), String> {
@@ -123,20 +116,13 @@ type Levels = Vec<(String, String)>;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let clean = arg(&args, "--clean", 40)?;
-    let dirty = arg(&args, "--dirty", 20)?;
+    let clean = args::number(&args, "--clean", 40)?;
+    let dirty = args::number(&args, "--dirty", 20)?;
     let verbose = args.iter().any(|a| a == "--verbose");
-    let sizes = match args.iter().position(|a| a == "--sizes") {
-        Some(i) => sweep::parse_sizes(
-            args.get(i + 1)
-                .ok_or("--sizes needs a list such as 640x480,800x600")?,
-        )
-        .map_err(|e| format!("--sizes: {e}"))?,
-        None => sweep::SIZES.to_vec(),
-    };
+    let sizes = args::sizes(&args)?;
     if let Some(i) = args.iter().position(|a| a == "--keep") {
         let dir = std::path::PathBuf::from(args.get(i + 1).ok_or("--keep needs a folder")?);
-        let (case, levels) = case(arg(&args, "--seed", 1)?, &sizes)?;
+        let (case, levels) = case(args::number(&args, "--seed", 1)?, &sizes)?;
         std::fs::create_dir_all(&dir)?;
         println!("{levels:?}");
         match init_and_track(&dir, &case.spec, &case.frames, false) {

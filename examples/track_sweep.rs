@@ -28,6 +28,9 @@ use std::collections::BTreeMap;
 
 use bulge::track::synth::sweep::{self, FACTORS, Photo};
 
+#[path = "common/args.rs"]
+mod args;
+
 /// A sequence's seed, whether dirty, its factor levels and its photos.
 type Outcome = (u64, bool, Vec<(&'static str, String)>, Vec<Photo>);
 
@@ -80,34 +83,12 @@ impl Tally {
     }
 }
 
-fn arg(args: &[String], name: &str, default: u64) -> Result<u64, Box<dyn std::error::Error>> {
-    Ok(match args.iter().position(|a| a == name) {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or(format!("{name} needs a number"))?
-            .parse()?,
-        None => default,
-    })
-}
-
-/// The photo sizes of `--sizes` (by default 640x480 to 1280x960).
-fn sizes_arg(args: &[String]) -> Result<Vec<(usize, usize)>, Box<dyn std::error::Error>> {
-    Ok(match args.iter().position(|a| a == "--sizes") {
-        Some(i) => sweep::parse_sizes(
-            args.get(i + 1)
-                .ok_or("--sizes needs a list such as 640x480,800x600")?,
-        )
-        .map_err(|e| format!("--sizes: {e}"))?,
-        None => sweep::SIZES.to_vec(),
-    })
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--keep") {
         let dir = args.get(i + 1).ok_or("--keep needs a folder")?;
-        let seed = arg(&args, "--seed", 1)?;
-        let case = sweep::draw(seed, seed > 1_000_000, &sizes_arg(&args)?)?;
+        let seed = args::number(&args, "--seed", 1)?;
+        let case = sweep::draw(seed, seed > 1_000_000, &args::sizes(&args)?)?;
         std::fs::create_dir_all(dir)?;
         for p in sweep::run(&case, std::path::Path::new(dir)) {
             match (p.written, p.refused) {
@@ -120,15 +101,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         return Ok(());
     }
-    let clean = arg(&args, "--clean", 40)?;
-    let dirty = arg(&args, "--dirty", 40)?;
+    let clean = args::number(&args, "--clean", 40)?;
+    let dirty = args::number(&args, "--dirty", 40)?;
     let verbose = args.iter().any(|a| a == "--verbose");
     let csv = args
         .iter()
         .position(|a| a == "--csv")
         .map(|i| args.get(i + 1).cloned().ok_or("--csv needs a path"))
         .transpose()?;
-    let sizes = sizes_arg(&args)?;
+    let sizes = args::sizes(&args)?;
     let results: Vec<Outcome> = sweep::for_each_seed(
         &sweep::seeds(clean, dirty),
         |seed, dirty| match sweep::draw(seed, dirty, &sizes) {
