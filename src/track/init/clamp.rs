@@ -749,9 +749,9 @@ fn top_family([rising, falling]: [Family; 2], needed: usize, floor: f64) -> Fami
     // column's strongest step of it is the wall's texture, at a random row
     // above or below the other edge; its vote is as weak as its step (a
     // light dome on a dark wall, the face darker than both: the face's
-    // front, 2.4 units of light, lay below the rows searched in 14 of 30
-    // columns, whose texture, 0.4-1.0, lay above the far side and had
-    // outvoted it).
+    // front, a step of 2.4 in light on the 0-255 scale, lay below the rows
+    // searched in 16 of 32 columns, whose texture, 0.4-1.0, lay above the
+    // far side and had tipped the median of the gaps).
     let vote: f64 = pairs.iter().map(|p| p.2 * p.1.signum()).sum();
     let rising_upper = vote > 0.0;
     let sign = if rising_upper { 1.0 } else { -1.0 };
