@@ -219,6 +219,24 @@ pub fn template_size_for(a_px: f64, width: usize) -> (usize, usize) {
     (tw, tw / 2)
 }
 
+/// What steps 3 and 4 find about an axis: the clamp ring, the camera's
+/// roll, elevation and distance, the scale from the opening, and the axis
+/// the opening's sides give.
+struct RingAndScale {
+    clamp: Clamp,
+    roll_deg: Estimate,
+    elevation_deg: Option<Estimate>,
+    camera_distance_m: Option<f64>,
+    focal_px: Option<f64>,
+    sin_e: f64,
+    scale_per_clamp_row: f64,
+    radius_px: Option<Estimate>,
+    metres_per_pixel: Estimate,
+    scale_from: ScaleSource,
+    side_points_px: Vec<[f64; 2]>,
+    axis_x_px: Estimate,
+}
+
 /// Finds the set-up in a sequence of photos (in the order they were
 /// taken: the bubble grows from the first to the last), `radius_m` the
 /// specimen's free radius. See the module documentation.
@@ -455,22 +473,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // and 4 are done again about it (a light dome lit from the left on a
     // dark wall: `x0` 25 px off, both ends found but not mirrored about
     // it, the ring placed from its far side alone 4.5 px low).
-    let mut x0 = x0;
-    let mut again = true;
-    let (
-        clamp,
-        roll_deg,
-        elevation_deg,
-        camera_distance_m,
-        focal_px,
-        sin_e,
-        scale_per_clamp_row,
-        radius_px,
-        metres_per_pixel,
-        scale_from,
-        side_points_px,
-        axis_x_px,
-    ) = loop {
+    let ring_and_scale = |x0: f64| -> Result<RingAndScale, TrackError> {
         let clamp = find_clamp(&mean, x0, a0, [y_low, base], hint, given.lens.as_ref())?;
         let (roll_deg, elevation_deg) = clamp.checked(y_low, given.elevation_deg)?;
         // A pinhole camera at a known distance: the ring's centre row and the
@@ -624,12 +627,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             value: x0,
             std: x0_std,
         });
-        if again && (axis_x_px.value - x0).abs() > 1.0 {
-            x0 = axis_x_px.value;
-            again = false;
-            continue;
-        }
-        break (
+        Ok(RingAndScale {
             clamp,
             roll_deg,
             elevation_deg,
@@ -642,24 +640,33 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             scale_from,
             side_points_px,
             axis_x_px,
-        );
+        })
     };
+    let mut r = ring_and_scale(x0)?;
+    if (r.axis_x_px.value - x0).abs() > 1.0 {
+        r = ring_and_scale(r.axis_x_px.value)?;
+    }
     // The apex track on that axis: the swept band's midpoints, which gave step 2's
     // `x0`, lean towards the side that a light from one side brightens (its
     // difference crosses the threshold further out there): on the init
     // sweep a light dome lit from the right had its template 14 px left of
     // the axis, and the tracker found no edge on the first photo.
-    let apexes_px: Vec<[f64; 2]> = apexes_px.iter().map(|p| [axis_x_px.value, p[1]]).collect();
+    let apexes_px: Vec<[f64; 2]> = apexes_px
+        .iter()
+        .map(|p| [r.axis_x_px.value, p[1]])
+        .collect();
 
     // Step 5: template and region.
-    let a_px = radius_px.map_or(radius_m / metres_per_pixel.value, |a| a.value);
+    let a_px = r
+        .radius_px
+        .map_or(radius_m / r.metres_per_pixel.value, |a| a.value);
     let (tw, th) = template_size_for(a_px, w);
     // The template stays clear of the clamp (its top face, from a raised
     // camera): on the first photo when the apex is at least 4 px above it
     // (the template is then raised so that its bottom stays clear, the apex
     // below its middle), else on the first photo whose apex is.
-    let face = clamp.half_width_px.map_or(0.0, |a| a * sin_e);
-    let clear = clamp.row.value - face - 2.0;
+    let face = r.clamp.half_width_px.map_or(0.0, |a| a * r.sin_e);
+    let clear = r.clamp.row.value - face - 2.0;
     let reference_frame = apexes_px
         .iter()
         .position(|p| p[1] <= clear - 4.0)
@@ -712,13 +719,13 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // Through the lens (when calibrated): the axis and the scale in the
     // undistorted image (the clamp row is already).
     let (mut axis_x_px, mut clamp_row_px, mut radius_px, mut metres_per_pixel) =
-        (axis_x_px, clamp.row, radius_px, metres_per_pixel);
+        (r.axis_x_px, r.clamp.row, r.radius_px, r.metres_per_pixel);
     // The ring's edge is located by the same centroid as the apex: the
     // edge fit's bias that no residual shows is added as to every edge fit
     // ([`super::tracker::EDGE_BIAS_FLOOR_PX`]).
     clamp_row_px.std = clamp_row_px.std.hypot(super::tracker::EDGE_BIAS_FLOOR_PX);
     // a clipped face: the edge anywhere within `t` of where it was located
-    if let Some(t) = clamp.clipped_px {
+    if let Some(t) = r.clamp.clipped_px {
         clamp_row_px.std = clamp_row_px.std.hypot(t / 3f64.sqrt());
     }
     let (ax, a) = super::lens::undistort_opening(
@@ -739,24 +746,24 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         height: h,
         response: given.response,
         lens: given.lens,
-        camera_distance_m,
-        camera_distance_from_focal: focal_px.is_some(),
+        camera_distance_m: r.camera_distance_m,
+        camera_distance_from_focal: r.focal_px.is_some(),
         axis_x_px,
         clamp_row_px,
-        elevation_deg,
-        roll_deg,
-        clamp_half_width_px: clamp.half_width_px,
+        elevation_deg: r.elevation_deg,
+        roll_deg: r.roll_deg,
+        clamp_half_width_px: r.clamp.half_width_px,
         radius_px,
         metres_per_pixel,
-        scale_from,
-        scale_per_clamp_row,
+        scale_from: r.scale_from,
+        scale_per_clamp_row: r.scale_per_clamp_row,
         apexes_px: apexes,
         reference_frame,
         layout,
         reference_apex_px,
         outlines_px,
-        clamp_points_px: clamp.points,
-        clamp_clipped_px: clamp.clipped_px,
-        side_points_px,
+        clamp_points_px: r.clamp.points,
+        clamp_clipped_px: r.clamp.clipped_px,
+        side_points_px: r.side_points_px,
     })
 }
