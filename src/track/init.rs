@@ -61,6 +61,7 @@ use super::matcher::{
 };
 use super::synth::Layout;
 
+mod about;
 mod band;
 mod base;
 mod bubble;
@@ -217,24 +218,6 @@ pub fn template_size_for(a_px: f64, width: usize) -> (usize, usize) {
     let tw = (0.3 * a_px).min(0.1 * width as f64).max(32.0);
     let tw = ((tw / 2.0).round() as usize) * 2;
     (tw, tw / 2)
-}
-
-/// What steps 3 and 4 find about an axis: the clamp ring, the camera's
-/// roll, elevation and distance, the scale from the opening, and the axis
-/// the opening's sides give.
-struct RingAndScale {
-    clamp: Clamp,
-    roll_deg: Estimate,
-    elevation_deg: Option<Estimate>,
-    camera_distance_m: Option<f64>,
-    focal_px: Option<f64>,
-    sin_e: f64,
-    scale_per_clamp_row: f64,
-    radius_px: Option<Estimate>,
-    metres_per_pixel: Estimate,
-    scale_from: ScaleSource,
-    side_points_px: Vec<[f64; 2]>,
-    axis_x_px: Estimate,
 }
 
 /// Finds the set-up in a sequence of photos (in the order they were
@@ -473,178 +456,22 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // and 4 are done again about it (a light dome lit from the left on a
     // dark wall: `x0` 25 px off, both ends found but not mirrored about
     // it, the ring placed from its far side alone 4.5 px low).
-    let ring_and_scale = |x0: f64| -> Result<RingAndScale, TrackError> {
-        let clamp = find_clamp(&mean, x0, a0, [y_low, base], hint, given.lens.as_ref())?;
-        let (roll_deg, elevation_deg) = clamp.checked(y_low, given.elevation_deg)?;
-        // A pinhole camera at a known distance: the ring's centre row and the
-        // elevation from the ring's far side seen through it, the scale from
-        // the opening's tangent points (twice: each depends on the other).
-        let mut clamp = clamp;
-        let mut elevation_deg = elevation_deg;
-        // Without the distance, a calibrated lens gives it: the scale at the
-        // ring's centre is the slant distance over the focal length
-        // ([`ring::distance_from_focal`]), so the distance follows from the
-        // scale found, and is found again with it.
-        let focal_px = given
-            .lens
-            .as_ref()
-            .filter(|_| given.camera_distance_m.is_none() && given.distance_from_focal)
-            .map(|l| l.fy);
-        let distance_of = |f: f64, mpp: f64, e: Option<Estimate>, row: f64| {
-            let e = e.map_or(0.0, |e| e.value.to_radians());
-            ring::distance_from_focal(f, e, row, mpp, principal_row)
-        };
-        let mut camera_distance_m = given.camera_distance_m.or_else(|| {
-            let mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
-            focal_px.map(|f| distance_of(f, mpp, elevation_deg, clamp.row.value))
-        });
-        // The opening's half-width from the sides, less the bias of their extrapolation measured
-        // on the neo-Hookean dome as high as the last photo's, through the camera
-        // ([`meridian::unbiased`]; through a pinhole the bias changes by 0.3 px for 0.02 a of
-        // height at 0.25 m and 5 degrees, so the height is the pinhole's).
-        let e_of = |e: Option<Estimate>| e.map_or(0.0, |e| e.value.to_radians());
-        let top = apexes_px.last().map_or(f64::NAN, |p| p[1]);
-        let unbiased = |o: &scale::Opening, d: Option<f64>, e: f64, mpp: f64, row: f64| {
-            let p = d.map(|d| ring::camera(d, e, row, mpp, x0, principal_row));
-            let h_over_a = match &p {
-                Some(p) => p
-                    .membrane_height(top, 0.0, radius_m, None)
-                    .map_or(f64::NAN, |h| h.0 / radius_m),
-                None => (row - top) / e.cos() / a0,
-            };
-            let domes = meridian::Meridian::domes(h_over_a);
-            let view = p
-                .as_ref()
-                .map_or(meridian::View::Orthographic, meridian::View::Pinhole);
-            let sin_e = e.max(0.0).sin();
-            let at = meridian::Reading {
-                radius_m,
-                mpp,
-                c: row,
-                sin_e,
-                a0,
-            };
-            meridian::unbiased(o, domes.as_ref(), view, &at)
-        };
-        if let Some(mut d) = camera_distance_m {
-            let mut mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
-            let rounds = if focal_px.is_some() { 5 } else { 2 };
-            for _ in 0..rounds {
-                if !(d.is_finite() && d > 2.0 * radius_m) {
-                    return Err(TrackError::NotFound {
-                        what: "the camera's distance".into(),
-                        detail: format!(
-                            "the lens's focal length {:.1} px and the scale {mpp:.4e} m/px put the camera {d:.4} m from the axis, within the opening's diameter: the lens was calibrated at another zoom or photo size; or give the distance ({})",
-                            focal_px.unwrap_or(f64::NAN),
-                            crate::setting::Setting::CameraDistance
-                        ),
-                        keys: "[camera] distance_m",
-                    });
-                }
-                let at = ring::View {
-                    d,
-                    mpp,
-                    x0,
-                    principal_row,
-                };
-                ring::place_ring(&mut clamp, &mut elevation_deg, &at, radius_m)?;
-                if given.metres_per_pixel.is_none() {
-                    let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
-                    let mut in_photo = clamp.clone();
-                    in_photo.row.value = super::lens::clamp_row_at_sides(
-                        given.lens.as_ref(),
-                        x0,
-                        a0,
-                        clamp.row.value,
-                    );
-                    let o = find_radius(&pl, x0, a0, &in_photo, e.max(0.0).sin(), tone)?;
-                    let a = unbiased(&o, Some(d), e, mpp, clamp.row.value).value;
-                    // in the undistorted image, as the scale at the end of step 4
-                    let a = super::lens::undistort_opening(
-                        given.lens.as_ref(),
-                        x0,
-                        clamp.row.value,
-                        Some(a),
-                    )
-                    .1
-                    .unwrap_or(a);
-                    mpp = ring::centre_scale(radius_m, a, d, e, clamp.row.value, x0, principal_row);
-                }
-                if let Some(f) = focal_px {
-                    d = distance_of(f, mpp, elevation_deg, clamp.row.value);
-                }
-            }
-            camera_distance_m = Some(d);
-        }
-        let sin_e = elevation_deg.map_or(0.0, |e| e.value.max(0.0).to_radians().sin());
-
-        // Step 4: the scale (`d ln(mpp) / d c = -(d a / d c) / a`).
-        let mut scale_per_clamp_row = 0.0;
-        let (radius_px, metres_per_pixel, scale_from, side_points_px) = match given.metres_per_pixel
-        {
-            Some(m) => (
-                None,
-                Estimate { value: m, std: 0.0 },
-                ScaleSource::Given,
-                Vec::new(),
-            ),
-            None => {
-                // The sides are read in the photo's rows.
-                let mut in_photo = clamp.clone();
-                in_photo.row.value =
-                    super::lens::clamp_row_at_sides(given.lens.as_ref(), x0, a0, clamp.row.value);
-                let o = find_radius(&pl, x0, a0, &in_photo, sin_e, tone)?;
-                let e = e_of(elevation_deg);
-                let scale_of = |a: f64| match camera_distance_m {
-                    Some(d) => {
-                        ring::centre_scale(radius_m, a, d, e, clamp.row.value, x0, principal_row)
-                    }
-                    None => radius_m / a,
-                };
-                // The bias is measured through the camera of the scale it
-                // leaves: three rounds reach that fixed point.
-                let mut a = o.a;
-                for _ in 0..3 {
-                    a = unbiased(&o, camera_distance_m, e, scale_of(a.value), clamp.row.value);
-                }
-                let sides = o.sides;
-                let mpp = scale_of(a.value);
-                scale_per_clamp_row = -o.per_clamp_row / a.value;
-                (
-                    Some(a),
-                    Estimate {
-                        value: mpp,
-                        std: mpp * a.std / a.value,
-                    },
-                    ScaleSource::ClampOpening,
-                    sides,
-                )
-            }
-        };
-
-        // The axis: the mean midpoint of the sides where they were located.
-        let axis_x_px = scale::axis_from_sides(&side_points_px).unwrap_or(Estimate {
-            value: x0,
-            std: x0_std,
-        });
-        Ok(RingAndScale {
-            clamp,
-            roll_deg,
-            elevation_deg,
-            camera_distance_m,
-            focal_px,
-            sin_e,
-            scale_per_clamp_row,
-            radius_px,
-            metres_per_pixel,
-            scale_from,
-            side_points_px,
-            axis_x_px,
-        })
+    let steps = about::Steps34 {
+        mean: &mean,
+        last: &pl,
+        a0,
+        rows: [y_low, base],
+        hint,
+        given,
+        principal_row,
+        radius_m,
+        top: apexes_px.last().map_or(f64::NAN, |p| p[1]),
+        tone,
+        x0_std,
     };
-    let mut r = ring_and_scale(x0)?;
+    let mut r = steps.read(x0)?;
     if (r.axis_x_px.value - x0).abs() > 1.0 {
-        r = ring_and_scale(r.axis_x_px.value)?;
+        r = steps.read(r.axis_x_px.value)?;
     }
     // The apex track on that axis: the swept band's midpoints, which gave step 2's
     // `x0`, lean towards the side that a light from one side brightens (its
