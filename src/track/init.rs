@@ -75,6 +75,7 @@ mod meridian;
 mod plane;
 mod ring;
 mod scale;
+mod top_edge;
 
 use bubble::{follow_side, refine_axis, shrinking_check, swept};
 use clamp::{Clamp, find_clamp, robust_lstsq};

@@ -201,6 +201,17 @@ pub(super) struct Hint {
     pub(super) tone: Tone,
 }
 
+/// Residuals of the ring's edge fits below a quarter pixel are never
+/// outliers ([`robust_lstsq`]'s floor).
+pub(super) const OUTLIER_FLOOR_PX: f64 = 0.25;
+
+/// Step 3: the clamp ring in `img` (the photos' mean in the ring's rows)
+/// about the axis column `x0`, `a0` the opening's half-width, px: each
+/// column's lowest strong step beside the bubble's base (rows from the
+/// swept band's lowest, `y_low`, and the sides' foot, `base`), the
+/// polarity chosen by geometry ([`top_family`]), the ring's ends, the
+/// edge fitted ([`super::top_edge::fit_top_edge`]); where the edge found
+/// is the face's front, the dome's base checks it ([`base::dome_base`]).
 pub(super) fn find_clamp(
     img: &Plane,
     x0: f64,
@@ -210,18 +221,11 @@ pub(super) fn find_clamp(
     lens: Option<&super::super::lens::Lens>,
 ) -> Result<Clamp, TrackError> {
     let given_sin_e = hint.sin_e;
-    let mut bent = None;
-    let mut near = false;
     let (w, h) = (img.w as i64, img.h as i64);
     let lo_row = ((y_low - 0.3 * a0 - 4.0).floor() as i64).max(8);
     let hi_row = ((base.max(y_low) + 0.1 * a0 + 4.0).ceil() as i64).min(h - 12);
-    let not_found = |detail: String| TrackError::NotFound {
-        what: "the clamp plane".into(),
-        detail,
-        keys: "clamp_row_px",
-    };
     if hi_row <= lo_row + 4 {
-        return Err(not_found(format!(
+        return Err(clamp_not_found(format!(
             "the bubble's base (row {y_low:.0}) is at the photo's bottom border: the clamp is out of the picture"
         )));
     }
@@ -239,8 +243,7 @@ pub(super) fn find_clamp(
         let refs: Vec<&dyn Fn(i64) -> f64> = profiles.iter().map(|p| p as _).collect();
         Contrast::measured(hint.tone, &refs, lo_row..hi_row)
     };
-    // Residuals below a quarter pixel are never outliers.
-    let floor = 0.25;
+    let floor = OUTLIER_FLOOR_PX;
     // One column: the lowest strong step of the polarity `sign` (or of the
     // strongest step's, when `None`) that is a step (the far side stays
     // different beyond a thin line's height), not a shelf edge or a cable;
@@ -346,7 +349,7 @@ pub(super) fn find_clamp(
     };
     super::band::no_stripe(img, x0, &pts, reach, &contrast)?;
     if pts.len() < needed {
-        return Err(not_found(format!(
+        return Err(clamp_not_found(format!(
             "no horizontal edge beside the bubble's base (rows {lo_row}-{hi_row}, {} of {candidates} columns show one): the clamp is out of the picture or hidden, or its top face is as light as the wall behind it and its front lies further below the clamp plane than a tenth of the opening's radius (a flange of the face's shade)",
             pts.len()
         )));
@@ -447,7 +450,7 @@ pub(super) fn find_clamp(
                 ambiguous = 0;
                 upper
             } else {
-                return Err(not_found(format!(
+                return Err(clamp_not_found(format!(
                     "the clamp's top edge found jumps from row {from:.1} to {to:.1} at column {:.0}: two edges of the ring, each found in part of the columns (the face's far side, and its front or a flange's lower edge below it), and neither is one curve across the columns",
                     x0 + d
                 )));
@@ -461,7 +464,6 @@ pub(super) fn find_clamp(
     // straight edge stays straight there; the photo's is bent by the lens).
     let (pts, ends) = super::super::lens::undistort_clamp(lens, x0, pts, ends, c_guess);
     let half = half_of(ends);
-    let mut half_below = None;
     // The ends read again below the ellipse's centre row `v0` when they
     // were read above it, for the ring's fit through a pinhole
     // (`ring::fit_ring`), which takes them as the tangent points of the
@@ -490,135 +492,13 @@ pub(super) fn find_clamp(
             })
             .flatten()
     };
-    // Too few columns for a fit, said with what they are.
-    let few = |n: usize, ends: Option<f64>| {
-        not_found(match ends {
-            Some(a_f) => format!(
-                "only {n} columns of the clamp's top edge lie between its ends, found {a_f:.0} px either side of the bubble's axis: the ends found may be other edges (a clamp hardly lighter or darker than the wall, or its ends outside the picture)"
-            ),
-            None => format!(
-                "only {n} columns show the clamp's top edge beside the bubble's base: the clamp is hardly lighter or darker than the wall, hidden, or out of the picture"
-            ),
-        })
+    let fit =
+        super::top_edge::fit_top_edge(&pts, half, given_sin_e, ambiguous, hint.distance_known)?;
+    let half_below = match (fit.ellipse, half) {
+        (Some((v0, s)), Some(a_f)) => ends_below(v0, s, a_f).or(half),
+        _ => None,
     };
-    // Each fit has a slope across the photo: a camera rolled about its
-    // view axis sees the clamp's edge tilted (the row at the axis stays
-    // the clamp ring's centre's).
-    let (row, sin_e, slope) = match (half, given_sin_e) {
-        (Some(a_f), None) => {
-            let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
-            let x: Vec<Vec<f64>> = used
-                .iter()
-                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
-                .collect();
-            let y: Vec<f64> = used.iter().map(|p| p.1).collect();
-            let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), Some(a_f)))?;
-            half_below = ends_below(coef[0], coef[1], a_f).or(half);
-            check_inliers(&keep, ambiguous)?;
-            let infl = lag1_inflation(&res);
-            let est = |i: usize| Estimate {
-                value: coef[i],
-                std: cov[i][i].sqrt() * infl,
-            };
-            // Lowest at the axis: the face's front (the same ellipse, its
-            // centre the same row; a camera below the clamp plane would
-            // not see the bubble's base past the ring's near edge).
-            let mut sin_e = est(1);
-            near = sin_e.value < -2.0 * sin_e.std;
-            if near {
-                sin_e.value = -sin_e.value;
-            }
-            (est(0), Some(sin_e), slope)
-        }
-        (_, Some(s)) if s != 0.0 => {
-            let Some(a_f) = half else {
-                return Err(not_found(
-                    "the camera is raised (elevation given) but the clamp's ends are not in the picture, so its ellipse's centre cannot be placed".into(),
-                ));
-            };
-            let used: Vec<&(f64, f64, f64)> =
-                pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
-            let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
-            let y: Vec<f64> = used
-                .iter()
-                .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
-                .collect();
-            let (((coef, cov, res), keep), slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), Some(a_f)))?;
-            half_below = ends_below(coef[0], s, a_f).or(half);
-            check_inliers(&keep, ambiguous)?;
-            let row = Estimate {
-                value: coef[0],
-                std: cov[0][0].sqrt() * lag1_inflation(&res),
-            };
-            (row, None, slope)
-        }
-        _ => {
-            // Level (or the ends unseen): a straight edge, checked for a
-            // curvature that would betray a raised camera.
-            let x: Vec<Vec<f64>> = pts.iter().map(|p| vec![1.0, p.0 * p.0, p.0]).collect();
-            let y: Vec<f64> = pts.iter().map(|p| p.1).collect();
-            let (((coef, cov, res), keep), bent_slope) =
-                with_slope(&x, &y, floor).ok_or_else(|| few(x.len(), None))?;
-            check_inliers(&keep, ambiguous)?;
-            let dmax = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
-            let bend = coef[1] * dmax * dmax;
-            let bend_std = cov[1][1].sqrt() * dmax * dmax;
-            let bends = given_sin_e.is_none() && bend.abs() > 1.0 && bend.abs() > 4.0 * bend_std;
-            if bends && hint.distance_known {
-                // the far side of an ellipse seen from above (or its front,
-                // bending down), to be placed through the pinhole: its top
-                // (bottom) row the start
-                bent = Some(coef[1]);
-                near = coef[1] < 0.0;
-                let top = Estimate {
-                    value: coef[0],
-                    std: cov[0][0].sqrt() * lag1_inflation(&res),
-                };
-                (top, None, bent_slope)
-            } else if bends {
-                return Err(TrackError::NotFound {
-                    what: "the camera's elevation".into(),
-                    detail: format!(
-                        "the clamp's top edge bends by {bend:.1} px across the photo (a camera above the clamp plane sees the clamp as an ellipse), but the clamp's ends are not in the picture to place the ellipse"
-                    ),
-                    keys: "elevation_deg and clamp_row_px (the row of the clamp ring's centre)",
-                });
-            } else {
-                let (kept_x, kept_y): (Vec<Vec<f64>>, Vec<f64>) = x
-                    .iter()
-                    .zip(&y)
-                    .zip(&keep)
-                    .filter(|(_, k)| **k)
-                    .map(|((r, v), _)| (vec![r[0], r[2]], *v))
-                    .unzip();
-                let (((c, ccov, cres), _), slope) = with_slope(&kept_x, &kept_y, f64::INFINITY)
-                    .ok_or_else(|| few(kept_x.len(), None))?;
-                // An elevation the bend cannot show, unless the camera is
-                // said to be level: a far side bending by `b` over the
-                // columns seen (`k d^2` at the outermost, `dmax`) is seen
-                // from `s = 2 R k` above, and the ring's centre lies `s R =
-                // 2 b (R / dmax)^2` below its top, `R >= dmax` the ring's
-                // radius. The bend is within its noise, so not taken, but
-                // its deviation is carried, at `R = dmax`: on the init
-                // sweep a camera 0.6 degrees up with one end of the ring
-                // seen put the row 0.77 px high at a stated 0.12 px (the
-                // bend 2.5 +- 0.64 px, short of four deviations).
-                let hidden = if given_sin_e.is_none() {
-                    2.0 * bend_std * lag1_inflation(&res)
-                } else {
-                    0.0
-                };
-                let row = Estimate {
-                    value: c[0],
-                    std: (ccov[0][0].sqrt() * lag1_inflation(&cres)).hypot(hidden),
-                };
-                (row, None, slope)
-            }
-        }
-    };
+    let (row, sin_e, slope, near, bent) = (fit.row, fit.sin_e, fit.slope, fit.near, fit.bent);
     // The face's front seen, not its far side: the dome's base, the
     // opening's near half in the clamp plane, checks that the front is the
     // face's and not a flange's lower edge (the face's shade below it),
@@ -670,38 +550,13 @@ pub(super) fn find_clamp(
     })
 }
 
-/// [`robust_lstsq`] of the clamp's edge whose rows end with the column's
-/// distance from the axis (the slope of a rolled camera's edge): the fit
-/// with the slope when it is significant (beyond 4 standard deviations),
-/// else the fit without it, and the slope measured either way.
-fn with_slope(rows: &[Vec<f64>], y: &[f64], floor: f64) -> Option<((Fit, Vec<bool>), Estimate)> {
-    let (fit, keep) = robust_lstsq(rows, y, floor)?;
-    let k = rows.first()?.len() - 1;
-    let slope = Estimate {
-        value: fit.0[k],
-        std: fit.1[k][k].sqrt() * lag1_inflation(&fit.2),
-    };
-    if slope.value.abs() > 4.0 * slope.std {
-        return Some(((fit, keep), slope));
+/// The clamp plane not found, and why.
+pub(super) fn clamp_not_found(detail: String) -> TrackError {
+    TrackError::NotFound {
+        what: "the clamp plane".into(),
+        detail,
+        keys: "clamp_row_px",
     }
-    let level: Vec<Vec<f64>> = rows.iter().map(|r| r[..k].to_vec()).collect();
-    Some((robust_lstsq(&level, y, floor)?, slope))
-}
-
-/// Refuses a clamp edge whose columns split between two edges.
-fn check_inliers(keep: &[bool], ambiguous: usize) -> Result<(), TrackError> {
-    let kept = keep.iter().filter(|k| **k).count();
-    if (kept as f64) < 0.6 * keep.len() as f64 || ambiguous * 3 > keep.len() {
-        return Err(TrackError::NotFound {
-            what: "the clamp plane".into(),
-            detail: format!(
-                "two candidate edges beside the bubble's base: only {kept} of {} columns agree on one, {ambiguous} show two strong edges",
-                keep.len()
-            ),
-            keys: "clamp_row_px",
-        });
-    }
-    Ok(())
 }
 
 /// One polarity's edge points `(d, row, step)` and how many of its columns
