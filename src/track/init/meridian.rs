@@ -225,6 +225,21 @@ pub(super) fn side_bias_px(
             };
             w.map(|w| (u, w))
         })
+        // Drawn at the scale being found, the outline differs from the
+        // sides measured by that scale's error (a few per cent in the
+        // first round) and the extrapolation's bias (a fraction of a
+        // pixel). A row where it differs by a tenth of the opening is one
+        // the drawing missed: near the camera's own height every latitude
+        // is seen edge-on and reaches only rows within a sliver of its
+        // own, which the grid of heights in [`widest`] can step over and
+        // take a far latitude's width instead (a camera 0.4 degrees up at
+        // 0.27 m: a row 77 px wide among rows of 114 px, and the opening's
+        // bias, from a quadratic through it, -53 px).
+        .filter(|&(u, w)| {
+            let [big_a, big_b, big_c] = opening.coef;
+            let measured = (big_a + big_b * u + big_c * u * u).max(0.0).sqrt();
+            (w - measured).abs() <= 0.1 * a0
+        })
         .collect();
     if pts.len() < 5 || pts.len() * 4 < opening.us.len() * 3 {
         return None;
@@ -424,5 +439,49 @@ mod tests {
             err.abs() < 0.05 && err.abs() < 2.0 * found.std,
             "{found:?} against {truth}"
         );
+    }
+
+    /// A camera whose own height lies among the rows the sides are read in
+    /// (the init sweep's dirty seed 1000095: 0.27 m from the axis, 0.41
+    /// degrees up, 1.9 mm = 23 px above the clamp row, the sides read 7-23
+    /// px up on a Mooney-Rivlin dome 1.04 a high). Every latitude near the
+    /// camera's height is seen edge-on and reaches only a sliver of rows
+    /// around its own: the drawing's grid of heights stepped over them at
+    /// the row 20.7 px up and took a far latitude's width there (77 px
+    /// among rows of 114 px), and the quadratic through it put the
+    /// opening's bias at -53 px (the set-up's scale 31.7 % off). Without
+    /// that row too few are left for the drawing (12 of 17), and the conic
+    /// of the sides' own fit measures the bias: a fraction of a pixel.
+    #[test]
+    fn the_bias_holds_where_the_camera_is_level_with_the_rows_read() {
+        let p = Pinhole {
+            distance_m: 0.2687724117304406,
+            height_m: 0.001908627828784864,
+            pitch_rad: -0.006984464960887184,
+            focal_px: 3211.5586435337214,
+            principal_px: [445.4859756432499, 239.5],
+        };
+        let us: Vec<f64> = (0..17).map(|i| 22.739800742785462 - f64::from(i)).collect();
+        let opening = super::super::scale::Opening {
+            a: Estimate {
+                value: 113.24,
+                std: 0.29,
+            },
+            sides: Vec::new(),
+            us,
+            coef: [12823.369421850799, 47.51268854612135, -1.5069458456205211],
+            per_clamp_row: 0.0,
+        };
+        let at = Reading {
+            radius_m: 0.00946644271643495,
+            mpp: 8.368_289_519_906_759e-5,
+            c: 284.73980074278546,
+            sin_e: 0.00710109975209721,
+            a0: 115.45903566787808,
+        };
+        let domes = Meridian::domes(1.0449408673551395).unwrap();
+        let found = unbiased(&opening, Some(&domes), View::Pinhole(&p), &at);
+        eprintln!("half-width corrected: {found:?} px");
+        assert!((found.value - opening.a.value).abs() < 0.5, "{found:?}");
     }
 }
