@@ -137,6 +137,19 @@ impl Steps34<'_> {
             };
             meridian::unbiased(o, domes.as_ref(), view, &at)
         };
+        // Step 4's sides, read in the photo's rows: through a lens the
+        // clamp row where they meet it is the photo's, not the undistorted
+        // image's.
+        let read_sides = |clamp: &Clamp, sin_e: f64| {
+            let mut in_photo = clamp.clone();
+            in_photo.row.value = crate::track::lens::clamp_row_at_sides(
+                given.lens.as_ref(),
+                x0,
+                a0,
+                clamp.row.value,
+            );
+            find_radius(last, x0, a0, &in_photo, sin_e, tone)
+        };
         if let Some(mut d) = camera_distance_m {
             let mut mpp = given.metres_per_pixel.unwrap_or(radius_m / a0);
             let rounds = if focal_px.is_some() { 5 } else { 2 };
@@ -161,14 +174,7 @@ impl Steps34<'_> {
                 ring::place_ring(&mut clamp, &mut elevation_deg, &at, radius_m)?;
                 if given.metres_per_pixel.is_none() {
                     let e = elevation_deg.map_or(0.0, |e| e.value.to_radians());
-                    let mut in_photo = clamp.clone();
-                    in_photo.row.value = crate::track::lens::clamp_row_at_sides(
-                        given.lens.as_ref(),
-                        x0,
-                        a0,
-                        clamp.row.value,
-                    );
-                    let o = find_radius(last, x0, a0, &in_photo, e.max(0.0).sin(), tone)?;
+                    let o = read_sides(&clamp, e.max(0.0).sin())?;
                     let a = unbiased(&o, Some(d), e, mpp, clamp.row.value).value;
                     // in the undistorted image, as the scale at the end of step 4
                     let a = crate::track::lens::undistort_opening(
@@ -200,15 +206,7 @@ impl Steps34<'_> {
                 Vec::new(),
             ),
             None => {
-                // The sides are read in the photo's rows.
-                let mut in_photo = clamp.clone();
-                in_photo.row.value = crate::track::lens::clamp_row_at_sides(
-                    given.lens.as_ref(),
-                    x0,
-                    a0,
-                    clamp.row.value,
-                );
-                let o = find_radius(last, x0, a0, &in_photo, sin_e, tone)?;
+                let o = read_sides(&clamp, sin_e)?;
                 let e = e_of(elevation_deg);
                 let scale_of = |a: f64| match camera_distance_m {
                     Some(d) => {
