@@ -444,7 +444,7 @@ mod tests {
     /// A camera whose own height lies among the rows the sides are read in
     /// (the init sweep's dirty seed 1000095: 0.27 m from the axis, 0.41
     /// degrees up, 1.9 mm = 23 px above the clamp row, the sides read 7-23
-    /// px up on a Mooney-Rivlin dome 1.04 a high). Every latitude near the
+    /// px up, the last photo's dome 1.04 a high as init reads it). Every latitude near the
     /// camera's height is seen edge-on and reaches only a sliver of rows
     /// around its own: the drawing's grid of heights stepped over them at
     /// the row 20.7 px up and took a far latitude's width there (77 px
