@@ -122,8 +122,10 @@ impl<'a> Columns<'a> {
         // Whether this start's edge lies on a static line (not an earlier
         // start's).
         self.on_line[c] = found.is_some_and(|(e, step)| {
-            self.emptiest
-                .is_some_and(|f| static_line_on_edge(self.img, f, c, e, self.hw, step))
+            self.emptiest.is_some_and(|f| {
+                static_line_on_edge(self.img, f, c, e, self.hw, step)
+                    || trough_on_edge(f, c, e, self.hw, step)
+            })
         });
         let r = found
             .filter(|_| !self.on_line[c])
@@ -178,6 +180,37 @@ pub(super) fn static_line_on_edge(
     let under = (pair(img, j0) - pair(emptiest, j0)).abs();
     under <= 0.25 * step.abs()
         && (j0 + 2..j1).any(|j| pair(emptiest, j) - pair(img, j) >= 0.5 * step.abs())
+}
+
+/// Whether the emptiest frame shows, in column `c`, the trough of a line
+/// behind the bubble (a valley or ridge, [`valley_in`]) whose bottom lies
+/// within a row of the edge found at row `e` and which does not rise back to the background above the edge (that is
+/// [`clutter_in_window`]'s line, which the difference from the emptiest
+/// frame cancels). The edge's centroid then lies on the line itself: the
+/// top runs into the line's lower flank, and located on the photo the
+/// centroid falls between the line's upper border and the top, on the
+/// difference from the emptiest frame on the line's lower border. Neither
+/// is the top. A line so blurred that its flank changes by less than
+/// [`line_limit`] a row escapes [`static_line_on_edge`] where the dome
+/// under the edge is darker than the line: a cable 35 grey levels deep
+/// whose trough a dark top had grown into was located 2.7 px above the top
+/// (640x480, seed 1000346 of the sweep, frame 2, at a stated 0.096 px).
+/// The bottom is the trough's deepest row, not any row of its flank as
+/// deep as the limit: counted so (and over the window's `hw + 1` rows
+/// above the edge), the rule also left out the columns of
+/// tops just above a line, measured well before (on the sweep's 250 dirty
+/// sequences at the two smaller sizes it refused 60 photos written
+/// before, against 35).
+pub(super) fn trough_on_edge(emptiest: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
+    if step == 0.0 {
+        return false;
+    }
+    let lim = line_limit(step);
+    let lo = first_row_read_above(e, hw);
+    let mid = e.round() as i64;
+    let window = ((e - 1.0).floor() as i64, (e + 1.0).ceil() as i64);
+    valley_in(emptiest, c, (lo, rows_read_below(e, hw).1), window, lim)
+        && !valley_in(emptiest, c, (lo, mid - 1), (lo, mid - 1), lim)
 }
 
 /// Row `j` of column `c` of `img`, turned by the sign of an edge's step
@@ -368,7 +401,8 @@ pub(super) fn clutter_in_window(
     let hi = (e + hw + 1.0).ceil() as i64;
     let mid = e.round() as i64;
     (
-        line_in(emptiest, c, lo, mid - 1, lim) || valley_in(emptiest, c, lo, mid - 1, lim),
+        line_in(emptiest, c, lo, mid - 1, lim)
+            || valley_in(emptiest, c, (lo, mid - 1), (lo, mid - 1), lim),
         line_in(emptiest, c, mid + 1, hi + 1, lim),
     )
 }
@@ -383,8 +417,18 @@ pub(super) fn clutter_in_window(
 /// 2-3 px changes by 5-8 levels a row and is 30-40 levels deep (640x480,
 /// dark domes of the sweep's dirty sequences; the edge under it was
 /// pulled by 0.4-0.9 px). A smooth background, even shaded or vignetted,
-/// is monotone over the dozen rows read and has neither.
-pub(super) fn valley_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool {
+/// is monotone over the dozen rows read and has neither. Only a valley
+/// (or ridge) whose bottom (or crest: a row no deeper than its
+/// neighbours, the first of its two rows) lies within rows `bottoms`
+/// counts; a valley has such a bottom wherever any of its rows is that
+/// deep.
+pub(super) fn valley_in(
+    img: &Gray,
+    c: usize,
+    (a, b): (i64, i64),
+    bottoms: (i64, i64),
+    lim: f64,
+) -> bool {
     let (a, b) = (a.max(0), b.min(img.height as i64 - 2));
     if b <= a + 1 {
         return false;
@@ -402,8 +446,9 @@ pub(super) fn valley_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool 
     }
     let (mut h, mut l) = (f64::NEG_INFINITY, f64::INFINITY);
     (0..n).any(|k| {
-        let deep = k + 1 < n && h.min(hi[k + 1]) - v[k] > lim;
-        let high = k + 1 < n && v[k] - l.max(lo[k + 1]) > lim;
+        let inside = k > 0 && k + 1 < n && (bottoms.0..=bottoms.1).contains(&(a + k as i64));
+        let deep = inside && v[k] <= v[k - 1].min(v[k + 1]) && h.min(hi[k + 1]) - v[k] > lim;
+        let high = inside && v[k] >= v[k - 1].max(v[k + 1]) && v[k] - l.max(lo[k + 1]) > lim;
         h = h.max(v[k]);
         l = l.min(v[k]);
         deep || high
@@ -419,7 +464,12 @@ pub(super) fn valley_in(img: &Gray, c: usize, a: i64, b: i64, lim: f64) -> bool 
 /// differ by more than 1.5 times the limit: the flank of a faint blurred
 /// cable (40 grey levels deep, blur 1.5 px) changes by less than the limit
 /// a row, and one 8-12 rows above a 640x480 photo's first top had pulled
-/// it 0.64 px up at 6 stated standard deviations. (Taken for the emptiest
+/// it 0.64 px up at 6 stated standard deviations. So does a valley or ridge
+/// deeper than the limit ([`valley_in`]) whose bottom lies in those rows,
+/// its far flank reaching down to the edge: a cable 6 rows above a
+/// 640x480 photo's first top, about 20 levels deep under the blur (its
+/// rows 8-12 levels apart, 21 two apart), had put the edge 0.90 px off at
+/// 11 stated deviations (sweep seed 1000438). (Taken for the emptiest
 /// frame's check of other frames as well, the same rule sent more columns
 /// through the noisier difference from it, for a worse RMS.)
 pub(super) fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bool {
@@ -428,7 +478,9 @@ pub(super) fn line_above(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bo
         (e - ABOVE_FROM_PX).floor() as i64,
     );
     let lim = line_limit(step);
-    line_in(img, c, a, b, lim) || rows_apart_differ(img, c, (a, b), 2, 1.5 * lim)
+    line_in(img, c, a, b, lim)
+        || rows_apart_differ(img, c, (a, b), 2, 1.5 * lim)
+        || valley_in(img, c, (a, e.floor() as i64), (a, b), lim)
 }
 
 /// The first row above an edge at row `e` that [`profile_edge`] reads with
