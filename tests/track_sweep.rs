@@ -91,17 +91,7 @@ fn a_light_domes_highlight_peaking_under_the_window_is_stated() {
         let case = sweep::draw(seed, true, &[size]).expect("the law's bubble is solved");
         let dir = tempfile::tempdir().unwrap();
         let photos = sweep::run(&case, dir.path());
-        let mut written = 0;
-        for p in &photos {
-            if let Some((e, s)) = p.written {
-                written += 1;
-                assert!(
-                    (e / s).abs() <= 4.0,
-                    "seed {seed}, frame {}: {e:+.3} px off, std {s:.3} px",
-                    p.frame
-                );
-            }
-        }
+        let written = written_within_4_sd(seed, &photos);
         // (none of them refused when measured: the test is not passed by
         // refusing them)
         assert!(
@@ -130,15 +120,7 @@ fn a_highlight_against_a_dark_domes_top_is_stated() {
             .unwrap_or_else(|| panic!("seed {seed}, frame {frame} refused"));
         // the photo that was 4.2-4.5 deviations off, still as far off
         assert!(e.abs() > 0.1, "seed {seed}, frame {frame}: {e:+.3} px off");
-        for p in &photos {
-            if let Some((e, s)) = p.written {
-                assert!(
-                    (e / s).abs() <= 4.0,
-                    "seed {seed}, frame {}: {e:+.3} px off, std {s:.3} px",
-                    p.frame
-                );
-            }
-        }
+        written_within_4_sd(seed, &photos);
         eprintln!("seed {seed}, frame {frame}: {e:+.3} px off, std {s:.3} px");
     }
 }
@@ -171,21 +153,28 @@ fn a_top_grown_into_a_blurred_cable_is_left_out_by_name() {
             refused.contains(why),
             "seed {seed}, frame {frame}: {refused}"
         );
-        let mut written = 0;
-        for p in &photos {
-            if let Some((e, s)) = p.written {
-                written += 1;
-                assert!(
-                    (e / s).abs() <= 4.0,
-                    "seed {seed}, frame {}: {e:+.3} px off, std {s:.3} px",
-                    p.frame
-                );
-            }
-        }
+        let written = written_within_4_sd(seed, &photos);
         assert!(
             2 * written >= photos.len(),
             "seed {seed}: {written} of {} photos written",
             photos.len()
         );
     }
+}
+
+/// The photos of seed `seed` written, each asserted within 4 of its stated
+/// standard deviations.
+fn written_within_4_sd(seed: u64, photos: &[sweep::Photo]) -> usize {
+    let mut written = 0;
+    for p in photos {
+        if let Some((e, s)) = p.written {
+            written += 1;
+            assert!(
+                (e / s).abs() <= 4.0,
+                "seed {seed}, frame {}: {e:+.3} px off, std {s:.3} px",
+                p.frame
+            );
+        }
+    }
+    written
 }
