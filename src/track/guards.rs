@@ -180,7 +180,7 @@ const Z: f64 = 3.72;
 
 /// Standard errors by which a measured value may lie beyond a bound that
 /// holds exactly (the tracker's usual 4).
-const SIGMAS: f64 = 4.0;
+pub(crate) const SIGMAS: f64 = 4.0;
 
 /// Columns over which the edge rows of neighbouring columns are correlated
 /// (the blur spreads the noise of one column over its neighbours, about

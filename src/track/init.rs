@@ -495,31 +495,59 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // below its middle), else on the first photo whose apex is.
     let face = r.clamp.half_width_px.map_or(0.0, |a| a * r.sin_e);
     let clear = r.clamp.row.value - face - 2.0;
-    let reference_frame = apexes_px
+    let settings = EdgeSettings {
+        half_span_px: tw / 2,
+        half_window_px: 3,
+    };
+    // The apex row the edge fit finds within 3 px of photo `k`'s guess,
+    // or of a row `reach` steps of the window's reach (4 rows) above or
+    // below it, the nearest first.
+    let confirmed = |k: usize, reach: i32| -> Result<Option<[f64; 2]>, TrackError> {
+        let own;
+        let img = match k {
+            0 => &first,
+            k if k == n - 1 => &last,
+            k => {
+                own = frames.gray(k)?.with_tone(tone);
+                &own
+            }
+        };
+        let [x, y] = apexes_px[k];
+        let mut cols = Columns::new(img, 3);
+        Ok(std::iter::once(0)
+            .chain((1..=reach).flat_map(|j| [j, -j]))
+            .map(|j| y + 4.0 * f64::from(j))
+            .find_map(|g| {
+                edge_fit_in(&mut cols, x, g, 0.0, settings)
+                    .filter(|f| (f.y - g).abs() < 3.0)
+                    .map(|f| [x, f.y])
+            }))
+    };
+    let mut reference_frame = apexes_px
         .iter()
         .position(|p| p[1] <= clear - 4.0)
         .unwrap_or(apexes_px.len() - 1);
-    let ref_img = match reference_frame {
-        0 => first,
-        k if k == n - 1 => last,
-        k => frames.gray(k)?.with_tone(tone),
-    };
-    let guess = apexes_px[reference_frame];
-    let mut cols = Columns::new(&ref_img, 3);
-    let fit = edge_fit_in(
-        &mut cols,
-        guess[0],
-        guess[1],
-        0.0,
-        EdgeSettings {
-            half_span_px: tw / 2,
-            half_window_px: 3,
-        },
-    );
-    let reference_apex_px = match fit {
-        Some(f) if (f.y - guess[1]).abs() < 3.0 => [guess[0], f.y],
-        _ => guess,
-    };
+    let mut reference_apex_px = confirmed(reference_frame, 0)?;
+    // The first photo's guess is the swept band's lowest row on the axis
+    // (nothing crosses there: step 2 of the module's doc), its top only where
+    // the dome's light does not change as it grows. A glossy dome reflects
+    // the wall near its outline, and that band moves out with it: on a
+    // path-traced glossy light dome before a dark wall (800x600, 0.45 m)
+    // the band reached 19 px into the first photo's dome, and the
+    // template cut there had the tracker find no top on that photo. Where
+    // no edge lies at that row, the template is cut from the next photo,
+    // whose guess is a crossing. The same reflection moves that crossing
+    // into the dome (6 px on that photo), so its edge is searched out to
+    // half the template's height from it, as the tracker does.
+    if reference_apex_px.is_none()
+        && reference_frame == 0
+        && n > 1
+        && let Some(p) = confirmed(1, (th as f64 / 8.0).floor() as i32)?
+    {
+        reference_frame = 1;
+        reference_apex_px = Some(p);
+    }
+    let reference_apex_px = reference_apex_px.unwrap_or(apexes_px[reference_frame]);
     let mut apexes = apexes_px.clone();
     apexes[reference_frame] = reference_apex_px;
     let mut layout = Layout::around(&apexes, reference_frame, (tw, th), (w, h));

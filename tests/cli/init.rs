@@ -3,7 +3,7 @@
 
 use std::fs;
 
-use crate::util::{assert_heights_within, bulge_in, repo, tempdir};
+use crate::util::{assert_heights_within, bulge_in, fixture, read_csv, repo, tempdir};
 
 /// The demo's photos alone: the experiment file written, commented, close
 /// to the synthetic truth (clamp row 384.4156 px, 1.674107e-4 m/px), and
@@ -276,4 +276,64 @@ fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
         0.005,
     );
     init(&["--orthographic", "--force"]).ok();
+}
+
+/// Path-traced glossy light domes before a dark wall (Mitsuba 3, outside
+/// bulge's own drawing; `fixtures/track/glossy_light_dome*/README.md`).
+/// The coat reflects the wall near the outline, so the first photo's dome
+/// is darker under its top than the fullest photo's at the same rows, and
+/// the band the top sweeps reaches into the first photo's dome. `bulge
+/// init` with only `2a`, the thickness, the pressures and the lens, then
+/// `bulge track`: every photo tracked, and each height within 3 of its
+/// stated deviations (`height_std_m`) of the membrane solution's.
+#[test]
+fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
+    for scene in ["glossy_light_dome", "glossy_light_dome_near"] {
+        let dir = tempdir();
+        let src = fixture(&format!("track/{scene}"));
+        let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
+        let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
+        bulge_in(
+            dir.path(),
+            &[
+                "init",
+                &photos,
+                "--radius-m",
+                "0.0375",
+                "--thickness-m",
+                "0.00035",
+                "--pressure",
+                &pressure,
+                "--camera",
+                &camera,
+                "-o",
+                "e.toml",
+            ],
+        )
+        .ok();
+        bulge_in(dir.path(), &["track", "e.toml", "-o", "h.csv"]).ok();
+        let (head, rows) = read_csv(&dir.path().join("h.csv"));
+        let (_, truth) = read_csv(&src.join("truth.csv"));
+        assert_eq!(rows.len(), truth.len(), "{scene}: a photo left out");
+        let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+        let (h, s) = (col("height_m"), col("height_std_m"));
+        for (r, t) in rows.iter().zip(&truth) {
+            let (h, s, ht): (f64, f64, f64) = (
+                r[h].parse().unwrap(),
+                r[s].parse().unwrap(),
+                t[2].parse().unwrap(),
+            );
+            eprintln!(
+                "{scene} {}: {:+.3} %, {:+.2} std",
+                t[0],
+                100.0 * (h / ht - 1.0),
+                (h - ht) / s
+            );
+            assert!(
+                (h - ht).abs() < 3.0 * s,
+                "{scene} {}: {h} against {ht} +- {s}",
+                t[0]
+            );
+        }
+    }
 }
