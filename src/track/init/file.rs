@@ -123,7 +123,9 @@ impl Found {
         ));
         notes.push((
             Place::Key("photos", "template_rect_px"),
-            "cut from reference_frame (the first photo whose template stays clear of the clamp), around its apex".into(),
+            "cut from reference_frame (the first photo whose template stays clear of the clamp, or the\n\
+             second where no edge lies at the first's top as the photos' difference places it), around its apex"
+                .into(),
         ));
         notes.push((
             Place::Key("camera", "response"),
