@@ -720,3 +720,47 @@ fn a_matte_domes_fall_off_is_told_from_a_glossy_rim() {
         }
     }
 }
+
+/// The first photo of a glossy light dome on a dark wall (45): near its
+/// outline the coat reflects the wall, so its rows under the top (147)
+/// lie 102 grey levels over the wall and 71 under the fullest frame's
+/// (218) at the same rows, deeper inside that dome. The fullest frame's
+/// test refuses the column ([`below_is_dome`]); the wall above the edge
+/// tells it is a step from the wall ([`below_is_not_wall`]). The upper
+/// border of a thin dark line on a light wall (190), under which the wall
+/// resumes, is no such step.
+#[test]
+fn a_glossy_first_top_stands_off_the_wall_and_a_lines_border_does_not() {
+    for sigma in [0.8, 1.5] {
+        for e in [30.0, 30.4] {
+            let first = columns_image(&blurred_dome(45.0, |_| 147.0, e, sigma), 1);
+            let fullest = columns_image(&blurred_dome(218.0, |_| 218.0, e, sigma), 1);
+            let (c, step) = column_edge(&first, 0, e, 3.0).unwrap();
+            assert!(
+                (c - e).abs() < 0.1,
+                "sigma {sigma}: edge at {c}, drawn at {e}"
+            );
+            assert!(!below_is_dome(&first, &fullest, 0, c, step));
+            assert!(below_is_not_wall(&first, 0, c, step));
+            let line = blurred(
+                |y| {
+                    if (e..e + 2.0).contains(&y) {
+                        95.0
+                    } else {
+                        190.0
+                    }
+                },
+                sigma,
+                64,
+            );
+            let line = columns_image(&line, 1);
+            let (c, step) = column_edge(&line, 0, e, 3.0).unwrap();
+            // the line's upper border (its lower one steps up)
+            assert!(step < 0.0 && c < e + 1.0, "sigma {sigma}: {c} {step}");
+            assert!(
+                !below_is_not_wall(&line, 0, c, step),
+                "sigma {sigma} e {e}: the line's border at {c} taken for a step"
+            );
+        }
+    }
+}
