@@ -57,7 +57,8 @@ use rayon::prelude::*;
 use super::TrackError;
 use super::image::{Gray, read_gray};
 use super::matcher::{
-    Columns, EdgeSettings, SLOPE_ROWS, edge_fit_in, lag1_inflation, profile_edge, profile_edge_with,
+    Columns, EdgeSettings, SLOPE_ROWS, edge_fit_in, lag1_inflation, profile_edge,
+    profile_edge_with, seed_rows,
 };
 use super::synth::Layout;
 
@@ -500,8 +501,9 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         half_window_px: 3,
     };
     // The apex row the edge fit finds within 3 px of photo `k`'s guess,
-    // or of a row `reach` steps of the window's reach (4 rows) above or
-    // below it, the nearest first.
+    // or of a row `reach` steps above or below it ([`seed_rows`]), the
+    // nearest first.
+    let step = settings.half_window_px as f64 + 1.0;
     let confirmed = |k: usize, reach: i32| -> Result<Option<[f64; 2]>, TrackError> {
         let own;
         let img = match k {
@@ -514,14 +516,11 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         };
         let [x, y] = apexes_px[k];
         let mut cols = Columns::new(img, 3);
-        Ok(std::iter::once(0)
-            .chain((1..=reach).flat_map(|j| [j, -j]))
-            .map(|j| y + 4.0 * f64::from(j))
-            .find_map(|g| {
-                edge_fit_in(&mut cols, x, g, 0.0, settings)
-                    .filter(|f| (f.y - g).abs() < 3.0)
-                    .map(|f| [x, f.y])
-            }))
+        Ok(seed_rows(y, step, reach).find_map(|g| {
+            edge_fit_in(&mut cols, x, g, 0.0, settings)
+                .filter(|f| (f.y - g).abs() < 3.0)
+                .map(|f| [x, f.y])
+        }))
     };
     let mut reference_frame = apexes_px
         .iter()
@@ -542,7 +541,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     if reference_apex_px.is_none()
         && reference_frame == 0
         && n > 1
-        && let Some(p) = confirmed(1, (th as f64 / 8.0).floor() as i32)?
+        && let Some(p) = confirmed(1, (0.5 * th as f64 / step).floor() as i32)?
     {
         reference_frame = 1;
         reference_apex_px = Some(p);

@@ -342,8 +342,7 @@ impl Tracker<'_> {
         let step = self.edge_settings.half_window_px as f64 + 1.0;
         let reach = (0.5 * self.templ.height as f64 / step).floor() as i32;
         let mut first = (None, None);
-        for k in std::iter::once(0).chain((1..=reach).flat_map(|k| [k, -k])) {
-            let y = seed[1] + f64::from(k) * step;
+        for (k, y) in matcher::seed_rows(seed[1], step, reach).enumerate() {
             let Some(e) =
                 matcher::edge_fit_in(cols, seed[0], y, self.curvature, self.edge_settings)
             else {

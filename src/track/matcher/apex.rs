@@ -54,6 +54,16 @@ pub fn edge_fit_about(
     edge_fit_core(cols, axis.0, y0, apex.curvature, s, Some(axis))
 }
 
+/// The rows an edge fit is seeded at around row `y`: `y` itself, then rows
+/// `step` apart, alternately below and above it, out to `reach` steps
+/// (each column's search finds an edge within about the window's
+/// half-height plus one of its start: that is the step).
+pub(crate) fn seed_rows(y: f64, step: f64, reach: i32) -> impl Iterator<Item = f64> {
+    std::iter::once(0)
+        .chain((1..=reach).flat_map(|k| [k, -k]))
+        .map(move |k| y + f64::from(k) * step)
+}
+
 /// Every how many columns the apex fit samples its span `x0 +- half_span`:
 /// at most about 129 columns, wider spans (large photos) sampled.
 pub(crate) fn span_stride(half_span: usize) -> usize {

@@ -333,13 +333,37 @@ pub(super) fn below_is_dome(img: &Gray, fullest: &Gray, c: usize, e: f64, step: 
 /// column `c` from [`BELOW_FROM_PX`] below the edge row `e`; `None` when
 /// they run off the image.
 fn mean_difference_below(img: &Gray, other: &Gray, c: usize, e: f64) -> Option<f64> {
+    rows_below(e, img.height).map(|r| mean_difference(img, other, c, r))
+}
+
+/// The [`BELOW_ROWS`] rows from [`BELOW_FROM_PX`] below an edge at row `e`,
+/// `None` where they run off an image `height` rows tall.
+fn rows_below(e: f64, height: usize) -> Option<std::ops::Range<usize>> {
     let j0 = (e + BELOW_FROM_PX).ceil() as usize;
-    (j0 + BELOW_ROWS <= img.height).then(|| {
-        (j0..j0 + BELOW_ROWS)
-            .map(|j| f64::from(img.at(c, j)) - f64::from(other.at(c, j)))
-            .sum::<f64>()
-            / BELOW_ROWS as f64
+    (j0 + BELOW_ROWS <= height).then_some(j0..j0 + BELOW_ROWS)
+}
+
+/// The [`BELOW_ROWS`] rows ending [`ABOVE_FROM_PX`] above an edge at row
+/// `e`, `None` where they run off the image's top.
+fn rows_above(e: f64) -> Option<std::ops::Range<usize>> {
+    let j1 = (e - ABOVE_FROM_PX).floor();
+    (j1 >= BELOW_ROWS as f64).then(|| {
+        let j1 = j1 as usize;
+        j1 + 1 - BELOW_ROWS..j1 + 1
     })
+}
+
+/// The mean of column `c` of `img` over `rows` (of [`BELOW_ROWS`]).
+fn column_mean(img: &Gray, c: usize, rows: std::ops::Range<usize>) -> f64 {
+    rows.map(|j| f64::from(img.at(c, j))).sum::<f64>() / BELOW_ROWS as f64
+}
+
+/// The mean difference of column `c` of `img` from that of `other` over
+/// `rows` (of [`BELOW_ROWS`]).
+fn mean_difference(img: &Gray, other: &Gray, c: usize, rows: std::ops::Range<usize>) -> f64 {
+    rows.map(|j| f64::from(img.at(c, j)) - f64::from(other.at(c, j)))
+        .sum::<f64>()
+        / BELOW_ROWS as f64
 }
 
 /// Whether the rows just below an edge found at row `e` of column `c`
@@ -387,17 +411,11 @@ pub(super) fn below_is_not_background(
 /// bubble (a shelf's face) passes too; the edge fit's other tests and the
 /// guards still apply. Rows outside the image do not pass.
 pub(super) fn below_is_not_wall(img: &Gray, c: usize, e: f64, step: f64) -> bool {
-    let j0 = (e + BELOW_FROM_PX).ceil() as usize;
-    let j1 = (e - ABOVE_FROM_PX).floor();
-    if step == 0.0 || j1 < BELOW_ROWS as f64 || j0 + BELOW_ROWS > img.height {
+    let (Some(below), Some(above)) = (rows_below(e, img.height), rows_above(e)) else {
         return false;
-    }
-    let j1 = j1 as usize;
-    let mean = |rows: std::ops::Range<usize>| {
-        rows.map(|j| f64::from(img.at(c, j))).sum::<f64>() / BELOW_ROWS as f64
     };
-    let diff = mean(j0..j0 + BELOW_ROWS) - mean(j1 + 1 - BELOW_ROWS..j1 + 1);
-    diff * step.signum() >= 0.5 * step.abs()
+    let diff = column_mean(img, c, below) - column_mean(img, c, above);
+    step != 0.0 && diff * step.signum() >= 0.5 * step.abs()
 }
 
 /// Rows above the edge compared with the emptiest frame, from this far
@@ -420,15 +438,10 @@ pub(super) fn above_is_background(
     e: f64,
     step: f64,
 ) -> bool {
-    let j1 = (e - ABOVE_FROM_PX).floor();
-    if j1 < BELOW_ROWS as f64 || step == 0.0 {
+    let Some(rows) = rows_above(e).filter(|_| step != 0.0) else {
         return true;
-    }
-    let j1 = j1 as usize;
-    let diff: f64 = (j1 + 1 - BELOW_ROWS..=j1)
-        .map(|j| f64::from(img.at(c, j)) - f64::from(emptiest.at(c, j)))
-        .sum::<f64>()
-        / BELOW_ROWS as f64;
+    };
+    let diff = mean_difference(img, emptiest, c, rows);
     // Above a false edge this frame shows the dome where the emptiest
     // shows background, darker or brighter (the upper border of a
     // highlight steps the other way from the bubble's edge).
