@@ -370,7 +370,9 @@ impl Tracker<'_> {
     /// init sweep a first top at h = 0.1 a under a cable was written 4.5 px
     /// high at 4.9 stated deviations, its curvature -0.7 standard errors
     /// from 0. The path-traced glossy domes' first tops curve upwards by 6
-    /// and 12.
+    /// and 12. The bar is the guards' for a bound that holds exactly (a
+    /// membrane's pole is convex upwards), not one fitted between those
+    /// cases.
     fn edge_near_or_wall(
         &self,
         cols: &mut matcher::Columns,

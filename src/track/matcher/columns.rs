@@ -399,7 +399,9 @@ pub(super) fn below_is_not_background(
 /// (those [`below_is_dome`] reads) differ from the rows just above it
 /// (those [`above_is_background`] reads) by half the edge's step or more,
 /// in the step's direction: the edge is a step from the wall to something
-/// else, not the border of a line that the wall resumes under. The
+/// else, not the border of a line that the wall resumes under (half: the
+/// midpoint between the wall resumed, a difference of 0, and the dome's
+/// whole step, as in [`below_is_dome`]). The
 /// emptiest frame's [`below_is_not_background`]: it has no emptier frame,
 /// and where its dome is glossy and lighter than the wall it reflects the
 /// wall near its outline, so its rows under the top are darker than the
