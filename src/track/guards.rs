@@ -442,11 +442,17 @@ impl Guard {
             // With no frame before (the reference frame), nothing else tests
             // the edge: the dome must be shown, 2 standard errors inside.
             let low = if self.history.is_empty() { 2.0 } else { SIGMAS };
-            // An edge that curves visibly where the cap through the rim
-            // would be nearly straight (an opening much wider than the
-            // photos show: radius_m wrong) is tested too.
+            // The lower bound is tested at every sag, against the curvature's
+            // own standard error: a first photo's top that sags under a pixel
+            // over the span but bends the wrong way by 2 standard errors is
+            // no dome (a cable's border along it: its curvature was -0.35
+            // +- 0.15 of the cap's on a sweep photo written 3.7 px high).
+            // The upper one where the edge or the cap curves visibly: an
+            // edge that curves visibly where the cap through the rim would
+            // be nearly straight (an opening much wider than the photos
+            // show: radius_m wrong) is tested too.
             let curves = 0.5 * k * self.span * self.span >= 1.0;
-            if (visible && r < lo - low * rs) || ((visible || curves) && r > hi + SIGMAS * rs) {
+            if r < lo - low * rs || ((visible || curves) && r > hi + SIGMAS * rs) {
                 return Err(Implausible::PoleRatio {
                     k,
                     ks,
@@ -683,6 +689,34 @@ mod tests {
         assert!(why(&g, 0.93).is_ok());
         let e = why(&g, 0.72).unwrap_err();
         assert!(e.to_string().contains("changed from 0.918 to 0.719"), "{e}");
+    }
+
+    /// The lower bound holds however little the cap sags over the span: its
+    /// test is against the curvature's own standard error. A reference
+    /// frame 32 px high on an opening of 158 px sags 0.7 px over a 24 px
+    /// half-span; an edge curved the wrong way there by 2.3 standard errors
+    /// (a cable's border along the first photo's top) is refused, a dome's
+    /// curvature known to half its value is not.
+    #[test]
+    fn a_flat_first_top_bent_the_wrong_way_is_refused_though_it_sags_under_a_pixel() {
+        let (a, clamp, span, h) = (158.0, 155.0, 24, 32.0);
+        let g = Guard::new(Some(clamp), Some(a), span, true);
+        assert!(0.5 * cap(h, a) * (span * span) as f64 <= 1.0);
+        let at = |r: f64, rs: f64| {
+            g.check(
+                1.0,
+                [460.0, clamp - h],
+                [0.3, 0.02],
+                Some(&edge(r * cap(h, a), rs * cap(h, a))),
+            )
+        };
+        let e = at(-0.35, 0.15).unwrap_err();
+        assert!(
+            e.to_string().contains("times that of the spherical cap"),
+            "{e}"
+        );
+        assert!(at(0.9, 0.45).is_ok());
+        assert!(at(0.45, 0.15).is_ok());
     }
 
     /// Without the opening's radius the bounds hold on the ratio of two
