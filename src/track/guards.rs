@@ -442,17 +442,17 @@ impl Guard {
             // With no frame before (the reference frame), nothing else tests
             // the edge: the dome must be shown, 2 standard errors inside.
             let low = if self.history.is_empty() { 2.0 } else { SIGMAS };
-            // The lower bound is tested at every sag, against the curvature's
-            // own standard error: a first photo's top that sags under a pixel
-            // over the span but bends the wrong way by 2 standard errors is
-            // no dome (a cable's border along it: its curvature was -0.35
-            // +- 0.15 of the cap's on a sweep photo written 3.7 px high).
-            // The upper one where the edge or the cap curves visibly: an
-            // edge that curves visibly where the cap through the rim would
-            // be nearly straight (an opening much wider than the photos
-            // show: radius_m wrong) is tested too.
-            let curves = 0.5 * k * self.span * self.span >= 1.0;
-            if r < lo - low * rs || ((visible || curves) && r > hi + SIGMAS * rs) {
+            // The bounds hold at every sag, and each test is against the
+            // curvature's own standard error, so they are tested however
+            // little the cap sags over the span (as the ratio of two
+            // photos' curvatures is where the opening is not known, below):
+            // a first photo's top that sags under a pixel but bends the
+            // wrong way by 2 standard errors is no dome (a cable's border
+            // along it: -0.35 +- 0.15 of the cap's curvature on a sweep
+            // photo written 3.7 px high before), and an edge that curves
+            // visibly where the cap through the rim would be nearly
+            // straight is no pole of that opening (radius_m wrong).
+            if r < lo - low * rs || r > hi + SIGMAS * rs {
                 return Err(Implausible::PoleRatio {
                     k,
                     ks,
@@ -468,7 +468,7 @@ impl Guard {
                 let cap1 = 2.0 * h1 / (a * a + h1 * h1);
                 let (r1, rs1) = (k1 / cap1, ks1 / cap1);
                 let tol = POLE_RATIO_SLOPE * (h - h1).abs() / a + SIGMAS * rs.hypot(rs1);
-                if visible && (r - r1).abs() > tol {
+                if (r - r1).abs() > tol {
                     return Err(Implausible::PoleRatioChanged { r1, r, h1, h, tol });
                 }
             }
