@@ -1,6 +1,8 @@
 //! The apex's stated error: the residual scatter inflated for its
 //! correlation along the edge, the bias terms (one-sided columns, tails,
-//! the spread of the two edge models) and the strong-step bound.
+//! the spread of the two edge models: one error, the light near the edge,
+//! read several ways, of which the largest is stated) and the strong-step
+//! bound.
 
 use super::*;
 
@@ -74,7 +76,8 @@ pub(super) const TAIL_REACHES: usize = 4;
 /// bias the two fits differ by `D` of variance `var D = var(without) -
 /// var(all)` (Hausman's identity, the same residual variance for both),
 /// and the largest `D^2 - var D` over the reaches (not below 0) is
-/// returned, to be added to the apex row's variance. Fits of fewer columns,
+/// returned, a term of the apex row's variance (the largest of the terms
+/// for the light near the edge is stated: `edge_fit_core`). Fits of fewer columns,
 /// extrapolated to the apex, are so noisy that the largest excess would be
 /// their noise: with 8 columns at the least, photos 0.01-0.14 px off were
 /// given 0.4-2 px.
@@ -254,7 +257,8 @@ pub(super) const UPPER_SHARE: f64 = 0.8;
 /// difference still estimates the centroids' bias on a frame where
 /// something lies on the edge (the test is made only there): its square
 /// beyond its variance, `max(0, D^2 - sd^2)` (unbiased for the squared
-/// bias), is returned to be added to the apex row's variance.
+/// bias), is returned as a term of the apex row's variance (the largest of
+/// the terms for the light near the edge is stated: `edge_fit_core`).
 pub(super) fn two_sided_refit(
     cols: &mut Columns,
     pts: &[(f64, f64)],
