@@ -167,10 +167,11 @@ pub(super) fn edge_fit_core(
         result = Some(r);
     }
     let (pts, centre, u_v, strong, located) = last?;
-    // Something on the edge weakened a tenth of its columns or more, or the
-    // dome side turns back under a tenth of the strong ones (a broad
-    // highlight's flank): then (only, it costs) the rows are tested
-    // against the step model.
+    // Something on the edge weakened a tenth of its columns or more, or
+    // columns that carry a tenth of the apex row's weight
+    // ([`weakened_apex_share`]), or the dome side turns back under a tenth
+    // of the strong ones (a broad highlight's flank): then (only, it costs)
+    // the rows are tested against the step model.
     // (tested once per column: the turn's shift below needs it too)
     let turns: Vec<bool> = strong
         .iter()
@@ -181,6 +182,8 @@ pub(super) fn edge_fit_core(
         Some(StepTest::Switch)
     } else if 10 * turning >= strong.len() {
         Some(StepTest::Widen)
+    } else if weakened_apex_share(&located, &strong, u_v) >= 0.1 {
+        Some(StepTest::Bound)
     } else {
         None
     };
