@@ -284,7 +284,26 @@ pub(super) fn edge_fit_core(
     // summed, that error was counted more than once, and the sweep's
     // dirty photos were over-stated (RMS(error / std) 0.81, 97.8 % within
     // 1.96 std, docs/track.md). The largest of them is the bound stated.
-    let light2 = [model2, tail, turn, rim * rim]
+    // Where the rows are the centroids', the shift that leaving out the
+    // differences against the edge's polarity gives them: a noisier or
+    // textured side pulls the centroids towards it
+    // ([`Columns::polarity_shift`]); its mean over the kept columns beyond
+    // its own standard error. It is read from the same rows and a
+    // highlight's light moves it too, so it joins the largest.
+    let polarity = if r.two_sided {
+        0.0
+    } else {
+        let shifts: Vec<f64> = strong
+            .iter()
+            .zip(&in_fit)
+            .filter(|(_, k)| **k)
+            .filter_map(|(&(u, e, step), _)| {
+                cols.polarity_shift((u + centre).round() as usize, e, step)
+            })
+            .collect();
+        mean_beyond_noise2(&shifts)
+    };
+    let light2 = [model2, tail, turn, rim * rim, polarity]
         .into_iter()
         .fold(0.0, f64::max);
     let stat2 = r.y_std * r.y_std;

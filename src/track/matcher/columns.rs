@@ -136,6 +136,23 @@ impl<'a> Columns<'a> {
         m
     }
 
+    /// The centroid's shift in column `c` (edge row `e`, step `step`) from
+    /// leaving out the differences against the edge's polarity: `e` less
+    /// the centroid of every difference ([`unselected_edge`]), on the same
+    /// profile as `e` (the difference from the emptiest frame where that
+    /// shows clutter above the edge, [`Columns::without_clutter`]).
+    pub(super) fn polarity_shift(&self, c: usize, e: f64, step: f64) -> Option<f64> {
+        let (img, len) = (self.img, self.img.height as i64);
+        let all = match self
+            .emptiest
+            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
+        {
+            Some(f) => unselected_edge(difference(img, f, c), len, e, self.hw),
+            None => unselected_edge(|j| img.light(c, j as usize), len, e, self.hw),
+        }?;
+        ((all - e).abs() <= 1.0).then_some(e - all)
+    }
+
     /// The edge row and step of column `c` starting from row `start`.
     pub(super) fn edge(&mut self, c: usize, start: f64) -> Option<(f64, f64)> {
         if let Some((e, step)) = self.found[c]

@@ -390,6 +390,22 @@ pub(super) fn weakened_apex_share(
     if all > 0.0 { weak / all } else { 0.0 }
 }
 
+/// The squared mean of per-column shifts beyond its variance, px^2:
+/// `max(0, D^2 - sd^2)` (unbiased for the squared mean shift), `sd` the
+/// mean's standard error from the shifts' scatter, inflated for their
+/// correlation along the edge ([`lag1_inflation`]); 0 with fewer than 8.
+pub(super) fn mean_beyond_noise2(shifts: &[f64]) -> f64 {
+    if shifts.len() < 8 {
+        return 0.0;
+    }
+    let n = shifts.len() as f64;
+    let mean = shifts.iter().sum::<f64>() / n;
+    let res: Vec<f64> = shifts.iter().map(|x| x - mean).collect();
+    let var = res.iter().map(|r| r * r).sum::<f64>() / (n - 1.0);
+    let sd2 = var / n * lag1_inflation(&res).powi(2);
+    (mean * mean - sd2).max(0.0)
+}
+
 /// The smaller of two slopes of the same sign, else 0.
 pub(super) fn minmod(a: f64, b: f64) -> f64 {
     if a * b <= 0.0 {
@@ -403,8 +419,54 @@ pub(super) fn minmod(a: f64, b: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::weakened_apex_share;
+    use super::{mean_beyond_noise2, weakened_apex_share};
+    use crate::track::matcher::edge::{profile_edge, unselected_edge};
     use nalgebra::DMatrix;
+
+    #[test]
+    fn texture_on_one_side_pulls_the_selected_centroid_not_the_unselected() {
+        // A sharp step at row 20.3 (area-sampled), a wall of 190 above with
+        // a texture of deviation 1 grey level per row, a smooth dome of 82
+        // below; 400 columns of independent texture (a fixed LCG).
+        let mut state: u64 = 12345;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (edge, hw) = (20.3, 3.0);
+        let (mut sel, mut all) = (Vec::new(), Vec::new());
+        for _ in 0..400 {
+            // Sum of 12 uniforms less 6: unit deviation.
+            let texture: Vec<f64> = (0..40)
+                .map(|_| (0..12).map(|_| uniform()).sum::<f64>() - 6.0)
+                .collect();
+            let px = |j: i64| {
+                let f = (edge - (j as f64 - 0.5)).clamp(0.0, 1.0);
+                f * (190.0 + texture[j as usize]) + (1.0 - f) * 82.0
+            };
+            sel.push(profile_edge(px, 40, 20.0, hw).unwrap().0 - edge);
+            all.push(unselected_edge(px, 40, 20.0, hw).unwrap() - edge);
+        }
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        // The closed form: rows of noise alone above the edge (centres 0.5-
+        // 3.5 rows above it, the outermost at the taper's weight 0.3) keep
+        // differences of mean -s/sqrt(2 pi), s = sqrt(2) for a unit texture;
+        // their lever arm over the step of -108 lifts the centroid.
+        let lever = 0.5 + 1.5 + 2.5 + 0.3 * 3.5;
+        let want = -lever * 2f64.sqrt() / (2.0 * std::f64::consts::PI).sqrt() / 108.0;
+        let (s, a) = (mean(&sel), mean(&all));
+        assert!(
+            s < 0.0 && (s - want).abs() < 0.4 * want.abs(),
+            "{s} vs {want}"
+        );
+        assert!(a.abs() < 0.2 * want.abs(), "unselected {a} against {want}");
+        // The mean shift is found beyond its noise.
+        let shifts: Vec<f64> = sel.iter().zip(&all).map(|(s, a)| s - a).collect();
+        assert!(mean_beyond_noise2(&shifts).sqrt() > 0.6 * want.abs());
+        assert_eq!(mean_beyond_noise2(&shifts[..7]), 0.0);
+    }
 
     /// The weights of the vertex row `A` in the least-squares fit of
     /// `y = A + B d^2`, from the normal equations solved by nalgebra: the
