@@ -140,7 +140,11 @@ impl<'a> Columns<'a> {
     /// leaving out the differences against the edge's polarity: `e` less
     /// the centroid of every difference ([`unselected_edge`]), on the same
     /// profile as `e` (the difference from the emptiest frame where that
-    /// shows clutter above the edge, [`Columns::without_clutter`]).
+    /// shows clutter above the edge, [`Columns::without_clutter`]). `None`
+    /// where the two differ by more than a pixel: noise moves them by a
+    /// fraction of one; more is a highlight or a line inside the window,
+    /// whose light the centroid of every difference takes (the terms for
+    /// the light near the edge read those).
     pub(super) fn polarity_shift(&self, c: usize, e: f64, step: f64) -> Option<f64> {
         let (img, len) = (self.img, self.img.height as i64);
         let all = match self

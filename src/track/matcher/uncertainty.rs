@@ -364,7 +364,7 @@ pub(super) fn strong_columns(
 /// highlight under the top weakens a few columns where the row is read
 /// (a dirty 800x600 photo of the tracker sweep, seed 1000319's ninth:
 /// 5 of 61 columns weakened, 12 % of the weight, the apex written 0.10 px
-/// high at a stated 0.027 px, the step model's test not run).
+/// high at a stated 0.024 px, the step model's test not run).
 pub(super) fn weakened_apex_share(
     located: &[(f64, f64, f64)],
     strong: &[(f64, f64, f64)],
