@@ -113,6 +113,16 @@ impl<'a> Columns<'a> {
         }
     }
 
+    /// The emptiest frame where it shows clutter in the rows above the
+    /// edge at row `e` of column `c` that the edge's location reads
+    /// ([`clutter_in_window`]): the edge is then read on the difference
+    /// from it ([`Columns::without_clutter`]), and so are the step model's
+    /// row and the polarity shift.
+    fn clutter_reference(&self, c: usize, e: f64, step: f64) -> Option<&'a Gray> {
+        self.emptiest
+            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
+    }
+
     /// The step model's edge row of column `c` from the centroid row `e`
     /// (located once per column and row); like the centroid, on the
     /// difference from the emptiest frame where that shows clutter above
@@ -125,10 +135,7 @@ impl<'a> Columns<'a> {
         }
         let (img, len) = (self.img, self.img.height as i64);
         let step = self.found[c].map_or(0.0, |f| f.1);
-        let m = match self
-            .emptiest
-            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
-        {
+        let m = match self.clutter_reference(c, e, step) {
             Some(f) => step_model_edge(difference(img, f, c), len, e),
             None => step_model_edge(|j| img.light(c, j as usize), len, e),
         };
@@ -147,10 +154,7 @@ impl<'a> Columns<'a> {
     /// the light near the edge read those).
     pub(super) fn polarity_shift(&self, c: usize, e: f64, step: f64) -> Option<f64> {
         let (img, len) = (self.img, self.img.height as i64);
-        let all = match self
-            .emptiest
-            .filter(|f| clutter_in_window(f, c, e, self.hw, step).0)
-        {
+        let all = match self.clutter_reference(c, e, step) {
             Some(f) => unselected_edge(difference(img, f, c), len, e, self.hw),
             None => unselected_edge(|j| img.light(c, j as usize), len, e, self.hw),
         }?;
