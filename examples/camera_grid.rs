@@ -18,7 +18,9 @@
 //! `--distances 0.25,1`, `--elevations 0,3` and `--lens none` (or `k1`)
 //! run part of the grid; `--terms` prints each framing's errors against
 //! each stated term (the scale's and the clamp row's, in their deviations;
-//! the frame's own) and each term's mean share of the stated variance.
+//! the frame's own) and each term's mean share of the stated variance,
+//! then the apex row's RMS error over its stated deviation and its mean
+//! error, px.
 //!
 //! Run: `cargo run --release --features harness --example camera_grid [-- --seeds 3,5,9]`
 
@@ -84,7 +86,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     std::fs::remove_dir_all(&dir)?;
                     if terms {
                         eprintln!(
-                            "{d} m {e} deg lens {} seed {seed}: scale {:+.2} sd, row {:+.2} sd, frame {:.2}, all {:.2}; shares frame {:.2} scale {:.2} row {:.2}",
+                            "{d} m {e} deg lens {} seed {seed}: scale {:+.2} sd, row {:+.2} sd, frame {:.2}, all {:.2}; shares frame {:.2} scale {:.2} row {:.2}; apex {:.2} sd, mean {:+.3} px",
                             lens.is_some(),
                             t.scale / t.scale_std,
                             t.clamp_px / t.clamp_std_px,
@@ -93,6 +95,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             t.shares[0],
                             t.shares[1],
                             t.shares[2],
+                            t.apex_z,
+                            t.apex_mean_px,
                         );
                     }
                     scale_z.push(t.scale / t.scale_std);

@@ -39,11 +39,13 @@ mod decode;
 mod error;
 mod exif_time;
 mod guards;
+mod pole;
 mod setup;
 mod tracker;
 mod types;
 
 pub use error::*;
+pub use pole::{FLATTENING_SLOPE, PoleMeasure, pole_flattening, pooled_flattening};
 pub use setup::*;
 pub use tracker::*;
 pub use types::*;

@@ -219,9 +219,10 @@ impl Pinhole {
     /// standard deviation. The pole's curvature is the inverse-variance
     /// mean of two estimates: [`super::pole_flattening`] times the
     /// spherical cap's through the rim (with its deviation), and, when
-    /// given, the edge fit's
-    /// `curvature` at the top (value and standard error, 1/px, in the
-    /// undistorted image) through [`Pinhole::pole_radius_from_outline`].
+    /// given, one `measured`: the edge fit's curvature at the top (value
+    /// and standard error, 1/px, in the undistorted image) through
+    /// [`Pinhole::pole_radius_from_outline`], or the flattening pooled over
+    /// a sequence's photos ([`super::pooled_flattening`]).
     /// The row's deviation and the curvature's are carried through by
     /// central differences. `None` when no dome up to `1.5 a` has its top
     /// at that row.
@@ -230,19 +231,27 @@ impl Pinhole {
         row: f64,
         row_std: f64,
         a_m: f64,
-        curvature: Option<(f64, f64)>,
+        measured: Option<super::PoleMeasure>,
     ) -> Option<(f64, f64)> {
-        use super::types::pole_curvature_mean;
-        let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
+        use super::PoleMeasure;
+        use super::pole::pole_curvature_mean;
         // The pole's curvature, 1/m, and its standard deviation, at the
         // height `h`.
         let pole = |h: f64| {
             let r_cap = cap_radius(a_m, h);
-            let r0 = super::pole_flattening(h / a_m).0 * r_cap;
-            let in_m = measured.map(|(k, ks)| {
-                let (r, rel) = self.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
-                (1.0 / r, rel / r)
-            });
+            let in_m = match measured {
+                Some(PoleMeasure::Outline(k, ks)) if k > 0.0 && ks.is_finite() && ks > 0.0 => {
+                    let r0 = super::pole_flattening(h / a_m).0 * r_cap;
+                    let (r, rel) = self.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
+                    Some((1.0 / r, rel / r))
+                }
+                Some(PoleMeasure::Flattening(f, rel))
+                    if f > 0.0 && rel.is_finite() && rel > 0.0 =>
+                {
+                    Some((1.0 / (f * r_cap), rel / (f * r_cap)))
+                }
+                _ => None,
+            };
             pole_curvature_mean(r_cap, h / a_m, in_m)
         };
         let solve = |row: f64, sd: f64| {

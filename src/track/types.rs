@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use super::matcher::EdgeFit;
+use super::pole::{PoleMeasure, pole_curvature_mean};
 
 /// One photo (or video frame) to track.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,47 +63,6 @@ pub struct Elevation {
     pub radius_m: f64,
 }
 
-/// The pole's radius of curvature of an inflated membrane over that of the
-/// spherical cap through its rim with the same height, at the apex height
-/// `h_over_a` (`h / a`): its mean and relative standard deviation, those
-/// of a uniform spread between the bounds that hold for every law. A flat
-/// clamped membrane's top is flatter than the cap. The exact axisymmetric
-/// solutions (`cargo run --release --example pole_curvature -- --rows`:
-/// neo-Hookean, Mooney-Rivlin with C2/C1 0.05-1, Yeoh, Ogden, Gent with
-/// Jm 10-100, linear elastic and a quartic law, flat or slack, from small
-/// heights to 0.97 of the limit pressure or a pole stretch of 3) give
-/// 1.01-1.12 up to `h = 0.8 a`; beyond, the most strain-stiffening of
-/// them (Gent, Jm 10) rises to 1.43 at `h = 1.83 a`, under `1.12 + 0.3 (h
-/// / a - 0.8)` everywhere, which is continued beyond. A slack membrane near
-/// its stress-free shape (a cap) gives about 1, the lower bound.
-pub fn pole_flattening(h_over_a: f64) -> (f64, f64) {
-    let lo = 1.0;
-    let hi = 1.12 + 0.3 * (h_over_a - 0.8).max(0.0);
-    let mean = 0.5 * (lo + hi);
-    (mean, (hi - lo) / (12f64.sqrt() * mean))
-}
-
-/// The pole's curvature and its standard deviation: the inverse-variance
-/// mean of the membrane's estimate, `1 / (F r_cap)` for a spherical cap of
-/// radius `r_cap` through the rim with the dome's height `h_over_a` times
-/// the free radius ([`pole_flattening`]'s mean `F`, with its relative
-/// deviation), and, when given, one measured on the outline (value and
-/// standard deviation, in the units of `1 / r_cap`).
-pub(crate) fn pole_curvature_mean(
-    r_cap: f64,
-    h_over_a: f64,
-    measured: Option<(f64, f64)>,
-) -> (f64, f64) {
-    let (f, rel) = pole_flattening(h_over_a);
-    let k_p = 1.0 / (f * r_cap);
-    let w_p = (rel * k_p).powi(-2);
-    let (k_m, w_m) = measured.map_or((0.0, 0.0), |(k, ks)| (k, 1.0 / (ks * ks)));
-    (
-        (k_p * w_p + k_m * w_m) / (w_p + w_m),
-        (w_p + w_m).sqrt().recip(),
-    )
-}
-
 impl Elevation {
     /// The apex height `h`, px, from the height `t` (px) of the
     /// silhouette's top above the clamp ring's centre. An orthographic
@@ -112,19 +72,29 @@ impl Elevation {
     /// point), whose outline tops out at the latitude of polar angle `e`:
     /// `t = (h - R) cos e + R`, so `h = (t - R (1 - cos e)) / cos e`.
     ///
-    /// `1 / R` is the inverse-variance mean of two estimates: the edge
-    /// fit's curvature at the top (`curvature` = value and standard error,
-    /// 1/px; the outline of a sphere is a circle of its radius from any
-    /// direction), and the membrane's, [`pole_flattening`] times the
+    /// `1 / R` is the inverse-variance mean of two estimates: one measured
+    /// (`measured`: the edge fit's curvature at the top, value and standard
+    /// error, 1/px, the outline of a sphere being a circle of its radius
+    /// from any direction; or the flattening pooled over a sequence's
+    /// photos), and the membrane's, [`super::pole_flattening`] times the
     /// spherical cap's `(a^2 + h^2) / (2 h)` through the rim (`a_px` the
     /// free radius in px), with its deviation; solved for `h`
     /// by fixed-point iteration. Returns `h` and its standard deviation
     /// from the curvature's, px.
-    pub fn height_px(&self, t: f64, curvature: Option<(f64, f64)>, a_px: f64) -> (f64, f64) {
+    pub fn height_px(&self, t: f64, measured: Option<PoleMeasure>, a_px: f64) -> (f64, f64) {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
-        let measured = curvature.filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
-        let pole =
-            |h: f64| pole_curvature_mean((a_px * a_px + h * h) / (2.0 * h), h / a_px, measured);
+        let pole = |h: f64| {
+            let r_cap = (a_px * a_px + h * h) / (2.0 * h);
+            let m = match measured {
+                Some(PoleMeasure::Outline(k, ks)) => Some((k, ks)),
+                Some(PoleMeasure::Flattening(f, rel)) => {
+                    Some((1.0 / (f * r_cap), rel / (f * r_cap)))
+                }
+                None => None,
+            }
+            .filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
+            pole_curvature_mean(r_cap, h / a_px, m)
+        };
         let mut h = t;
         for _ in 0..200 {
             let (k, _) = pole(h.max(1e-9));

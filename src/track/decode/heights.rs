@@ -7,6 +7,7 @@
 
 use super::super::guards::pole_curvature;
 use super::super::tracker::{Located, Tracker};
+use super::super::{PoleMeasure, pole_flattening, pooled_flattening};
 use super::*;
 
 /// The rows of the frames located (`None`: skipped), from the region's
@@ -55,17 +56,14 @@ pub(super) fn rows(
             (apex[1], std, prebulge_height_m)
         }
     };
+    let a_px = setup.calibration.elevation.map(|el| el.radius_m / mpp);
     // A camera above the clamp plane: the silhouette's top `t` px above the
     // clamp ring's centre becomes the apex height (and its deviation, with
-    // the curvature's), px.
-    let elevated = |t: f64, e: Option<&EdgeFit>| -> (f64, f64) {
-        match setup.calibration.elevation {
-            None => (t, 0.0),
-            Some(el) => el.height_px(
-                t,
-                e.map(|e| (e.curvature, e.curvature_std)),
-                el.radius_m / mpp,
-            ),
+    // the pole radius's), px.
+    let elevated = |t: f64, m: Option<PoleMeasure>| -> (f64, f64) {
+        match (setup.calibration.elevation, a_px) {
+            (Some(el), Some(a_px)) => el.height_px(t, m, a_px),
+            _ => (t, 0.0),
         }
     };
     let cos_e = setup.calibration.elevation.map_or(1.0, |e| e.radians.cos());
@@ -82,47 +80,84 @@ pub(super) fn rows(
         };
         super::persp::Pinhole::from_view(d, e, origin_row, mpp, None, principal)
     });
-    let mut rows = Vec::with_capacity(located.len());
-    for (i, l) in located.iter().enumerate() {
-        let Some(l) = l else { continue };
-        let f = &setup.frames[i];
-        let (apex, std, int, quad, edge) = apex_of(l);
+    let a_m = setup.calibration.opening_radius_m;
+    // The height, m, and its deviation of the apex at `row` (deviation
+    // `std`), with what is known of the pole's radius.
+    let height_of = |i: usize, row: f64, std: f64, m: Option<PoleMeasure>| match &pinhole {
+        None => {
+            let (h_px, h_extra) = elevated(origin_row - row, m);
+            let h_std_px = (std / cos_e).hypot(h_extra);
+            Ok((h_px * mpp + offset_m, h_std_px * mpp))
+        }
+        Some(p) => p
+            .membrane_height(row, std, a_m, m)
+            .ok_or_else(|| not_a_dome(setup, i, row, p, origin_row)),
+    };
+    let half_span = state.edge_settings.half_span_px as f64;
+    // The photo's own measure of the pole: the outline's curvature at the
+    // top, corrected for the parabola's fit over the span.
+    let outline = |e: &EdgeFit| {
+        let k = pole_curvature(e.curvature, half_span);
+        PoleMeasure::Outline(k, e.curvature_std * k / e.curvature)
+    };
+    let fitted: Vec<_> = located
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| l.as_ref().map(|l| (i, l, apex_of(l))))
+        .collect();
+    let std_of = |i: usize, std: f64| {
         let is_ref_frame = matches!(setup.calibration.origin, HeightOrigin::Reference { .. })
             && i == setup.reference_frame;
-        let std_total = if is_ref_frame {
+        if is_ref_frame {
             0.0
         } else {
             std.hypot(origin_std)
+        }
+    };
+    // Where the camera's geometry needs the pole's radius, each photo's
+    // from the outlines of all (one membrane, whose flattening changes
+    // slowly with its height: `pooled_flattening`), from a first pass on
+    // each photo's own outline.
+    let pooled: Option<Vec<Option<(f64, f64)>>> = if pinhole.is_some() || a_px.is_some() {
+        let mut h_over_a = Vec::with_capacity(fitted.len());
+        let mut measured = Vec::with_capacity(fitted.len());
+        for (i, _, (apex, std, _, _, edge)) in &fitted {
+            let own = edge.as_ref().map(outline);
+            let (h, _) = height_of(*i, apex[1], std_of(*i, *std), own)?;
+            // The pole radius the outline implies, over the cap's at this
+            // photo's height.
+            let (h_a, flattening) = match &pinhole {
+                Some(p) => {
+                    let r_cap = super::persp::cap_radius(a_m, h);
+                    let f = |k: f64, ks: f64| {
+                        let r0 = pole_flattening(h / a_m).0 * r_cap;
+                        let (r, rel) = p.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
+                        (r / r_cap, rel)
+                    };
+                    (h / a_m, own_measure(own).map(|(k, ks)| f(k, ks)))
+                }
+                None => {
+                    let (h_px, a_px) = ((h - offset_m) / mpp, a_px.unwrap_or(f64::NAN));
+                    let r_cap = super::persp::cap_radius(a_px, h_px);
+                    let f = |k: f64, ks: f64| (1.0 / (k * r_cap), ks / k);
+                    (h_px / a_px, own_measure(own).map(|(k, ks)| f(k, ks)))
+                }
+            };
+            h_over_a.push(h_a);
+            measured.push(flattening);
+        }
+        Some(pooled_flattening(&h_over_a, &measured))
+    } else {
+        None
+    };
+    let mut rows = Vec::with_capacity(located.len());
+    for (n, (i, l, (apex, std, int, quad, edge))) in fitted.into_iter().enumerate() {
+        let f = &setup.frames[i];
+        let measure = match &pooled {
+            Some(p) => p[n].map(|(v, rel)| PoleMeasure::Flattening(v, rel)),
+            None => None,
         };
-        let (height_m, height_std_m) = match &pinhole {
-            None => {
-                let (h_px, h_extra) = elevated(origin_row - apex[1], edge.as_ref());
-                let h_std_px = (std_total / cos_e).hypot(h_extra);
-                (h_px * mpp + offset_m, h_std_px * mpp)
-            }
-            Some(p) => p
-                .membrane_height(
-                    apex[1],
-                    std_total,
-                    setup.calibration.opening_radius_m,
-                    // The pole's, from the parabola's over the span.
-                    edge.as_ref().map(|e| {
-                        let k = pole_curvature(e.curvature, state.edge_settings.half_span_px as f64);
-                        (k, e.curvature_std * k / e.curvature)
-                    }),
-                )
-                .ok_or_else(|| TrackError::Config {
-                    path: setup.experiment.clone(),
-                    message: format!(
-                        "the apex of frame {i} ({}) at row {:.2} is not the top of a dome up to 1.5 times the opening's radius seen by a camera {} m from the axis looking down at the clamp ring's centre (row {}) at {:.2} degrees: check [camera] distance_m, [calibration] elevation_deg and clamp_row_px",
-                        f.file,
-                        apex[1],
-                        fmt_short(p.distance_m),
-                        fmt_short(origin_row),
-                        (p.height_m / p.distance_m).atan().to_degrees()
-                    ),
-                })?,
-        };
+        let (height_m, height_std_m) = height_of(i, apex[1], std_of(i, std), measure)?;
         rows.push(FrameResult {
             frame: i,
             file: f.file.clone(),
@@ -143,6 +178,36 @@ pub(super) fn rows(
         check_above_clamp(setup, clamp, &rows)?;
     }
     Ok(rows)
+}
+
+/// A photo's own outline curvature and its standard error, 1/px, where it
+/// measures a dome (positive, with a finite error).
+fn own_measure(m: Option<PoleMeasure>) -> Option<(f64, f64)> {
+    match m {
+        Some(PoleMeasure::Outline(k, ks)) if k > 0.0 && ks.is_finite() && ks > 0.0 => Some((k, ks)),
+        _ => None,
+    }
+}
+
+/// No dome up to `1.5 a` has its top at the apex's `row` of frame `i` from
+/// the pinhole `p`: the camera's set-up is wrong.
+fn not_a_dome(
+    setup: &Setup,
+    i: usize,
+    row: f64,
+    p: &super::persp::Pinhole,
+    origin_row: f64,
+) -> TrackError {
+    TrackError::Config {
+        path: setup.experiment.clone(),
+        message: format!(
+            "the apex of frame {i} ({}) at row {row:.2} is not the top of a dome up to 1.5 times the opening's radius seen by a camera {} m from the axis looking down at the clamp ring's centre (row {}) at {:.2} degrees: check [camera] distance_m, [calibration] elevation_deg and clamp_row_px",
+            setup.frames[i].file,
+            fmt_short(p.distance_m),
+            fmt_short(origin_row),
+            (p.height_m / p.distance_m).atan().to_degrees()
+        ),
+    }
 }
 
 /// A bubble's apex stands above the clamp plane: a frame whose apex lies

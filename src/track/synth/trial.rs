@@ -34,6 +34,12 @@ pub struct InitTrial {
     pub heights: f64,
     /// RMS error of the apex row over the photos tracked, px.
     pub apex_rms_px: f64,
+    /// Mean error of the apex row over the photos tracked, px (positive:
+    /// below the true top).
+    pub apex_mean_px: f64,
+    /// RMS of (apex row error / its stated deviation): the apex's own
+    /// term of `height_std_m`, alone.
+    pub apex_z: f64,
     /// RMS of (height error / `height_std_m`): against the frame's own
     /// deviation.
     pub rms_z: f64,
@@ -103,6 +109,7 @@ pub fn init_and_track(
     let mpp = &found.metres_per_pixel;
     let (scale_rel, row_m) = (mpp.std / mpp.value, found.clamp_row_px.std * mpp.value);
     let (mut heights, mut apex2, mut z2, mut z2_all) = (0.0f64, 0.0, 0.0, 0.0);
+    let (mut apex1, mut apex_z2) = (0.0, 0.0);
     let mut shares = [0.0; 3];
     for r in &t.rows {
         let tr = w
@@ -113,6 +120,8 @@ pub fn init_and_track(
         let err = r.height_m - tr.height_m;
         heights = heights.max((err / tr.height_m).abs());
         apex2 += (r.apex_y_px - tr.apex_y_px).powi(2);
+        apex1 += r.apex_y_px - tr.apex_y_px;
+        apex_z2 += ((r.apex_y_px - tr.apex_y_px) / r.apex_y_std_px).powi(2);
         z2 += (err / r.height_std_m).powi(2);
         let row = row_m * (1.0 + r.height_m * found.scale_per_clamp_row / mpp.value);
         let terms = [r.height_std_m, r.height_m * scale_rel, row];
@@ -132,6 +141,8 @@ pub fn init_and_track(
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
         apex_rms_px: (apex2 / n).sqrt(),
+        apex_mean_px: apex1 / n,
+        apex_z: (apex_z2 / n).sqrt(),
         rms_z: (z2 / n).sqrt(),
         rms_z_all: (z2_all / n).sqrt(),
         shares: shares.map(|s| s / n),

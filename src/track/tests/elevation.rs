@@ -12,7 +12,7 @@ use super::*;
 /// half way.
 #[test]
 fn the_elevation_correction_inverts_the_outline_of_a_cap() {
-    use crate::track::types::pole_flattening;
+    use crate::track::pole_flattening;
     let a = 224.0;
     for e_deg in [0.5f64, 3.0, 5.0, 20.0] {
         let el = Elevation {
@@ -26,7 +26,11 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
                 continue; // the top is then the ring's back, not a latitude of the cap
             }
             let top = |r: f64| (h - r) * e.cos() + r;
-            let (by_curvature, _) = el.height_px(top(r_cap), Some((1.0 / r_cap, 1e-7 / r_cap)), a);
+            let (by_curvature, _) = el.height_px(
+                top(r_cap),
+                Some(PoleMeasure::Outline(1.0 / r_cap, 1e-7 / r_cap)),
+                a,
+            );
             assert!(
                 (by_curvature - h).abs() < 1e-6,
                 "{e_deg} deg, h {h}: {by_curvature}"
@@ -35,6 +39,14 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
             let r_pole = flattening * r_cap;
             let (by_rim, std) = el.height_px(top(r_pole), None, a);
             assert!((by_rim - h).abs() < 1e-6, "{e_deg} deg, h {h}: {by_rim}");
+            // A pooled flattening, well measured, gives the pole its radius
+            // at the height solved for.
+            let (by_pool, _) = el.height_px(
+                top(1.1 * r_cap),
+                Some(PoleMeasure::Flattening(1.1, 1e-7)),
+                a,
+            );
+            assert!((by_pool - h).abs() < 1e-6, "{e_deg} deg, h {h}: {by_pool}");
             // d h / d R = -(1 - cos e) / cos e
             let want = (1.0 - e.cos()) / e.cos() * rel * r_pole;
             assert!((std / want - 1.0).abs() < 1e-6, "{std} against {want}");
@@ -42,7 +54,11 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
             // error: their mean, by the curvatures.
             let k_m = 1.0 / (1.2 * r_cap);
             let k = 0.5 * (k_m + 1.0 / r_pole);
-            let (both, _) = el.height_px(top(1.0 / k), Some((k_m, rel / r_pole)), a);
+            let (both, _) = el.height_px(
+                top(1.0 / k),
+                Some(PoleMeasure::Outline(k_m, rel / r_pole)),
+                a,
+            );
             assert!((both - h).abs() < 1e-6, "{e_deg} deg, h {h}: {both}");
         }
     }
@@ -60,7 +76,7 @@ fn the_pole_flattening_bounds_the_exact_solutions() {
     use crate::axisym::{Options, solve_pole_stretch};
     use crate::experiment::Specimen;
     use crate::material::{Material, Model};
-    use crate::track::types::pole_flattening;
+    use crate::track::pole_flattening;
     let a = 0.0375;
     let specimen = Specimen {
         radius_m: a,
