@@ -18,8 +18,9 @@
 //! [--sizes 640x480,800x600] [--verbose]` (`--sizes`: the photo sizes drawn
 //! from, by default 640x480, 800x600, 1024x768 and 1280x960; `--verbose`
 //! lists the worst photos with their looks and every refusal; `--csv PATH`
-//! writes every photo: seed, frame, error and stated std in px, the refusal
-//! and the sequence's factor levels); `--keep DIR --seed S` draws and
+//! writes every photo: seed, frame, error and stated std in px, the refusal,
+//! the sequence's factor levels, the true apex row and the edge fit's
+//! columns); `--keep DIR --seed S` draws and
 //! tracks the one sequence of seed `S` (dirty from 1_000_001 on) into
 //! `DIR` and keeps its photos, `experiment.toml` and `truth.csv`, to look
 //! at a photo the table lists).
@@ -120,6 +121,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         frame: 0,
                         written: None,
                         refused: Some(format!("no temporary folder: {e}")),
+                        truth_row_px: None,
+                        columns: None,
                     }],
                 };
                 (seed, dirty, case.levels, photos)
@@ -210,7 +213,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn write_csv(path: &str, results: &[Outcome]) -> Result<(), Box<dyn std::error::Error>> {
     let mut w = csv::Writer::from_path(path)?;
     w.write_record([
-        "seed", "dirty", "frame", "error_px", "std_px", "refused", "levels",
+        "seed",
+        "dirty",
+        "frame",
+        "error_px",
+        "std_px",
+        "refused",
+        "levels",
+        "truth_row_px",
+        "columns",
     ])?;
     for (seed, dirty, levels, photos) in results {
         let look: Vec<String> = levels.iter().map(|(f, l)| format!("{f}={l}")).collect();
@@ -226,6 +237,8 @@ fn write_csv(path: &str, results: &[Outcome]) -> Result<(), Box<dyn std::error::
                 s,
                 p.refused.clone().unwrap_or_default(),
                 look.join(";"),
+                p.truth_row_px.map_or(String::new(), |r| format!("{r:.4}")),
+                p.columns.map_or(String::new(), |c| c.to_string()),
             ])?;
         }
     }

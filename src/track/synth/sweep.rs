@@ -65,6 +65,10 @@ pub struct Photo {
     pub written: Option<(f64, f64)>,
     /// Why it was left out, when refused (or why the sequence failed).
     pub refused: Option<String>,
+    /// The true apex row, px, when written.
+    pub truth_row_px: Option<f64>,
+    /// The columns of the edge fit, when written.
+    pub columns: Option<usize>,
 }
 
 /// The names of the factors, in the order of [`Case::levels`].
@@ -287,6 +291,8 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                 frame,
                 written: None,
                 refused: Some(why.clone()),
+                truth_row_px: None,
+                columns: None,
             })
             .collect()
     };
@@ -315,6 +321,8 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                     frame,
                     written: Some((r.apex_y_px - truth.apex_y_px, r.apex_y_std_px)),
                     refused: None,
+                    truth_row_px: Some(truth.apex_y_px),
+                    columns: r.edge.map(|e| e.columns),
                 }
             } else {
                 let why = t
@@ -326,6 +334,8 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                     frame,
                     written: None,
                     refused: Some(why),
+                    truth_row_px: None,
+                    columns: None,
                 }
             }
         })
