@@ -168,6 +168,11 @@ pub(super) fn match_frames(
         },
         prev: None,
         curvature: 0.0,
+        blocks: match &setup.video {
+            Some(_) => Blocks::Unknown,
+            None => Blocks::of_photo(&setup.frames[setup.reference_frame].path),
+        },
+        origin_row_px: roi[1] as f64,
     };
     let mut guard = Guard::new(
         match setup.calibration.origin {

@@ -85,6 +85,13 @@ pub use frames::Frames;
 use plane::Plane;
 use scale::find_radius;
 
+/// The edge fit's bias that no residual shows, px, on the clamp row: the
+/// apex's floor as measured on the tracker sweep's clean photos before it
+/// was split by the columns fitted and a JPEG's block boundaries
+/// ([`super::tracker::edge_floor_px`]); those were measured on the dome's
+/// curved top, not on the ring's straight edge, and are not carried to it.
+pub const CLAMP_FLOOR_PX: f64 = 0.015;
+
 /// A value found in the photos and its standard deviation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
@@ -576,9 +583,8 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     let (mut axis_x_px, mut clamp_row_px, mut radius_px, mut metres_per_pixel) =
         (r.axis_x_px, r.clamp.row, r.radius_px, r.metres_per_pixel);
     // The ring's edge is located by the same centroid as the apex: the
-    // edge fit's bias that no residual shows is added as to every edge fit
-    // ([`super::tracker::EDGE_BIAS_FLOOR_PX`]).
-    clamp_row_px.std = clamp_row_px.std.hypot(super::tracker::EDGE_BIAS_FLOOR_PX);
+    // edge fit's bias that no residual shows is added ([`CLAMP_FLOOR_PX`]).
+    clamp_row_px.std = clamp_row_px.std.hypot(CLAMP_FLOOR_PX);
     // a clipped face: the edge anywhere within `t` of where it was located
     if let Some(t) = r.clamp.clipped_px {
         clamp_row_px.std = clamp_row_px.std.hypot(t / 3f64.sqrt());

@@ -9,14 +9,85 @@ use super::image::{Decoded, Gray};
 use super::matcher::{EdgeFit, EdgeSettings, Extremes, Match};
 use super::*;
 
-/// Systematic error of the edge fit that its residuals do not show, px: the
-/// RMS apex-row error measured on clean synthetic sequences (background
-/// texture and shading gradients across the edge; docs/track.md) is 0.015 px.
-/// Added in quadrature to every edge-fit uncertainty. Rounded up to 0.02 px,
-/// it over-stated the photos on which it is most of the stated error: on
-/// the tracker sweep's 1000 sequences those with noise under 2 grey levels
-/// came out at RMS(error / std) 0.82 and 97.9 % within 1.96 std.
-pub const EDGE_BIAS_FLOOR_PX: f64 = 0.015;
+/// Systematic error of the edge fit that its residuals do not show, px, for
+/// a fit over [`FLOOR_COLUMNS`] columns, on photos stored without block
+/// compression (PNG, TIFF) or where no block boundary of a JPEG lies within
+/// [`BLOCK_REACH_PX`] of the edge ([`edge_floor_px`]). Measured on the
+/// tracker sweep's clean sequences (docs/track.md, *The sweep*): the floor
+/// that brings a class of photos to RMS(error / std) 1 falls with the
+/// photo's size, on PNG photos from 0.014 px at 640x480 to 0.007 px at
+/// 1280x960, as the inverse of the columns fitted (a bias of the edge's
+/// curvature in px, not noise, which would fall as its square root).
+pub const EDGE_BIAS_FLOOR_PX: f64 = 0.014;
+
+/// The columns of the fit at which the floor is [`EDGE_BIAS_FLOOR_PX`]
+/// (about a 640x480 photo's).
+pub const FLOOR_COLUMNS: f64 = 60.0;
+
+/// A JPEG codes the photo in 8x8 blocks, each quantised on its own: where a
+/// block boundary runs through the blurred step of a nearly horizontal
+/// edge, the two halves of its profile carry the quantisation errors of two
+/// blocks, and the columns along that block row share the boundary, so no
+/// residual shows it. Its measured size at [`FLOOR_COLUMNS`] columns, px,
+/// added in quadrature to the floor within [`BLOCK_REACH_PX`] of a boundary
+/// (docs/track.md, *The sweep*).
+pub const JPEG_BLOCK_PX: f64 = 0.024;
+
+/// How far from a JPEG block boundary an edge's row feels it, px: on the
+/// sweep's clean JPEG photos the apex error within 1.5 px of a boundary
+/// needed a floor of 0.014-0.015 px, from 1.5 px on 0-0.004 px
+/// (docs/track.md, *The sweep*).
+pub const BLOCK_REACH_PX: f64 = 1.5;
+
+/// How the photos were stored, for the edge fit's floor.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocks {
+    /// Without block compression (PNG, TIFF, raw).
+    None,
+    /// JPEG: 8x8 blocks from the photo's top-left corner.
+    Jpeg,
+    /// A video, whose codec's blocks are not known: every edge is taken as
+    /// near a boundary.
+    Unknown,
+}
+
+impl Blocks {
+    /// The storage of the photo at `path`, from its first bytes (a JPEG
+    /// starts with `FF D8 FF`); `None` when it cannot be read (decoding
+    /// reports that).
+    pub fn of_photo(path: &std::path::Path) -> Blocks {
+        use std::io::Read;
+        let mut head = [0u8; 3];
+        let jpeg = std::fs::File::open(path)
+            .and_then(|mut f| f.read_exact(&mut head))
+            .is_ok()
+            && head == [0xFF, 0xD8, 0xFF];
+        if jpeg { Blocks::Jpeg } else { Blocks::None }
+    }
+}
+
+/// The edge fit's floor, px, for an edge at image row `row` (pixel centres
+/// at whole numbers, so a JPEG's block boundaries lie at rows `8 k - 0.5`)
+/// fitted over `columns` columns: [`EDGE_BIAS_FLOOR_PX`], with
+/// [`JPEG_BLOCK_PX`] in quadrature within [`BLOCK_REACH_PX`] of a block
+/// boundary (always for [`Blocks::Unknown`]), times [`FLOOR_COLUMNS`] over
+/// the columns.
+pub fn edge_floor_px(blocks: Blocks, row: f64, columns: usize) -> f64 {
+    let near = match blocks {
+        Blocks::None => false,
+        Blocks::Unknown => true,
+        Blocks::Jpeg => {
+            let phase = (row + 0.5).rem_euclid(8.0);
+            phase.min(8.0 - phase) < BLOCK_REACH_PX
+        }
+    };
+    let floor = if near {
+        EDGE_BIAS_FLOOR_PX.hypot(JPEG_BLOCK_PX)
+    } else {
+        EDGE_BIAS_FLOOR_PX
+    };
+    floor * FLOOR_COLUMNS / columns.max(1) as f64
+}
 
 /// Per-frame measurement in region coordinates, before calibration.
 pub(super) struct Located {
@@ -125,6 +196,10 @@ pub(super) struct Tracker<'a> {
     pub(super) prev: Option<[f64; 2]>,
     /// Edge curvature of the last tracked frame, 1/px (0: none yet).
     pub(super) curvature: f64,
+    /// How the photos were stored, and the image row of the region's top
+    /// (for the edge fit's floor, [`edge_floor_px`]).
+    pub(super) blocks: Blocks,
+    pub(super) origin_row_px: f64,
 }
 
 impl Tracker<'_> {
@@ -214,7 +289,13 @@ impl Tracker<'_> {
         // Without an edge fit, the error bound of a peak on the pixel grid.
         let grid = 0.5;
         // The edge fit's statistical error plus its bias floor.
-        let edge_std = |e: &EdgeFit| e.y_std.hypot(EDGE_BIAS_FLOOR_PX);
+        let edge_std = |e: &EdgeFit| {
+            e.y_std.hypot(edge_floor_px(
+                self.blocks,
+                e.y + self.origin_row_px,
+                e.columns,
+            ))
+        };
         match (self.opts.refine, l.edge) {
             // The column from the edge's symmetry, else the parabola's
             // vertex when the edge's curvature pins it down at all: the
@@ -427,5 +508,55 @@ impl Tracker<'_> {
             (None, None) => (Some(edge), axis),
             (None, Some(_)) => (None, axis),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A JPEG's block boundaries lie between rows `8 k - 1` and `8 k`
+    /// (at `8 k - 0.5`): an edge within `BLOCK_REACH_PX` of one gets the
+    /// block term in quadrature, one mid-block and a PNG's the floor alone,
+    /// a video's always the block term; all fall as the columns grow.
+    #[test]
+    fn the_block_term_joins_the_floor_near_a_jpeg_block_boundary() {
+        let both = EDGE_BIAS_FLOOR_PX.hypot(JPEG_BLOCK_PX);
+        let n = FLOOR_COLUMNS as usize;
+        // 383.72 is 0.22 px below the boundary at 383.5; 387.5 is mid-block
+        for (row, want) in [
+            (383.72, both),
+            (382.9, both),
+            (381.1, EDGE_BIAS_FLOOR_PX),
+            (387.5, EDGE_BIAS_FLOOR_PX),
+            (-0.4, both),
+        ] {
+            let got = edge_floor_px(Blocks::Jpeg, row, n);
+            assert!(
+                (got - want).abs() < 1e-15,
+                "row {row}: {got} against {want}"
+            );
+        }
+        assert_eq!(edge_floor_px(Blocks::None, 383.72, n), EDGE_BIAS_FLOOR_PX);
+        assert_eq!(edge_floor_px(Blocks::Unknown, 387.5, n), both);
+        // twice the columns, half the floor
+        let half = edge_floor_px(Blocks::None, 387.5, 2 * n);
+        assert!((half - 0.5 * EDGE_BIAS_FLOOR_PX).abs() < 1e-15, "{half}");
+    }
+
+    /// A file is taken for a JPEG by its first bytes, not its name.
+    #[test]
+    fn a_jpeg_is_known_by_its_first_bytes() {
+        let dir = tempfile::tempdir().unwrap();
+        let jpeg = dir.path().join("photo.png");
+        std::fs::write(&jpeg, [0xFF, 0xD8, 0xFF, 0xE0, 0, 16]).unwrap();
+        let png = dir.path().join("photo.jpg");
+        std::fs::write(&png, [0x89, b'P', b'N', b'G', 0x0D, 0x0A]).unwrap();
+        assert_eq!(Blocks::of_photo(&jpeg), Blocks::Jpeg);
+        assert_eq!(Blocks::of_photo(&png), Blocks::None);
+        assert_eq!(
+            Blocks::of_photo(&dir.path().join("missing.jpg")),
+            Blocks::None
+        );
     }
 }

@@ -52,6 +52,8 @@ fn the_top_is_found_from_a_seed_a_dozen_px_off() {
         last: None,
         prev: None,
         curvature: 2.0 * k,
+        blocks: crate::track::tracker::Blocks::None,
+        origin_row_px: 0.0,
     };
     let none = Extremes {
         fullest: None,
