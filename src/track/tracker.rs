@@ -16,8 +16,11 @@ use super::*;
 /// tracker sweep's clean sequences (docs/track.md, *The sweep*): the floor
 /// that brings a class of photos to RMS(error / std) 1 falls with the
 /// photo's size, on PNG photos from 0.014 px at 640x480 to 0.007 px at
-/// 1280x960, as the inverse of the columns fitted (a bias of the edge's
-/// curvature in px, not noise, which would fall as its square root).
+/// 1280x960, about as the inverse of the columns fitted (as a bias that
+/// shrinks with the dome's size in px would; noise would fall as the square
+/// root; the mechanism is not established). The value is the smallest, in
+/// steps of 0.002 px, that leaves no clean photo of the sweep beyond 4
+/// stated deviations.
 pub const EDGE_BIAS_FLOOR_PX: f64 = 0.014;
 
 /// The columns of the fit at which the floor is [`EDGE_BIAS_FLOOR_PX`]
@@ -28,9 +31,10 @@ pub const FLOOR_COLUMNS: f64 = 60.0;
 /// block boundary runs through the blurred step of a nearly horizontal
 /// edge, the two halves of its profile carry the quantisation errors of two
 /// blocks, and the columns along that block row share the boundary, so no
-/// residual shows it. Its measured size at [`FLOOR_COLUMNS`] columns, px,
-/// added in quadrature to the floor within [`BLOCK_REACH_PX`] of a boundary
-/// (docs/track.md, *The sweep*).
+/// residual shows it. Its size at [`FLOOR_COLUMNS`] columns, px, added in
+/// quadrature to the floor within [`BLOCK_REACH_PX`] of a boundary: the
+/// smallest, in steps of 0.004 px, that leaves no clean JPEG photo of the
+/// sweep beyond 4 stated deviations (docs/track.md, *The sweep*).
 pub const JPEG_BLOCK_PX: f64 = 0.024;
 
 /// How far from a JPEG block boundary an edge's row feels it, px: on the
