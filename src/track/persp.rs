@@ -233,25 +233,19 @@ impl Pinhole {
         a_m: f64,
         measured: Option<super::PoleMeasure>,
     ) -> Option<(f64, f64)> {
-        use super::PoleMeasure;
         use super::pole::pole_curvature_mean;
         // The pole's curvature, 1/m, and its standard deviation, at the
         // height `h`.
         let pole = |h: f64| {
             let r_cap = cap_radius(a_m, h);
-            let in_m = match measured {
-                Some(PoleMeasure::Outline(k, ks)) if k > 0.0 && ks.is_finite() && ks > 0.0 => {
+            let in_m = measured.and_then(|m| match m.outline() {
+                Some((k, ks)) => {
                     let r0 = super::pole_flattening(h / a_m).0 * r_cap;
                     let (r, rel) = self.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
                     Some((1.0 / r, rel / r))
                 }
-                Some(PoleMeasure::Flattening(f, rel))
-                    if f > 0.0 && rel.is_finite() && rel > 0.0 =>
-                {
-                    Some((1.0 / (f * r_cap), rel / (f * r_cap)))
-                }
-                _ => None,
-            };
+                None => m.flattening_curvature(r_cap),
+            });
             pole_curvature_mean(r_cap, h / a_m, in_m)
         };
         let solve = |row: f64, sd: f64| {

@@ -46,6 +46,34 @@ pub enum PoleMeasure {
     Flattening(f64, f64),
 }
 
+impl PoleMeasure {
+    /// The measure where it measures a dome: a positive value with a
+    /// positive, finite deviation.
+    pub fn usable(self) -> Option<Self> {
+        let (PoleMeasure::Outline(v, s) | PoleMeasure::Flattening(v, s)) = self;
+        (v > 0.0 && s.is_finite() && s > 0.0).then_some(self)
+    }
+
+    /// The outline's curvature and its standard error, 1/px, where this is
+    /// a usable [`PoleMeasure::Outline`].
+    pub fn outline(self) -> Option<(f64, f64)> {
+        match self.usable()? {
+            PoleMeasure::Outline(k, ks) => Some((k, ks)),
+            PoleMeasure::Flattening(..) => None,
+        }
+    }
+
+    /// The pole's curvature and its standard deviation that a usable
+    /// [`PoleMeasure::Flattening`] gives a dome whose cap through the rim
+    /// has radius `r_cap`: `1 / (F r_cap)`, relative deviation that of `F`.
+    pub fn flattening_curvature(self, r_cap: f64) -> Option<(f64, f64)> {
+        match self.usable()? {
+            PoleMeasure::Flattening(f, rel) => Some((1.0 / (f * r_cap), rel / (f * r_cap))),
+            PoleMeasure::Outline(..) => None,
+        }
+    }
+}
+
 /// The pole's curvature and its standard deviation: the inverse-variance
 /// mean of the membrane's estimate, `1 / (F r_cap)` for a spherical cap of
 /// radius `r_cap` through the rim with the dome's height `h_over_a` times

@@ -85,14 +85,7 @@ impl Elevation {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
         let pole = |h: f64| {
             let r_cap = (a_px * a_px + h * h) / (2.0 * h);
-            let m = match measured {
-                Some(PoleMeasure::Outline(k, ks)) => Some((k, ks)),
-                Some(PoleMeasure::Flattening(f, rel)) => {
-                    Some((1.0 / (f * r_cap), rel / (f * r_cap)))
-                }
-                None => None,
-            }
-            .filter(|(k, ks)| *k > 0.0 && ks.is_finite() && *ks > 0.0);
+            let m = measured.and_then(|m| m.outline().or(m.flattening_curvature(r_cap)));
             pole_curvature_mean(r_cap, h / a_px, m)
         };
         let mut h = t;

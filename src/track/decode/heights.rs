@@ -134,13 +134,19 @@ pub(super) fn rows(
                         let (r, rel) = p.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
                         (r / r_cap, rel)
                     };
-                    (h / a_m, own_measure(own).map(|(k, ks)| f(k, ks)))
+                    (
+                        h / a_m,
+                        own.and_then(PoleMeasure::outline).map(|(k, ks)| f(k, ks)),
+                    )
                 }
                 None => {
                     let (h_px, a_px) = ((h - offset_m) / mpp, a_px.unwrap_or(f64::NAN));
                     let r_cap = super::persp::cap_radius(a_px, h_px);
                     let f = |k: f64, ks: f64| (1.0 / (k * r_cap), ks / k);
-                    (h_px / a_px, own_measure(own).map(|(k, ks)| f(k, ks)))
+                    (
+                        h_px / a_px,
+                        own.and_then(PoleMeasure::outline).map(|(k, ks)| f(k, ks)),
+                    )
                 }
             };
             h_over_a.push(h_a);
@@ -178,15 +184,6 @@ pub(super) fn rows(
         check_above_clamp(setup, clamp, &rows)?;
     }
     Ok(rows)
-}
-
-/// A photo's own outline curvature and its standard error, 1/px, where it
-/// measures a dome (positive, with a finite error).
-fn own_measure(m: Option<PoleMeasure>) -> Option<(f64, f64)> {
-    match m {
-        Some(PoleMeasure::Outline(k, ks)) if k > 0.0 && ks.is_finite() && ks > 0.0 => Some((k, ks)),
-        _ => None,
-    }
 }
 
 /// No dome up to `1.5 a` has its top at the apex's `row` of frame `i` from
