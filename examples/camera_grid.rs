@@ -20,7 +20,11 @@
 //! each stated term (the scale's and the clamp row's, in their deviations;
 //! the frame's own) and each term's mean share of the stated variance,
 //! then the apex row's RMS error over its stated deviation and its mean
-//! error, px.
+//! error, px; the frame's own error (the height's less the parts the
+//! scale's and the clamp row's errors give it) over `height_std_m`, the
+//! common part over its stated deviation, the scale's error less its part
+//! through the clamp row over the scale's stated deviation, and the clamp
+//! row's error and stated deviation, px.
 //!
 //! Run: `cargo run --release --features harness --example camera_grid [-- --seeds 3,5,9]`
 
@@ -86,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     std::fs::remove_dir_all(&dir)?;
                     if terms {
                         eprintln!(
-                            "{d} m {e} deg lens {} seed {seed}: scale {:+.2} sd, row {:+.2} sd, frame {:.2}, all {:.2}; shares frame {:.2} scale {:.2} row {:.2}; apex {:.2} sd, mean {:+.3} px",
+                            "{d} m {e} deg lens {} seed {seed}: scale {:+.2} sd, row {:+.2} sd, frame {:.2}, all {:.2}; shares frame {:.2} scale {:.2} row {:.2}; apex {:.2} sd, mean {:+.3} px; own {:.2}, common {:.2}, scale alone {:+.2} sd; row {:+.4} px of {:.4}",
                             lens.is_some(),
                             t.scale / t.scale_std,
                             t.clamp_px / t.clamp_std_px,
@@ -97,6 +101,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             t.shares[2],
                             t.apex_z,
                             t.apex_mean_px,
+                            t.own_z,
+                            t.common_z,
+                            t.scale_own_z,
+                            t.clamp_px,
+                            t.clamp_std_px,
                         );
                     }
                     scale_z.push(t.scale / t.scale_std);

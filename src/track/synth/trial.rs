@@ -48,6 +48,16 @@ pub struct InitTrial {
     /// deviation times `mpp + h scale_per_clamp_row` (the scale read at
     /// the clamp row moves with it), in quadrature.
     pub rms_z_all: f64,
+    /// RMS of (height error less the parts the scale's and the clamp
+    /// row's errors give it, over `height_std_m`): the frame's own term
+    /// against the frame's own error alone.
+    pub own_z: f64,
+    /// RMS of (the height error's common part, the scale's and the clamp
+    /// row's, over their stated deviation together).
+    pub common_z: f64,
+    /// The scale's error less its part through the clamp row's error,
+    /// over the scale's stated relative deviation.
+    pub scale_own_z: f64,
     /// The mean share of each stated term in the stated variance over the
     /// photos tracked: `height_std_m`, the scale's part and the clamp
     /// row's part.
@@ -109,7 +119,9 @@ pub fn init_and_track(
     let mpp = &found.metres_per_pixel;
     let (scale_rel, row_m) = (mpp.std / mpp.value, found.clamp_row_px.std * mpp.value);
     let (mut heights, mut apex2, mut z2, mut z2_all) = (0.0f64, 0.0, 0.0, 0.0);
-    let (mut apex1, mut apex_z2) = (0.0, 0.0);
+    let (mut apex1, mut apex_z2, mut own2, mut common2) = (0.0, 0.0, 0.0, 0.0);
+    let scale_err = found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0;
+    let row_err_m = (found.clamp_row_px.value - w.scene.clamp_row_px) * mpp.value;
     let mut shares = [0.0; 3];
     for r in &t.rows {
         let tr = w
@@ -127,13 +139,16 @@ pub fn init_and_track(
         let terms = [r.height_std_m, r.height_m * scale_rel, row];
         let all = terms[0].hypot(terms[1]).hypot(terms[2]);
         z2_all += (err / all).powi(2);
+        let own = err - r.height_m * scale_err - row_err_m;
+        own2 += (own / r.height_std_m).powi(2);
+        common2 += ((err - own) / terms[1].hypot(terms[2])).powi(2);
         for (s, t) in shares.iter_mut().zip(terms) {
             *s += (t / all).powi(2);
         }
     }
     let n = t.rows.len().max(1) as f64;
     Ok(InitTrial {
-        scale: found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0,
+        scale: scale_err,
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
         scale_std_all: scale_rel.hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
         clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
@@ -145,6 +160,11 @@ pub fn init_and_track(
         apex_z: (apex_z2 / n).sqrt(),
         rms_z: (z2 / n).sqrt(),
         rms_z_all: (z2_all / n).sqrt(),
+        own_z: (own2 / n).sqrt(),
+        common_z: (common2 / n).sqrt(),
+        scale_own_z: (scale_err
+            - found.scale_per_clamp_row * (found.clamp_row_px.value - w.scene.clamp_row_px))
+            / scale_rel,
         shares: shares.map(|s| s / n),
         tracked: [t.rows.len(), w.truth.len()],
     })
