@@ -590,6 +590,7 @@ mod tests {
             x_std: 0.3,
             curvature: k,
             curvature_std: ks,
+            y_curvature_cov: 0.0,
             columns: 120,
             rms: 0.05,
             two_sided: false,

@@ -260,6 +260,7 @@ pub(super) fn undistort_tracked(
                 Some(super::matcher::EdgeFit {
                     curvature: u.curvature,
                     curvature_std: e.curvature_std * scale,
+                    y_curvature_cov: e.y_curvature_cov * scale,
                     ..e
                 }),
             )

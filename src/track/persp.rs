@@ -224,7 +224,8 @@ impl Pinhole {
     /// [`Pinhole::pole_radius_from_outline`], or the flattening pooled over
     /// a sequence's photos ([`super::pooled_flattening`]).
     /// The row's deviation and the curvature's are carried through by
-    /// central differences. `None` when no dome up to `1.5 a` has its top
+    /// central differences, joined by their covariance (the row and the
+    /// outline come from one fit). `None` when no dome up to `1.5 a` has its top
     /// at that row.
     pub fn membrane_height(
         &self,
@@ -234,23 +235,28 @@ impl Pinhole {
         measured: Option<super::PoleMeasure>,
     ) -> Option<(f64, f64)> {
         use super::pole::pole_curvature_mean;
-        // The pole's curvature, 1/m, and its standard deviation, at the
-        // height `h`.
+        // The pole's curvature, 1/m, its standard deviation and their
+        // covariance with the row (px/m), at the height `h`: an outline's
+        // relative error reaches the pole radius's times `f^2 / (f^2 +
+        // rho^2)` (the ratio of their relative deviations).
         let pole = |h: f64| {
             let r_cap = cap_radius(a_m, h);
             let in_m = measured.and_then(|m| match m.outline() {
                 Some((k, ks)) => {
                     let r0 = super::pole_flattening(h / a_m).0 * r_cap;
                     let (r, rel) = self.pole_radius_from_outline(h, r0, 1.0 / k, ks / k);
-                    Some((1.0 / r, rel / r))
+                    Some((1.0 / r, rel / r, rel / (ks / k)))
                 }
-                None => m.flattening_curvature(r_cap),
+                None => m.flattening_curvature(r_cap).map(|(k, ks)| (k, ks, 1.0)),
             });
-            pole_curvature_mean(r_cap, h / a_m, in_m)
+            let (k, k_std, share) = pole_curvature_mean(r_cap, h / a_m, in_m.map(|m| (m.0, m.1)));
+            let row_cov = measured.map_or(0.0, |m| m.row_cov());
+            let cov = in_m.map_or(0.0, |(k_m, _, g)| share * k_m * g * row_cov);
+            (k, k_std, cov)
         };
         let solve = |row: f64, sd: f64| {
             self.height_from_top_row(row, a_m, 1.5 * a_m, |h| {
-                let (k, k_std) = pole(h);
+                let (k, k_std, _) = pole(h);
                 1.0 / (k + sd * k_std)
             })
         };
@@ -264,7 +270,16 @@ impl Pinhole {
             (Some(p), Some(m)) => 0.5 * (p - m),
             _ => 0.0,
         };
-        Some((h, (per_px * row_std).hypot(per_k)))
+        // d h = -per_px d row - per_k / k_std d k: the row's and the
+        // pole's parts joined by their covariance ([`super::PoleMeasure`]).
+        let (_, k_std, cov) = pole(h);
+        let cross = if k_std > 0.0 {
+            2.0 * per_px * per_k / k_std * cov
+        } else {
+            0.0
+        };
+        let var = (per_px * row_std).powi(2) + per_k * per_k + cross;
+        Some((h, var.max(0.0).sqrt()))
     }
 
     /// The pole's radius of curvature, m, and its relative standard
@@ -425,6 +440,43 @@ mod tests {
                 let (back, _) = c.pole_radius_from_outline(h, 1.1 * r, rho, 0.0);
                 assert!((back / r - 1.0).abs() < 1e-4, "{d} {up}: {back} vs {r}");
             }
+        }
+    }
+
+    /// The row's and the outline's errors joined through a pinhole: their
+    /// covariance adds `2 (d h / d row) (d h / d k) cov(row, k)` to the
+    /// height's variance, against its first-order changes with the row and
+    /// with the measured curvature (central differences of the solved
+    /// height), within 5 %: the outline's relative deviation is carried to
+    /// the pole radius's by `f^2 / (f^2 + rho^2)` alone, leaving out that
+    /// the distance to the sphere's centre moves with the radius.
+    #[test]
+    fn the_row_and_the_outline_of_one_fit_join_their_errors() {
+        use crate::track::PoleMeasure;
+        let a = 0.0375;
+        for (d, up, aim) in [(0.25, 0.0, 0.02), (0.45, 4.0, 0.0), (1.0, 5.0, 0.01)] {
+            let c = cam(d, up, aim);
+            let h = 0.015;
+            let row = c.top_row(h, 1.08 * cap_radius(a, h));
+            // the outline's curvature, 1/px, from the pole radius over the
+            // focal length at about the distance
+            let k = d / (1.08 * cap_radius(a, h) * c.focal_px);
+            let (sd, ks) = (0.03, 0.02 * k);
+            let cov = -0.6 * sd * ks;
+            let at = |row: f64, k: f64, cov: f64| {
+                c.membrane_height(row, sd, a, Some(PoleMeasure::Outline(k, ks, cov)))
+                    .unwrap()
+            };
+            let got = at(row, k, cov).1.powi(2) - at(row, k, 0.0).1.powi(2);
+            let (dr, dk) = (1e-3, 1e-6 * k);
+            let per_row = (at(row + dr, k, 0.0).0 - at(row - dr, k, 0.0).0) / (2.0 * dr);
+            let per_k = (at(row, k + dk, 0.0).0 - at(row, k - dk, 0.0).0) / (2.0 * dk);
+            let cross = 2.0 * per_row * per_k * cov;
+            assert!(cross > 0.0, "{d} m {up} deg: {cross}");
+            assert!(
+                (got / cross - 1.0).abs() < 0.05,
+                "{d} m {up} deg: {got} against {cross}"
+            );
         }
     }
 

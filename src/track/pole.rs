@@ -35,22 +35,30 @@ pub fn pole_flattening(h_over_a: f64) -> (f64, f64) {
 pub const FLATTENING_SLOPE: f64 = 0.32;
 
 /// What is known of a photo's pole radius besides the membrane's bounds.
+/// Each carries the covariance of its error with the apex row's, px: the
+/// row and the outline's curvature come from one fit of the top edge,
+/// and noise that lowers the fitted top also flattens it, so both move a
+/// height the same way (a raised camera's height falls with a lower top
+/// and with a larger pole radius).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PoleMeasure {
     /// The curvature of the outline at its top and its standard error, in
-    /// the image's units (1/px), from the photo's own edge fit.
-    Outline(f64, f64),
+    /// the image's units (1/px), from the photo's own edge fit, and the
+    /// covariance of the curvature with the apex row (px times 1/px).
+    Outline(f64, f64, f64),
     /// The flattening itself (the pole's radius over the cap's through the
-    /// rim) and its relative standard deviation, pooled over the photos of
-    /// a sequence ([`pooled_flattening`]).
-    Flattening(f64, f64),
+    /// rim), its relative standard deviation, pooled over the photos of a
+    /// sequence ([`pooled_flattening`]), and the covariance of `ln F` with
+    /// the apex row, px: the photo's own outline's, times its share of
+    /// the pool.
+    Flattening(f64, f64, f64),
 }
 
 impl PoleMeasure {
     /// The measure where it measures a dome: a positive value with a
     /// positive, finite deviation.
     pub fn usable(self) -> Option<Self> {
-        let (PoleMeasure::Outline(v, s) | PoleMeasure::Flattening(v, s)) = self;
+        let (PoleMeasure::Outline(v, s, _) | PoleMeasure::Flattening(v, s, _)) = self;
         (v > 0.0 && s.is_finite() && s > 0.0).then_some(self)
     }
 
@@ -58,7 +66,7 @@ impl PoleMeasure {
     /// a usable [`PoleMeasure::Outline`].
     pub fn outline(self) -> Option<(f64, f64)> {
         match self.usable()? {
-            PoleMeasure::Outline(k, ks) => Some((k, ks)),
+            PoleMeasure::Outline(k, ks, _) => Some((k, ks)),
             PoleMeasure::Flattening(..) => None,
         }
     }
@@ -68,8 +76,20 @@ impl PoleMeasure {
     /// has radius `r_cap`: `1 / (F r_cap)`, relative deviation that of `F`.
     pub fn flattening_curvature(self, r_cap: f64) -> Option<(f64, f64)> {
         match self.usable()? {
-            PoleMeasure::Flattening(f, rel) => Some((1.0 / (f * r_cap), rel / (f * r_cap))),
+            PoleMeasure::Flattening(f, rel, _) => Some((1.0 / (f * r_cap), rel / (f * r_cap))),
             PoleMeasure::Outline(..) => None,
+        }
+    }
+
+    /// The covariance of the apex row's error with the relative error of
+    /// the pole's curvature this measure gives, px (0 where unusable):
+    /// `cov(y, k) / k` for an outline, `-cov(y, ln F)` for a flattening
+    /// (the curvature is `1 / (F r_cap)`).
+    pub fn row_cov(self) -> f64 {
+        match self.usable() {
+            Some(PoleMeasure::Outline(k, _, c)) => c / k,
+            Some(PoleMeasure::Flattening(_, _, c)) => -c,
+            None => 0.0,
         }
     }
 }
@@ -79,12 +99,13 @@ impl PoleMeasure {
 /// radius `r_cap` through the rim with the dome's height `h_over_a` times
 /// the free radius ([`pole_flattening`]'s mean `F`, with its relative
 /// deviation), and, when given, one measured (value and standard
-/// deviation, in the units of `1 / r_cap`).
+/// deviation, in the units of `1 / r_cap`); then the measured one's weight
+/// in the mean (0 without one), which carries its errors into the mean.
 pub(crate) fn pole_curvature_mean(
     r_cap: f64,
     h_over_a: f64,
     measured: Option<(f64, f64)>,
-) -> (f64, f64) {
+) -> (f64, f64, f64) {
     let (f, rel) = pole_flattening(h_over_a);
     let k_p = 1.0 / (f * r_cap);
     let w_p = (rel * k_p).powi(-2);
@@ -92,6 +113,7 @@ pub(crate) fn pole_curvature_mean(
     (
         (k_p * w_p + k_m * w_m) / (w_p + w_m),
         (w_p + w_m).sqrt().recip(),
+        w_m / (w_p + w_m),
     )
 }
 
@@ -107,42 +129,52 @@ pub(crate) fn pole_curvature_mean(
 /// never measured gets the others' through the same weights; `None` where
 /// no photo was measured. `h_over_a[i]` is photo `i`'s height over the
 /// free radius, `measured[i]` its flattening and relative deviation.
+/// Returns each photo's flattening, its relative deviation and the weight
+/// of the photo's own measurement in it (0 when it has none), through
+/// which the pool shares that measurement's errors.
 pub fn pooled_flattening(
     h_over_a: &[f64],
     measured: &[Option<(f64, f64)>],
-) -> Vec<Option<(f64, f64)>> {
-    let points: Vec<(f64, f64, f64)> = h_over_a
+) -> Vec<Option<(f64, f64, f64)>> {
+    let points: Vec<(usize, f64, f64, f64)> = h_over_a
         .iter()
         .zip(measured)
-        .filter_map(|(&h, m)| {
+        .enumerate()
+        .filter_map(|(i, (&h, m))| {
             m.filter(|(f, rel)| *f > 0.0 && f.is_finite() && *rel > 0.0 && rel.is_finite())
-                .map(|(f, rel)| (h, f.ln(), rel))
+                .map(|(f, rel)| (i, h, f.ln(), rel))
         })
         .collect();
     h_over_a
         .iter()
-        .map(|&h| {
+        .enumerate()
+        .map(|(i, &h)| {
             if points.is_empty() {
                 return None;
             }
             let w: Vec<f64> = points
                 .iter()
-                .map(|&(hj, _, rel)| 1.0 / (rel * rel + (FLATTENING_SLOPE * (hj - h)).powi(2)))
+                .map(|&(_, hj, _, rel)| 1.0 / (rel * rel + (FLATTENING_SLOPE * (hj - h)).powi(2)))
                 .collect();
             let sw: f64 = w.iter().sum();
-            let mean = points.iter().zip(&w).map(|(p, w)| p.1 * w).sum::<f64>() / sw;
+            let mean = points.iter().zip(&w).map(|(p, w)| p.2 * w).sum::<f64>() / sw;
             let chi2: f64 = points
                 .iter()
                 .zip(&w)
-                .map(|(p, w)| w * (p.1 - mean).powi(2))
+                .map(|(p, w)| w * (p.2 - mean).powi(2))
                 .sum();
+            let own = points
+                .iter()
+                .zip(&w)
+                .find(|(p, _)| p.0 == i)
+                .map_or(0.0, |(_, w)| w / sw);
             let n_eff = sw * sw / w.iter().map(|w| w * w).sum::<f64>();
             let birge = if n_eff > 1.5 {
                 (chi2 / (n_eff - 1.0)).max(1.0)
             } else {
                 1.0
             };
-            Some((mean.exp(), (birge / sw).sqrt()))
+            Some((mean.exp(), (birge / sw).sqrt(), own))
         })
         .collect()
 }
@@ -157,17 +189,20 @@ mod tests {
     #[test]
     fn the_pool_weighs_each_photo_by_its_deviation_and_the_heights_apart() {
         let one = pooled_flattening(&[0.3], &[Some((1.08, 0.02))]);
-        let (f, rel) = one[0].unwrap();
+        let (f, rel, own) = one[0].unwrap();
         assert!((f - 1.08).abs() < 1e-12 && (rel - 0.02).abs() < 1e-12);
+        assert_eq!(own, 1.0);
 
         let two = pooled_flattening(&[0.3, 0.3], &[Some((1.08, 0.02)), Some((1.08, 0.02))]);
-        let (_, rel) = two[0].unwrap();
+        let (_, rel, own) = two[0].unwrap();
         assert!((rel - 0.02 / 2f64.sqrt()).abs() < 1e-12, "{rel}");
+        assert!((own - 0.5).abs() < 1e-12, "{own}");
 
         // Photo 0 unmeasured at 0.2 a, photo 1 measured at 0.5 a: the
         // variance is the measurement's and the slope bound's over 0.3 a.
         let far = pooled_flattening(&[0.2, 0.5], &[None, Some((1.1, 0.01))]);
-        let (f, rel) = far[0].unwrap();
+        let (f, rel, own) = far[0].unwrap();
+        assert_eq!(own, 0.0);
         let want = (0.01f64.powi(2) + (FLATTENING_SLOPE * 0.3).powi(2)).sqrt();
         assert!(
             (f - 1.1).abs() < 1e-12 && (rel - want).abs() < 1e-12,
@@ -183,7 +218,7 @@ mod tests {
     #[test]
     fn disagreeing_photos_widen_the_pool_by_their_scatter() {
         let p = pooled_flattening(&[0.4, 0.4], &[Some((1.0, 0.01)), Some((1.1, 0.01))]);
-        let (f, rel) = p[0].unwrap();
+        let (f, rel, _) = p[0].unwrap();
         let half = 0.5 * 1.1f64.ln();
         assert!((f.ln() - half).abs() < 1e-12);
         assert!((rel - half).abs() < 1e-9, "{rel} against {half}");

@@ -82,15 +82,48 @@ impl Elevation {
     /// by fixed-point iteration. Returns `h` and its standard deviation
     /// from the curvature's, px.
     pub fn height_px(&self, t: f64, measured: Option<PoleMeasure>, a_px: f64) -> (f64, f64) {
+        let (h, std, _) = self.solve_px(t, measured, a_px);
+        (h, std)
+    }
+
+    /// [`Elevation::height_px`] with the top's own standard deviation
+    /// `t_std` (px) joined: the height's whole standard deviation, px.
+    /// The top's row and a measured pole radius come from one fit of the
+    /// top edge, whose errors go together ([`PoleMeasure`]): the
+    /// covariance joins the two parts, `var = (t_std / cos e)^2 +
+    /// pole^2 + 2 cov`.
+    pub fn height_and_std_px(
+        &self,
+        t: f64,
+        t_std: f64,
+        measured: Option<PoleMeasure>,
+        a_px: f64,
+    ) -> (f64, f64) {
+        let (h, std, cov) = self.solve_px(t, measured, a_px);
+        let c = self.radians.cos();
+        let var = (t_std / c).powi(2) + std * std + 2.0 * cov;
+        (h, var.max(0.0).sqrt())
+    }
+
+    /// The height, the pole's part of its standard deviation and that
+    /// part's covariance with the top's, px^2: `h = (t - (1 - cos e) / k)
+    /// / cos e` moves by `d t / cos e` and by `(1 - cos e) / (cos e k^2)
+    /// d k`; the mean curvature moves with the measured one's relative
+    /// error times its weight, and a top found low (`d t` negative) comes
+    /// with a flatter outline.
+    fn solve_px(&self, t: f64, measured: Option<PoleMeasure>, a_px: f64) -> (f64, f64, f64) {
         let (s, c) = (1.0 - self.radians.cos(), self.radians.cos());
         let pole = |h: f64| {
             let r_cap = (a_px * a_px + h * h) / (2.0 * h);
             let m = measured.and_then(|m| m.outline().or(m.flattening_curvature(r_cap)));
-            pole_curvature_mean(r_cap, h / a_px, m)
+            let (k, k_std, share) = pole_curvature_mean(r_cap, h / a_px, m);
+            // cov(row, k), px/px: the row is `-t`.
+            let cov = share * m.map_or(0.0, |m| m.0) * measured.map_or(0.0, |m| m.row_cov());
+            (k, k_std, cov)
         };
         let mut h = t;
         for _ in 0..200 {
-            let (k, _) = pole(h.max(1e-9));
+            let (k, ..) = pole(h.max(1e-9));
             let next = ((t - s / k) / c).max(1e-6 * a_px);
             if (next - h).abs() < 1e-10 * a_px {
                 h = next;
@@ -98,8 +131,9 @@ impl Elevation {
             }
             h = next;
         }
-        let (k, k_std) = pole(h);
-        (h, s / c * k_std / (k * k))
+        let (k, k_std, cov_row_k) = pole(h);
+        let per_k = s / (c * k * k);
+        (h, per_k * k_std, -per_k * cov_row_k / c)
     }
 }
 

@@ -60,13 +60,12 @@ pub(super) fn rows(
     // A camera above the clamp plane: the silhouette's top `t` px above the
     // clamp ring's centre becomes the apex height (and its deviation, with
     // the pole radius's), px.
-    let elevated = |t: f64, m: Option<PoleMeasure>| -> (f64, f64) {
+    let elevated = |t: f64, t_std: f64, m: Option<PoleMeasure>| -> (f64, f64) {
         match (setup.calibration.elevation, a_px) {
-            (Some(el), Some(a_px)) => el.height_px(t, m, a_px),
-            _ => (t, 0.0),
+            (Some(el), Some(a_px)) => el.height_and_std_px(t, t_std, m, a_px),
+            _ => (t, t_std),
         }
     };
-    let cos_e = setup.calibration.elevation.map_or(1.0, |e| e.radians.cos());
     // A pinhole camera at a known distance: heights through the ray tangent
     // to the dome. The principal point is the lens's (or the picture's
     // centre); the focal length is the one that gives the scale at the
@@ -85,8 +84,7 @@ pub(super) fn rows(
     // `std`), with what is known of the pole's radius.
     let height_of = |i: usize, row: f64, std: f64, m: Option<PoleMeasure>| match &pinhole {
         None => {
-            let (h_px, h_extra) = elevated(origin_row - row, m);
-            let h_std_px = (std / cos_e).hypot(h_extra);
+            let (h_px, h_std_px) = elevated(origin_row - row, std, m);
             Ok((h_px * mpp + offset_m, h_std_px * mpp))
         }
         Some(p) => p
@@ -95,10 +93,12 @@ pub(super) fn rows(
     };
     let half_span = state.edge_settings.half_span_px as f64;
     // The photo's own measure of the pole: the outline's curvature at the
-    // top, corrected for the parabola's fit over the span.
+    // top, corrected for the parabola's fit over the span (its deviation
+    // and covariance with the row scaled alike).
     let outline = |e: &EdgeFit| {
         let k = pole_curvature(e.curvature, half_span);
-        PoleMeasure::Outline(k, e.curvature_std * k / e.curvature)
+        let g = k / e.curvature;
+        PoleMeasure::Outline(k, e.curvature_std * g, e.y_curvature_cov * g)
     };
     let fitted: Vec<_> = located
         .iter()
@@ -118,9 +118,12 @@ pub(super) fn rows(
     // from the outlines of all (one membrane, whose flattening changes
     // slowly with its height: `pooled_flattening`), from a first pass on
     // each photo's own outline.
-    let pooled: Option<Vec<Option<(f64, f64)>>> = if pinhole.is_some() || a_px.is_some() {
+    let pooled: Option<Vec<Option<(f64, f64, f64)>>> = if pinhole.is_some() || a_px.is_some() {
         let mut h_over_a = Vec::with_capacity(fitted.len());
         let mut measured = Vec::with_capacity(fitted.len());
+        // cov(row, ln F) of each photo's own measure, px: `ln F` falls with
+        // the curvature, by `rel / (ks / k)` of its relative error.
+        let mut row_cov = Vec::with_capacity(fitted.len());
         for (i, _, (apex, std, _, _, edge)) in &fitted {
             let own = edge.as_ref().map(outline);
             let (h, _) = height_of(*i, apex[1], std_of(*i, *std), own)?;
@@ -151,8 +154,18 @@ pub(super) fn rows(
             };
             h_over_a.push(h_a);
             measured.push(flattening);
+            row_cov.push(match (own, flattening) {
+                (Some(PoleMeasure::Outline(_, ks, c)), Some((_, rel))) if ks > 0.0 => -rel * c / ks,
+                _ => 0.0,
+            });
         }
-        Some(pooled_flattening(&h_over_a, &measured))
+        let pool = pooled_flattening(&h_over_a, &measured);
+        Some(
+            pool.into_iter()
+                .zip(row_cov)
+                .map(|(p, c)| p.map(|(f, rel, own)| (f, rel, own * c)))
+                .collect(),
+        )
     } else {
         None
     };
@@ -160,7 +173,7 @@ pub(super) fn rows(
     for (n, (i, l, (apex, std, int, quad, edge))) in fitted.into_iter().enumerate() {
         let f = &setup.frames[i];
         let measure = match &pooled {
-            Some(p) => p[n].map(|(v, rel)| PoleMeasure::Flattening(v, rel)),
+            Some(p) => p[n].map(|(v, rel, c)| PoleMeasure::Flattening(v, rel, c)),
             None => None,
         };
         let (height_m, height_std_m) = height_of(i, apex[1], std_of(i, std), measure)?;

@@ -19,6 +19,11 @@ pub struct EdgeFit {
     pub curvature: f64,
     /// Standard error of `curvature`, 1/px.
     pub curvature_std: f64,
+    /// Covariance of `y` and `curvature`, one fit's (px times 1/px):
+    /// negative, noise that lowers the parabola's top flattens it. A
+    /// height that needs the pole's radius reads both
+    /// ([`crate::track::PoleMeasure`]).
+    pub y_curvature_cov: f64,
     /// Columns used by the centroid fit.
     pub columns: usize,
     /// RMS of the centroid fit's column residuals, px. Both are the

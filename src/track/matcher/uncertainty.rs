@@ -206,6 +206,9 @@ pub(super) fn summarise(
         f64::INFINITY
     };
     let inflate = lag1_inflation(&fit.residuals(pts));
+    // cov(y, 2 C) with y = A + B u_v + C u_v^2 (u_v held).
+    let g = [1.0, u_v, u_v * u_v];
+    let y_c = (0..3).map(|j| fit.cov[j][2] * g[j]).sum::<f64>();
     EdgeFit {
         y: a + b * u_v + c * u_v * u_v,
         y_std: fit.var_at(u_v).sqrt() * inflate,
@@ -213,6 +216,7 @@ pub(super) fn summarise(
         x_std: x_std * inflate,
         curvature: 2.0 * c,
         curvature_std: 2.0 * fit.cov[2][2].max(0.0).sqrt() * inflate,
+        y_curvature_cov: 2.0 * y_c * inflate * inflate,
         columns: pts.len(),
         rms: (fit.rss / pts.len() as f64).sqrt(),
         two_sided,

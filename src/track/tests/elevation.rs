@@ -28,7 +28,7 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
             let top = |r: f64| (h - r) * e.cos() + r;
             let (by_curvature, _) = el.height_px(
                 top(r_cap),
-                Some(PoleMeasure::Outline(1.0 / r_cap, 1e-7 / r_cap)),
+                Some(PoleMeasure::Outline(1.0 / r_cap, 1e-7 / r_cap, 0.0)),
                 a,
             );
             assert!(
@@ -43,7 +43,7 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
             // at the height solved for.
             let (by_pool, _) = el.height_px(
                 top(1.1 * r_cap),
-                Some(PoleMeasure::Flattening(1.1, 1e-7)),
+                Some(PoleMeasure::Flattening(1.1, 1e-7, 0.0)),
                 a,
             );
             assert!((by_pool - h).abs() < 1e-6, "{e_deg} deg, h {h}: {by_pool}");
@@ -56,11 +56,59 @@ fn the_elevation_correction_inverts_the_outline_of_a_cap() {
             let k = 0.5 * (k_m + 1.0 / r_pole);
             let (both, _) = el.height_px(
                 top(1.0 / k),
-                Some(PoleMeasure::Outline(k_m, rel / r_pole)),
+                Some(PoleMeasure::Outline(k_m, rel / r_pole, 0.0)),
                 a,
             );
             assert!((both - h).abs() < 1e-6, "{e_deg} deg, h {h}: {both}");
         }
+    }
+}
+
+/// The top's row and the outline's curvature come from one fit of the
+/// top edge: their covariance joins the height's two parts, adding `2 (d
+/// h / d t) (d h / d k) cov(t, k)` to its variance, against the height's
+/// first-order changes with the top and with the measured curvature
+/// (central differences of the solved height; `t` counted up and the row
+/// down, `cov(t, k) = -cov(row, k)`), at the elevations labs use: to the
+/// 1 % by which the pole's radius of the membrane's bounds moves with the
+/// height solved for (9 % at 20 degrees). A top found low with a flatter
+/// outline lowers both parts, so the negative row covariance of a
+/// parabola's vertex and curvature widens the deviation; none leaves the
+/// two in quadrature.
+#[test]
+fn the_top_and_the_outline_of_one_fit_join_their_errors() {
+    let a = 224.0;
+    let (h, t_std) = (90.0, 0.03);
+    for e_deg in [1.0f64, 3.0, 5.0] {
+        let el = Elevation {
+            radians: e_deg.to_radians(),
+            radius_m: 0.0375,
+        };
+        let e = el.radians;
+        let r_cap = (a * a + h * h) / (2.0 * h);
+        let k_m = 1.0 / (1.08 * r_cap);
+        let t = (h - 1.08 * r_cap) * e.cos() + 1.08 * r_cap;
+        let ks = 0.02 * k_m;
+        let cov = -0.6 * t_std * ks;
+        let with = |cov: f64| Some(PoleMeasure::Outline(k_m, ks, cov));
+        let (got_h, std) = el.height_and_std_px(t, t_std, with(cov), a);
+        assert_eq!(got_h, el.height_px(t, with(cov), a).0);
+        // without the covariance: the top's part and the pole's in quadrature
+        let (_, apart) = el.height_and_std_px(t, t_std, with(0.0), a);
+        let pole = el.height_px(t, with(0.0), a).1;
+        let quadrature = (t_std / e.cos()).hypot(pole);
+        assert!((apart / quadrature - 1.0).abs() < 1e-12);
+        let at = |t: f64, k: f64| el.height_px(t, Some(PoleMeasure::Outline(k, ks, 0.0)), a).0;
+        let (dt, dk) = (1e-3, 1e-6 * k_m);
+        let per_t = (at(t + dt, k_m) - at(t - dt, k_m)) / (2.0 * dt);
+        let per_k = (at(t, k_m + dk) - at(t, k_m - dk)) / (2.0 * dk);
+        let cross = -2.0 * per_t * per_k * cov;
+        assert!(cross > 0.0);
+        let got = std * std - apart * apart;
+        assert!(
+            (got / cross - 1.0).abs() < 1e-2,
+            "{e_deg} deg: {got} against {cross}"
+        );
     }
 }
 

@@ -15,6 +15,7 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
         x_std: 0.5,
         curvature,
         curvature_std: 1e-5,
+        y_curvature_cov: 0.0,
         columns,
         rms,
         two_sided: false,
