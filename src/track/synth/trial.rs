@@ -121,7 +121,8 @@ pub fn init_and_track(
     let (mut heights, mut apex2, mut z2, mut z2_all) = (0.0f64, 0.0, 0.0, 0.0);
     let (mut apex1, mut apex_z2, mut own2, mut common2) = (0.0, 0.0, 0.0, 0.0);
     let scale_err = found.metres_per_pixel.value / w.scene.metres_per_pixel - 1.0;
-    let row_err_m = (found.clamp_row_px.value - w.scene.clamp_row_px) * mpp.value;
+    let row_err_px = found.clamp_row_px.value - w.scene.clamp_row_px;
+    let row_err_m = row_err_px * mpp.value;
     let mut shares = [0.0; 3];
     for r in &t.rows {
         let tr = w
@@ -151,7 +152,7 @@ pub fn init_and_track(
         scale: scale_err,
         scale_std: found.metres_per_pixel.std / found.metres_per_pixel.value,
         scale_std_all: scale_rel.hypot(found.scale_per_clamp_row * found.clamp_row_px.std),
-        clamp_px: found.clamp_row_px.value - w.scene.clamp_row_px,
+        clamp_px: row_err_px,
         clamp_std_px: found.clamp_row_px.std,
         elevation_deg: found.elevation_deg.map_or(0.0, |e| e.value) - spec.look.elevation_deg,
         heights,
@@ -162,9 +163,7 @@ pub fn init_and_track(
         rms_z_all: (z2_all / n).sqrt(),
         own_z: (own2 / n).sqrt(),
         common_z: (common2 / n).sqrt(),
-        scale_own_z: (scale_err
-            - found.scale_per_clamp_row * (found.clamp_row_px.value - w.scene.clamp_row_px))
-            / scale_rel,
+        scale_own_z: (scale_err - found.scale_per_clamp_row * row_err_px) / scale_rel,
         shares: shares.map(|s| s / n),
         tracked: [t.rows.len(), w.truth.len()],
     })
