@@ -56,3 +56,13 @@ impl Plane {
         }
     }
 }
+
+/// The row that an edge located in [`Plane::three_columns`]'s profile of
+/// column `x` reads, for an edge whose row is `row(x)`: the mean over the
+/// three columns, `row(x) + row''(x) / 3` to second order. Where the edge
+/// curves across the columns (an ellipse's arc towards its ends) the
+/// profile's step lies that far from the middle column's; `None` where the
+/// edge is not defined in one of them.
+pub(super) fn three_column_row(x: f64, row: impl Fn(f64) -> Option<f64>) -> Option<f64> {
+    Some((row(x - 1.0)? + row(x)? + row(x + 1.0)?) / 3.0)
+}

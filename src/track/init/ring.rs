@@ -81,9 +81,12 @@ pub(super) fn fit_ring(
         Radius::Fitted => q[2],
         Radius::Known(r) => r,
     };
+    // Each point is read in the mean of three columns' profiles: the
+    // arc's mean over them.
     let predict = |q: &[f64; 4], x: f64| {
         let p = camera(d_m, q[1], q[0], mpp, x0, principal_row);
-        side_row(&p, outer(&p, q), x, near).map(|r| r + q[3] * (x - x0))
+        let a = outer(&p, q);
+        super::plane::three_column_row(x, |x| side_row(&p, a, x, near)).map(|r| r + q[3] * (x - x0))
     };
     let free: Vec<usize> = match radius {
         Radius::Fitted => vec![0, 1, 2, 3],
@@ -399,10 +402,11 @@ mod tests {
     /// A far side seen on one side only, beside the bubble out to the
     /// ring's end (a ring 1.25 times the opening, 0.64 m away, 2.7 degrees
     /// above it: the set-up of a sweep sequence whose other end is out of
-    /// the picture), its last columns pulled 0.3 px down towards the
-    /// corner with the ring's side: with the corner's columns the centre's
-    /// row comes out 2 px and 3 of its stated deviations off; left out, it
-    /// comes back.
+    /// the picture), each column read as the clamp's search reads it (the
+    /// arc's mean over three columns), its last columns pulled 0.3 px down
+    /// towards the corner with the ring's side: with the corner's columns
+    /// the centre's row comes out 2 px and 3 of its stated deviations off;
+    /// left out, it comes back.
     #[test]
     fn a_one_sided_far_side_is_placed_clear_of_the_ring_s_end() {
         let (d, e, v0, x0, cv, mpp) =
@@ -414,7 +418,8 @@ mod tests {
         let pts: Vec<[f64; 2]> = ((1.04 * a_px).ceil() as i64..=(w - 0.5).floor() as i64)
             .filter_map(|dx| {
                 let x = x0 + dx as f64;
-                let row = side_row(&p, outer, x, false)?;
+                let row =
+                    super::super::plane::three_column_row(x, |x| side_row(&p, outer, x, false))?;
                 let u = w - dx as f64;
                 Some([x, row + if u < 4.0 { 0.3 * (1.0 - u / 4.0) } else { 0.0 }])
             })
@@ -441,6 +446,21 @@ mod tests {
             (clear.row.value - v0).abs() < 0.01,
             "clear of it: {clear:?}"
         );
+    }
+
+    /// The three columns' mean of a parabola `k x^2` is `k x^2 + 2 k / 3`:
+    /// a curving edge is read `row'' / 3` off its middle column's row; the
+    /// arc is undefined past its end.
+    #[test]
+    fn a_curving_edge_is_read_as_its_three_columns_mean() {
+        let k = 0.05;
+        for x in [-30.0, 0.0, 7.0, 120.0] {
+            let r = super::super::plane::three_column_row(x, |u| Some(k * u * u)).unwrap();
+            assert!((r - (k * x * x + 2.0 * k / 3.0)).abs() < 1e-12, "{x}: {r}");
+        }
+        let arc = |u: f64| (u.abs() <= 10.0).then(|| (100.0 - u * u).sqrt());
+        assert!(super::super::plane::three_column_row(9.5, arc).is_none());
+        assert!(super::super::plane::three_column_row(8.0, arc).is_some());
     }
 
     /// The scale comes back from the opening's tangent width.

@@ -52,7 +52,7 @@ pub(super) fn fit_top_edge(
                 pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
             let x: Vec<Vec<f64>> = used
                 .iter()
-                .map(|p| vec![1.0, -(a_f * a_f - p.0 * p.0).max(0.0).sqrt(), p.0])
+                .map(|p| vec![1.0, -arc(a_f, p.0), p.0])
                 .collect();
             let y: Vec<f64> = used.iter().map(|p| p.1).collect();
             let (((coef, cov, res), keep), slope) =
@@ -83,10 +83,7 @@ pub(super) fn fit_top_edge(
             let used: Vec<&(f64, f64, f64)> =
                 pts.iter().filter(|p| clear_of_ends(p.0, a_f)).collect();
             let x: Vec<Vec<f64>> = used.iter().map(|p| vec![1.0, p.0]).collect();
-            let y: Vec<f64> = used
-                .iter()
-                .map(|p| p.1 + s * (a_f * a_f - p.0 * p.0).max(0.0).sqrt())
-                .collect();
+            let y: Vec<f64> = used.iter().map(|p| p.1 + s * arc(a_f, p.0)).collect();
             let (((coef, cov, res), keep), slope) =
                 with_slope(&x, &y, floor).ok_or_else(|| few_columns(x.len(), Some(a_f)))?;
             ellipse = Some((coef[0], s));
@@ -169,6 +166,13 @@ pub(super) fn fit_top_edge(
         bent,
         ellipse,
     })
+}
+
+/// The half-ellipse `sqrt(a^2 - d^2)` (0 beyond `a`) at the column `d`
+/// from the axis as the clamp's search reads it: its mean over the three
+/// columns of each profile ([`super::plane::three_column_row`]).
+pub(super) fn arc(a: f64, d: f64) -> f64 {
+    super::plane::three_column_row(d, |u| Some((a * a - u * u).max(0.0).sqrt())).unwrap_or(0.0)
 }
 
 /// Too few columns for a fit, said with what they are (`ends`: the half-width
