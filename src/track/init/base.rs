@@ -118,7 +118,7 @@ pub(super) fn base_fit(
         let x: Vec<Vec<f64>> = pts
             .iter()
             .map(|p| {
-                let q = super::top_edge::arc(a, p.0);
+                let q = super::plane::arc(a, p.0);
                 match held {
                     Some(_) => vec![1.0, p.0],
                     None => vec![1.0, q, p.0],
@@ -127,7 +127,7 @@ pub(super) fn base_fit(
             .collect();
         let y: Vec<f64> = pts
             .iter()
-            .map(|p| p.1 - held.map_or(0.0, |s| s.value * super::top_edge::arc(a, p.0)))
+            .map(|p| p.1 - held.map_or(0.0, |s| s.value * super::plane::arc(a, p.0)))
             .collect();
         robust_lstsq(&x, &y, floor)
     };

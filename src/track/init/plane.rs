@@ -66,3 +66,10 @@ impl Plane {
 pub(super) fn three_column_row(x: f64, row: impl Fn(f64) -> Option<f64>) -> Option<f64> {
     Some((row(x - 1.0)? + row(x)? + row(x + 1.0)?) / 3.0)
 }
+
+/// The half-ellipse `sqrt(a^2 - d^2)` (0 beyond `a`) at the column `d`
+/// from the axis as the clamp's search reads it: its mean over the three
+/// columns of each profile ([`three_column_row`]).
+pub(super) fn arc(a: f64, d: f64) -> f64 {
+    three_column_row(d, |u| Some((a * a - u * u).max(0.0).sqrt())).unwrap_or(0.0)
+}

@@ -5,6 +5,7 @@
 //! one.
 
 use super::clamp::{Fit, OUTLIER_FLOOR_PX, clamp_not_found, clear_of_ends, robust_lstsq};
+use super::plane::arc;
 use super::*;
 
 /// The ring's top edge fitted over the columns `pts` (`(d, row, step)`,
@@ -166,13 +167,6 @@ pub(super) fn fit_top_edge(
         bent,
         ellipse,
     })
-}
-
-/// The half-ellipse `sqrt(a^2 - d^2)` (0 beyond `a`) at the column `d`
-/// from the axis as the clamp's search reads it: its mean over the three
-/// columns of each profile ([`super::plane::three_column_row`]).
-pub(super) fn arc(a: f64, d: f64) -> f64 {
-    super::plane::three_column_row(d, |u| Some((a * a - u * u).max(0.0).sqrt())).unwrap_or(0.0)
 }
 
 /// Too few columns for a fit, said with what they are (`ends`: the half-width
