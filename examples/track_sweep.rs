@@ -19,8 +19,8 @@
 //! from, by default 640x480, 800x600, 1024x768 and 1280x960; `--verbose`
 //! lists the worst photos with their looks and every refusal; `--csv PATH`
 //! writes every photo: seed, frame, error and stated std in px, the refusal,
-//! the sequence's factor levels, the true apex row and the edge fit's
-//! columns); `--keep DIR --seed S` draws and
+//! the sequence's factor levels, the true apex row, the edge fit's
+//! columns and its residual RMS); `--keep DIR --seed S` draws and
 //! tracks the one sequence of seed `S` (dirty from 1_000_001 on) into
 //! `DIR` and keeps its photos, `experiment.toml` and `truth.csv`, to look
 //! at a photo the table lists).
@@ -123,6 +123,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         refused: Some(format!("no temporary folder: {e}")),
                         truth_row_px: None,
                         columns: None,
+                        edge_rms_px: None,
                     }],
                 };
                 (seed, dirty, case.levels, photos)
@@ -222,6 +223,7 @@ fn write_csv(path: &str, results: &[Outcome]) -> Result<(), Box<dyn std::error::
         "levels",
         "truth_row_px",
         "columns",
+        "edge_rms_px",
     ])?;
     for (seed, dirty, levels, photos) in results {
         let look: Vec<String> = levels.iter().map(|(f, l)| format!("{f}={l}")).collect();
@@ -239,6 +241,7 @@ fn write_csv(path: &str, results: &[Outcome]) -> Result<(), Box<dyn std::error::
                 look.join(";"),
                 p.truth_row_px.map_or(String::new(), |r| format!("{r:.4}")),
                 p.columns.map_or(String::new(), |c| c.to_string()),
+                p.edge_rms_px.map_or(String::new(), |r| format!("{r:.5}")),
             ])?;
         }
     }

@@ -69,6 +69,9 @@ pub struct Photo {
     pub truth_row_px: Option<f64>,
     /// The columns of the edge fit, when written.
     pub columns: Option<usize>,
+    /// The edge fit's residual RMS, px, when written: what the guards
+    /// compare between photos.
+    pub edge_rms_px: Option<f64>,
 }
 
 /// The names of the factors, in the order of [`Case::levels`].
@@ -293,6 +296,7 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                 refused: Some(why.clone()),
                 truth_row_px: None,
                 columns: None,
+                edge_rms_px: None,
             })
             .collect()
     };
@@ -323,6 +327,7 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                     refused: None,
                     truth_row_px: Some(truth.apex_y_px),
                     columns: r.edge.map(|e| e.columns),
+                    edge_rms_px: r.edge.map(|e| e.rms),
                 }
             } else {
                 let why = t
@@ -336,6 +341,7 @@ pub fn run(case: &Case, dir: &Path) -> Vec<Photo> {
                     refused: Some(why),
                     truth_row_px: None,
                     columns: None,
+                    edge_rms_px: None,
                 }
             }
         })
