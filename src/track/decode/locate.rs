@@ -98,9 +98,13 @@ pub(super) fn every_frame(
             match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
                 Ok(()) => Ok(loc),
                 Err(why) => {
-                    // Only the trend rule broken: kept with a warning when
-                    // the search near the prediction finds nothing better.
+                    // Only the trend rule broken, or only the residual rule
+                    // (and not the trend): kept with a warning when the
+                    // search near the prediction finds nothing better.
                     let only_trend = why.is_trend();
+                    let only_residual = why
+                        .residual_warning()
+                        .filter(|_| guard.check_trend(f.pressure_pa, apex[1], std).is_ok());
                     let again = guard
                         .predict(f.pressure_pa)
                         .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
@@ -124,7 +128,13 @@ pub(super) fn every_frame(
                                 ));
                             Ok(loc)
                         }
-                        None => Err(why.to_string()),
+                        None => match only_residual {
+                            Some(w) => {
+                                warnings.push(format!("frame {i} ({}): {w}", f.file));
+                                Ok(loc)
+                            }
+                            None => Err(why.to_string()),
+                        },
                     }
                 }
             }

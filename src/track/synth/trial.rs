@@ -64,6 +64,9 @@ pub struct InitTrial {
     pub shares: [f64; 3],
     /// Photos tracked, of those written.
     pub tracked: [usize; 2],
+    /// The tracker's warnings (photos kept that broke a rule which is no
+    /// physical bound).
+    pub warnings: Vec<String>,
 }
 
 /// Writes `frames` as `spec` into `dir`, finds the set-up with `bulge
@@ -166,5 +169,6 @@ pub fn init_and_track(
         scale_own_z: (scale_err - found.scale_per_clamp_row * row_err_px) / scale_rel,
         shares: shares.map(|s| s / n),
         tracked: [t.rows.len(), w.truth.len()],
+        warnings: t.warnings.clone(),
     })
 }

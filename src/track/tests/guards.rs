@@ -56,6 +56,30 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
     );
     assert!(why([100.0, 141.0], edge(1e-5, 0.1, 120)).contains("curvature"));
     assert!(why([100.0, 141.0], edge(1.18e-3, 1.5, 120)).contains("columns disagree"));
+    // The residual rule alone is no physical bound: it says how to keep
+    // the frame; a physical rule does not.
+    let residual = g
+        .check(
+            300.0,
+            [100.0, 141.0],
+            [0.5, 0.02],
+            Some(&edge(1.18e-3, 1.5, 120)),
+        )
+        .unwrap_err();
+    assert!(
+        residual
+            .residual_warning()
+            .is_some_and(|w| w.contains("kept, since every physical rule holds"))
+    );
+    let below = g
+        .check(
+            300.0,
+            [100.0, 201.0],
+            [0.5, 0.02],
+            Some(&edge(1e-3, 0.1, 120)),
+        )
+        .unwrap_err();
+    assert!(below.residual_warning().is_none(), "{below}");
     assert!(why([100.0, 141.0], edge(1.18e-3, 0.1, 40)).contains("columns against"));
     assert!(why([130.0, 141.0], edge(1.18e-3, 0.1, 120)).contains("apex column moved"));
 }
