@@ -43,11 +43,8 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
         Some(&edge(1.18e-3, 0.1, 120)),
     );
     assert!(ok.is_ok(), "{ok:?}");
-    let why = |apex: [f64; 2], e: EdgeFit| {
-        g.check(300.0, apex, [0.5, 0.02], Some(&e))
-            .unwrap_err()
-            .to_string()
-    };
+    let err = |apex: [f64; 2], e: EdgeFit| g.check(300.0, apex, [0.5, 0.02], Some(&e)).unwrap_err();
+    let why = |apex: [f64; 2], e: EdgeFit| err(apex, e).to_string();
     assert!(why([100.0, 201.0], edge(1e-3, 0.1, 120)).contains("clamp plane"));
     assert!(why([100.0, 152.0], edge(1e-3, 0.1, 120)).contains("against the pressure"));
     assert!(
@@ -58,27 +55,13 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
     assert!(why([100.0, 141.0], edge(1.18e-3, 1.5, 120)).contains("columns disagree"));
     // The residual rule alone is no physical bound: it says how to keep
     // the frame; a physical rule does not.
-    let residual = g
-        .check(
-            300.0,
-            [100.0, 141.0],
-            [0.5, 0.02],
-            Some(&edge(1.18e-3, 1.5, 120)),
-        )
-        .unwrap_err();
+    let residual = err([100.0, 141.0], edge(1.18e-3, 1.5, 120));
     assert!(
         residual
             .residual_warning()
             .is_some_and(|w| w.contains("kept, since every physical rule holds"))
     );
-    let below = g
-        .check(
-            300.0,
-            [100.0, 201.0],
-            [0.5, 0.02],
-            Some(&edge(1e-3, 0.1, 120)),
-        )
-        .unwrap_err();
+    let below = err([100.0, 201.0], edge(1e-3, 0.1, 120));
     assert!(below.residual_warning().is_none(), "{below}");
     assert!(why([100.0, 141.0], edge(1.18e-3, 0.1, 40)).contains("columns against"));
     assert!(why([130.0, 141.0], edge(1.18e-3, 0.1, 120)).contains("apex column moved"));
