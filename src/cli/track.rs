@@ -35,9 +35,12 @@ pub struct Args {
     pub min_score: f64,
 
     /// Leave frames below --min-score, and frames whose apex the
-    /// plausibility guards refuse (below the clamp plane, a jump, against
-    /// the pressure, an edge that is not the dome's), out of the output
-    /// (they are listed on stderr with the reason) instead of failing.
+    /// plausibility guards refuse (below the clamp plane, against the
+    /// pressure, an edge that is not the dome's), out of the output (they
+    /// are listed on stderr with the reason) instead of failing. A frame
+    /// that breaks only a rule no physics bounds (a jump beyond the trend,
+    /// an edge residual above the frames' before) is kept either way, with
+    /// a warning naming the photo.
     #[arg(long)]
     pub skip_bad_frames: bool,
 
