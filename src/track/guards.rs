@@ -160,13 +160,22 @@ impl Implausible {
         matches!(self, Implausible::Jumped { .. })
     }
 
-    /// When only the residual rule is broken ([`Guard::check_physical`]
-    /// tests it last, so every physical property held), the warning to
-    /// keep the frame with: it is no physical property either, since the
-    /// noise at the edge is not the same in every photo (a codec's blocks,
-    /// the exposure), and the height's stated error grows with the
-    /// residual. Such a frame may be kept when the trend rule holds too.
-    pub(crate) fn residual_warning(&self) -> Option<String> {
+    /// The warning to keep a frame with when the rule it breaks is none
+    /// that a membrane's physics bounds (`None` for a physical rule):
+    /// - the trend ([`Guard::check_trend`]): near the limit pressure the
+    ///   height's step between two photos is unbounded;
+    /// - the residual ([`Guard::check_physical`] tests it last, so every
+    ///   physical property held): the noise at the edge is not the same in
+    ///   every photo (a codec's blocks, the exposure), and the height's
+    ///   stated error grows with the residual.
+    ///
+    /// [`Guard::kept_warning`] adds that the trend must hold for the second.
+    fn kept_warning(&self) -> Option<String> {
+        if self.is_trend() {
+            return Some(format!(
+                "{self}; kept, since no membrane law bounds the height's step between two photos (near the limit pressure the height grows without bound): check this photo's height, or add photos between it and the one before"
+            ));
+        }
         match self {
             Implausible::ColumnsDisagree {
                 rms,
@@ -410,6 +419,25 @@ impl Guard {
         Ok(())
     }
 
+    /// When the frame whose check gave `why` (apex row `y`, standard
+    /// error `std`, px, at pressure `p`) broke only a rule no physics
+    /// bounds, the warning to keep it with
+    /// ([`Implausible::kept_warning`]): the trend rule alone, or the
+    /// residual rule alone with the trend holding ([`Guard::check`] tests
+    /// the trend only after every other rule). `None` otherwise.
+    pub(super) fn kept_warning(
+        &self,
+        why: &Implausible,
+        p: f64,
+        y: f64,
+        std: f64,
+    ) -> Option<String> {
+        match why {
+            Implausible::ColumnsDisagree { .. } if self.check_trend(p, y, std).is_err() => None,
+            _ => why.kept_warning(),
+        }
+    }
+
     /// The trend rule: the apex row `y` (standard error `std`, px) at
     /// pressure `p` lies within `2 px + |predicted step| + 4 std` of the
     /// row extrapolated linearly in pressure from the last two accepted
@@ -417,8 +445,8 @@ impl Guard {
     /// limit point `dh/dp` grows without bound, so a coarse step there
     /// breaks it on a clean photo. It is the trigger of the search near
     /// the predicted apex; a frame that breaks only this rule, and whose
-    /// search finds nothing better, is kept with a warning (see
-    /// `decode.rs`).
+    /// search finds nothing better, is kept with a warning
+    /// ([`Guard::kept_warning`]).
     pub(super) fn check_trend(&self, p: f64, y: f64, std: f64) -> Result<(), Implausible> {
         if self.history.len() >= 2
             && let Some(pred) = self.predict(p)

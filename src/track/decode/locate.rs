@@ -98,13 +98,11 @@ pub(super) fn every_frame(
             match guard.check(f.pressure_pa, apex, [x_std, std], loc.edge.as_ref()) {
                 Ok(()) => Ok(loc),
                 Err(why) => {
-                    // Only the trend rule broken, or only the residual rule
-                    // (and not the trend): kept with a warning when the
-                    // search near the prediction finds nothing better.
-                    let only_trend = why.is_trend();
-                    let only_residual = why
-                        .residual_warning()
-                        .filter(|_| guard.check_trend(f.pressure_pa, apex[1], std).is_ok());
+                    // Only a rule no physics bounds broken (the trend, or
+                    // the residual with the trend holding): kept with a
+                    // warning when the search near the prediction finds
+                    // nothing better.
+                    let kept = guard.kept_warning(&why, f.pressure_pa, apex[1], std);
                     let again = guard
                         .predict(f.pressure_pa)
                         .and_then(|pred| state.locate_at(crop, extremes, pred).transpose())
@@ -121,14 +119,7 @@ pub(super) fn every_frame(
                         });
                     match again {
                         Some(l) => Ok(l),
-                        None if only_trend => {
-                            warnings.push(format!(
-                                    "frame {i} ({}): {why}; kept, since no membrane law bounds the height's step between two photos (near the limit pressure the height grows without bound): check this photo's height, or add photos between it and the one before",
-                                    f.file
-                                ));
-                            Ok(loc)
-                        }
-                        None => match only_residual {
+                        None => match kept {
                             Some(w) => {
                                 warnings.push(format!("frame {i} ({}): {w}", f.file));
                                 Ok(loc)

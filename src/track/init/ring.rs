@@ -334,6 +334,7 @@ pub(super) fn centre_scale(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::track::init::plane::three_column_row;
 
     /// The far side's points projected from a circle of 2000 points (not
     /// through `circle_rows`) come back to the camera that drew them.
@@ -418,8 +419,7 @@ mod tests {
         let pts: Vec<[f64; 2]> = ((1.04 * a_px).ceil() as i64..=(w - 0.5).floor() as i64)
             .filter_map(|dx| {
                 let x = x0 + dx as f64;
-                let row =
-                    super::super::plane::three_column_row(x, |x| side_row(&p, outer, x, false))?;
+                let row = three_column_row(x, |x| side_row(&p, outer, x, false))?;
                 let u = w - dx as f64;
                 Some([x, row + if u < 4.0 { 0.3 * (1.0 - u / 4.0) } else { 0.0 }])
             })
@@ -455,12 +455,12 @@ mod tests {
     fn a_curving_edge_is_read_as_its_three_columns_mean() {
         let k = 0.05;
         for x in [-30.0, 0.0, 7.0, 120.0] {
-            let r = super::super::plane::three_column_row(x, |u| Some(k * u * u)).unwrap();
+            let r = three_column_row(x, |u| Some(k * u * u)).unwrap();
             assert!((r - (k * x * x + 2.0 * k / 3.0)).abs() < 1e-12, "{x}: {r}");
         }
         let arc = |u: f64| (u.abs() <= 10.0).then(|| (100.0 - u * u).sqrt());
-        assert!(super::super::plane::three_column_row(9.5, arc).is_none());
-        assert!(super::super::plane::three_column_row(8.0, arc).is_some());
+        assert!(three_column_row(9.5, arc).is_none());
+        assert!(three_column_row(8.0, arc).is_some());
     }
 
     /// The scale comes back from the opening's tangent width.

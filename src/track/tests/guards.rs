@@ -57,12 +57,14 @@ fn the_plausibility_guards_refuse_what_a_dome_cannot_do() {
     // the frame; a physical rule does not.
     let residual = err([100.0, 141.0], edge(1.18e-3, 1.5, 120));
     assert!(
-        residual
-            .residual_warning()
+        g.kept_warning(&residual, 300.0, 141.0, 0.02)
             .is_some_and(|w| w.contains("kept, since every physical rule holds"))
     );
     let below = err([100.0, 201.0], edge(1e-3, 0.1, 120));
-    assert!(below.residual_warning().is_none(), "{below}");
+    assert!(
+        g.kept_warning(&below, 300.0, 201.0, 0.02).is_none(),
+        "{below}"
+    );
     assert!(why([100.0, 141.0], edge(1.18e-3, 0.1, 40)).contains("columns against"));
     assert!(why([130.0, 141.0], edge(1.18e-3, 0.1, 120)).contains("apex column moved"));
 }
