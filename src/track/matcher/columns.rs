@@ -670,8 +670,8 @@ mod tests {
     fn two_lines_side_by_side_the_lower_on_the_edge_leave_the_column_out() {
         // The emptiest photo's column 497 (rows 148-167) of the sweep's
         // seed 1 000 493, 800x600: two cables side by side, troughs at
-        // rows 153 (131) and 159-160 (146) against a wall at 189, the
-        // wall between them at 163. The top of the photo tracked crosses
+        // rows 153 (131) and 159-160 (146) against a wall at 189, a ridge
+        // of 163 between them. The top of the photo tracked crosses
         // this column at row 159 (step about 80 grey levels, dome darker).
         let band = [
             189, 180, 169, 158, 136, 131, 138, 155, 163, 162, 155, 146, 147, 156, 169, 181, 188,
