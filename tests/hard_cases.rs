@@ -184,6 +184,12 @@ mod tests {
         assert!(matches!(err, SimError::NoEquilibrium { .. }), "{err}");
         let note = limit_note(&mat, a, t, 1.3 * pl).unwrap();
         assert!(note.contains(&format!("{p_lim:.6e}")), "{note}");
+        // below it the law has an equilibrium, a softer spring model may not
+        let below = limit_note(&mat, a, t, 0.9 * pl).unwrap();
+        assert!(
+            below.contains("below it") && below.contains("its own limit point"),
+            "{below}"
+        );
         // the dynamic run at that pressure grows until the watch stops it
         let m = mesh::disc(DiscOptions {
             radius_m: a,

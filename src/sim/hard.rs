@@ -47,7 +47,7 @@ pub fn limit_note(
         )
     } else {
         format!(
-            "this disc's limit pressure is {pl:.6e} Pa (exact axisymmetric solution); {} Pa is below it, so an equilibrium exists: add intermediate pressures or raise the iteration cap",
+            "this law's limit pressure for the disc is {pl:.6e} Pa (exact axisymmetric solution); {} Pa is below it, so the law has an equilibrium there, but a spring model softer than the law (its heights above the exact ones at the pressures before) reaches its own limit point sooner and then has none: compare its heights with the exact solution's; otherwise add intermediate pressures or raise the iteration cap",
             crate::io::fmt_short(pressure_pa)
         )
     })
