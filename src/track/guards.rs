@@ -156,7 +156,7 @@ pub(crate) enum Implausible {
 impl Implausible {
     /// Whether only the trend rule is broken (no physical property): such
     /// a frame may be kept with a warning.
-    pub(crate) fn is_trend(&self) -> bool {
+    fn is_trend(&self) -> bool {
         matches!(self, Implausible::Jumped { .. })
     }
 

@@ -305,13 +305,23 @@ fn line_clear_above(emptiest: &Gray, c: usize, e: f64, hw: f64, lim: f64) -> boo
 
 /// The darkest and the lightest mean of two neighbouring rows of column
 /// `c` within rows `a..b` (clipped to the image).
-fn pair_range(img: &Gray, c: usize, (a, b): (i64, i64)) -> (f64, f64) {
-    let (a, b) = (a.max(0), b.min(img.height as i64 - 2));
-    (a..b)
-        .map(|j| 0.5 * (f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1))))
+fn pair_range(img: &Gray, c: usize, rows: (i64, i64)) -> (f64, f64) {
+    pair_means(img, c, rows)
+        .1
+        .into_iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
             (l.min(v), h.max(v))
         })
+}
+
+/// The means of two neighbouring rows `j, j + 1` of column `c` for `j` in
+/// rows `a..b` clipped to the image, with the first `j` (the clipped `a`).
+fn pair_means(img: &Gray, c: usize, (a, b): (i64, i64)) -> (i64, Vec<f64>) {
+    let (a, b) = (a.max(0), b.min(img.height as i64 - 2));
+    let v = (a..b)
+        .map(|j| 0.5 * (f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1))))
+        .collect();
+    (a, v)
 }
 
 /// Whether column `c` of `emptiest` shows a valley or ridge deeper than
@@ -591,18 +601,15 @@ pub(super) fn valley_in(
 fn valleys(
     img: &Gray,
     c: usize,
-    (a, b): (i64, i64),
+    rows: (i64, i64),
     bottoms: (i64, i64),
     lim: f64,
     wall: Option<(f64, f64)>,
 ) -> bool {
-    let (a, b) = (a.max(0), b.min(img.height as i64 - 2));
-    if b <= a + 1 {
+    let (a, v) = pair_means(img, c, rows);
+    if v.len() < 2 {
         return false;
     }
-    let v: Vec<f64> = (a..b)
-        .map(|j| 0.5 * (f64::from(img.at(c, j as usize)) + f64::from(img.at(c, j as usize + 1))))
-        .collect();
     let n = v.len();
     let (mut hi, mut lo) = (vec![0.0; n], vec![0.0; n]);
     let (mut h, mut l) = (f64::NEG_INFINITY, f64::INFINITY);
