@@ -10,7 +10,8 @@ A development tool, outside bulge's dependencies: it needs Mitsuba 3 (Jakob et a
 The scene is a clamped disc inflated to the exact axisymmetric neo-Hookean shape (from
 `bulge simulate --model axisym --profile`, one solve per photo), revolved into a mesh, on a
 clamp ring with a top face and a side, a table below, a wall behind, lit by an area lamp
-above the camera and a dim sky. A perspective camera `--distance-m` from the axis, aimed at
+above the camera and a dim sky (and, with `--back-lamp-deg`, a small lamp behind the bubble
+whose mirror image a glossy dome shows under its top). A perspective camera `--distance-m` from the axis, aimed at
 the mid-height of the largest bubble from `--camera-above-m` above that point, renders
 linear light; the lens blur is applied in linear light, then shot and read noise, the sRGB
 tone curve, 8-bit rounding and JPEG. The folder gets photos/, pressure.csv (file,pressure_pa),
@@ -31,6 +32,29 @@ import tempfile
 
 import numpy as np
 from PIL import Image
+
+
+def back_lamp(theta_deg, a, h_max, origin):
+    """A small square lamp behind and above the largest dome, 20 degrees to the left of the
+    camera's plane, placed where the mirror direction of the camera's ray off the sphere
+    through the largest dome's rim and pole at theta_deg from the pole towards the camera
+    points, 0.09 m from that point: a glossy coat shows its highlight under the top."""
+    import mitsuba as mi
+
+    r = (a * a + h_max * h_max) / (2 * h_max)
+    t, phi = math.radians(theta_deg), math.radians(-20.0)
+    centre = np.array([0.0, h_max - r, 0.0])
+    n = np.array([math.sin(t) * math.sin(phi), math.cos(t), math.sin(t) * math.cos(phi)])
+    point = centre + r * n
+    v = origin - point
+    v = v / np.linalg.norm(v)
+    l = 2 * np.dot(n, v) * n - v
+    pos = point + 0.09 * l
+    return {"type": "rectangle",
+            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [300, 300, 300]}},
+            "to_world": mi.ScalarTransform4f.look_at(
+                origin=pos.tolist(), target=point.tolist(), up=[0, 1, 0])
+            @ mi.ScalarTransform4f.scale(0.006)}
 
 
 def profile(bulge, material, radius_m, thickness_m, pressures, i):
@@ -137,6 +161,10 @@ def main():
     ap.add_argument("--wall", type=float, default=0.55)
     ap.add_argument("--quality", type=int, default=92, help="JPEG quality (0: PNG)")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--back-lamp-deg", type=float, default=0.0,
+                    help="add a small lamp behind the bubble whose mirror image on the largest "
+                         "dome lies this many degrees from its pole towards the camera "
+                         "(0: none); a glossy dome then shows a highlight under its top")
     args = ap.parse_args()
 
     import mitsuba as mi
@@ -183,7 +211,7 @@ def main():
         if args.gloss > 0:
             dome_bsdf = {"type": "roughplastic", "alpha": args.gloss,
                          "diffuse_reflectance": {"type": "rgb", "value": [args.dome] * 3}}
-        scene = mi.load_dict({
+        scene = {
             "type": "scene",
             "integrator": {"type": "path", "max_depth": 6},
             "sensor": {
@@ -213,7 +241,10 @@ def main():
                          origin=[0.05, 0.3, 0.3], target=[0, 0.02, 0], up=[0, 1, 0])
                      @ mi.ScalarTransform4f.scale(0.06)},
             "sky": {"type": "constant", "radiance": {"type": "rgb", "value": [0.25, 0.25, 0.25]}},
-        })
+        }
+        if args.back_lamp_deg > 0:
+            scene["back_lamp"] = back_lamp(args.back_lamp_deg, a, h_max, origin)
+        scene = mi.load_dict(scene)
         img = np.array(mi.render(scene))
         lum = 0.2126 * img[..., 0] + 0.7152 * img[..., 1] + 0.0722 * img[..., 2]
         if exposure is None:
