@@ -159,7 +159,15 @@ pub(super) fn edge_fit_core(
         let Some(strong) = strong_columns(candidates, 5, UPPER_SHARE) else {
             break;
         };
-        let pts: Vec<(f64, f64)> = strong.iter().map(|l| (l.0, l.1)).collect();
+        // Each row less the pull of light added under a light dome's edge
+        // ([`overshoot_shift`]).
+        let pts: Vec<(f64, f64)> = strong
+            .iter()
+            .map(|&(u, e, step)| {
+                let c = (u + centre).round() as usize;
+                (u, e - overshoot_shift(cols.img, c, e, cols.hw, step))
+            })
+            .collect();
         let (fit, pts) = robust_parabola(&pts, even)?;
         coef = fit.coef;
         let r = summarise(&fit, &pts, centre, span as f64, false);
@@ -253,7 +261,15 @@ pub(super) fn edge_fit_core(
     let turn = if !strong.is_empty() {
         let shifts: f64 = kept_turning(true)
             .map(|(u, e, step)| {
-                turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+                let shift =
+                    turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step);
+                // Taken off the centroids' rows: what is left of it (the
+                // step model's rows, where they are the fit's, keep it).
+                if step > 0.0 && !r.two_sided {
+                    shift / OVERSHOOT_SPREAD
+                } else {
+                    shift
+                }
             })
             .sum();
         let mean = shifts / kept.len().max(1) as f64;

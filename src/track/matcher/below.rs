@@ -117,8 +117,9 @@ fn turn_back(
 }
 
 /// The shift of a column's centroid that a dome side turning back under
-/// the edge can cause, px, an upper estimate from the centroid's
-/// definition ([`profile_edge`], in light): the dome side rises beyond its
+/// the edge can cause, px, an estimate from the centroid's definition
+/// ([`profile_edge`], in light; the light added taken as even in the row
+/// between the edge and the turn's peak): the dome side rises beyond its
 /// own level by the turn's rise (a share `r` of the step from the
 /// background, above the window, to the level it turns back to) up to the
 /// peak `p` px below the edge before it falls back; the centroid sums only
@@ -142,6 +143,36 @@ pub(super) fn turn_back_shift(img: &Gray, c: usize, e: f64, hw: f64, step: f64) 
             r * arm / (1.0 + r)
         }
         _ => 0.0,
+    }
+}
+
+/// The corrected pull of [`overshoot_shift`] over the standard deviation
+/// left in it, `sqrt(3)`: the light it adds lies between the edge and the
+/// turn's peak, `p` px below it, and [`turn_back_shift`] takes its mean
+/// offset as `p / 2` (a rise even in the row). Where in that range the
+/// light lies is not read (a highlight's flank rises faster near its peak
+/// than near the edge, or the other way), so the mean offset is taken as
+/// evenly spread over `0..p`: its deviation is `p / sqrt(12)`, the
+/// correction's `1 / sqrt(3)` of the correction.
+pub(super) const OVERSHOOT_SPREAD: f64 = 1.732_050_807_568_877_2;
+
+/// The correction of a column's centroid for light added under its edge,
+/// px into the dome: [`turn_back_shift`] where the dome is lighter than
+/// its background (`step > 0`, the grey levels rising into the dome) and
+/// its side [`turns_back`], 0 elsewhere. On such a dome, light added under
+/// the edge (a highlight) continues the step past the dome's own level
+/// before it turns back, so the differences it adds have the step's
+/// polarity and are summed: the pull that [`turn_back_shift`] works out
+/// is there, into the dome. On a dome darker than its background the same
+/// light turns the dome side towards the background instead: its
+/// differences are against the step's polarity and left out, and it cuts
+/// the step's lower tail short, which lifts the centroid; that shift is
+/// not the one worked out, and it stays a term of the uncertainty only.
+pub(super) fn overshoot_shift(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> f64 {
+    if step > 0.0 && turns_back(img, c, e, hw, step) {
+        turn_back_shift(img, c, e, hw, step)
+    } else {
+        0.0
     }
 }
 

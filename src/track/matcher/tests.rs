@@ -764,3 +764,37 @@ fn a_glossy_first_top_stands_off_the_wall_and_a_lines_border_does_not() {
         }
     }
 }
+
+/// A highlight under a light dome's edge (205 under a dark wall of 45), a
+/// Gaussian of 40-60 grey levels peaking 3-5 px under the edge, blurred by
+/// 0.8 or 1.4 px and pixel-averaged: its near flank continues the step,
+/// and the centroid is pulled into the dome by 0.10-0.40 px.
+/// [`overshoot_shift`] takes the pull off to within two of the deviations
+/// it leaves (its shift over [`OVERSHOOT_SPREAD`]; 0.14 px left at most).
+/// The same highlight on a dark dome (72 under 190) turns the dome side
+/// towards the background and lifts the centroid (0.11-0.63 px): nothing
+/// is taken off there.
+#[test]
+fn a_highlight_under_a_light_domes_edge_is_taken_off_and_under_a_dark_ones_not() {
+    for sigma in [0.8, 1.4] {
+        for e in [30.0, 30.4] {
+            for (at, amp) in [(3.0, 40.0), (4.0, 60.0), (5.0, 40.0)] {
+                let case = format!("blur {sigma}, edge {e}, spot of {amp} at {at} px");
+                let spot = |d: f64| amp * (-0.5 * ((d - at) / 1.5).powi(2)).exp();
+                let light = columns_image(&blurred_dome(45.0, |d| 205.0 + spot(d), e, sigma), 1);
+                let (c, step) = column_edge(&light, 0, e, 3.0).unwrap();
+                let shift = overshoot_shift(&light, 0, c, 3.0, step);
+                let (pulled, left) = (c - e, c - shift - e);
+                assert!(pulled > 0.05, "{case}: the centroid {c} is not pulled");
+                assert!(
+                    left.abs() <= 2.0 * shift / OVERSHOOT_SPREAD,
+                    "{case}: pulled {pulled:+.3} px, taken off {shift:.3}, left {left:+.3}"
+                );
+                let dark = columns_image(&blurred_dome(190.0, |d| 72.0 + spot(d), e, sigma), 1);
+                let (c, step) = column_edge(&dark, 0, e, 3.0).unwrap();
+                assert!(c < e, "{case}: the dark dome's centroid {c} is not lifted");
+                assert_eq!(overshoot_shift(&dark, 0, c, 3.0, step), 0.0, "{case}");
+            }
+        }
+    }
+}
