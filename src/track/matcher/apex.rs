@@ -202,8 +202,22 @@ pub(super) fn edge_fit_core(
         cols.is_emptiest && 4 * located.iter().filter(lined).count() >= located.len();
     // The fit, its columns and the step model's term (px^2); the fit's
     // `y_std` is its statistical error alone until the terms below join it.
+    // The step model is tested against the rows as located, before a light
+    // dome's highlight was taken off them: the highlight pulls the step
+    // model too (nearly as much, on the tracker sweep's light domes), so
+    // against the corrected rows the difference would hold the correction,
+    // not a bias the two models do not share.
+    let located_rows: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|&(u, y)| {
+            strong
+                .iter()
+                .find(|l| l.0 == u)
+                .map_or((u, y), |l| (u, l.1))
+        })
+        .collect();
     let (r, kept, model2) =
-        match test.and_then(|t| two_sided_refit(cols, &pts, centre, u_v, even, t)) {
+        match test.and_then(|t| two_sided_refit(cols, &located_rows, centre, u_v, even, t)) {
             Some(TwoSided::Model(fit, kept, spread2)) => {
                 let r = result?;
                 let m = summarise(&fit, &kept, centre, span as f64, true);
