@@ -200,8 +200,6 @@ pub(super) fn edge_fit_core(
     };
     let clutter_on_top =
         cols.is_emptiest && 4 * located.iter().filter(lined).count() >= located.len();
-    // The fit, its columns and the step model's term (px^2); the fit's
-    // `y_std` is its statistical error alone until the terms below join it.
     // The step model is tested against the rows as located, before a light
     // dome's highlight was taken off them: the highlight pulls the step
     // model too (nearly as much, on the tracker sweep's light domes), so
@@ -216,6 +214,8 @@ pub(super) fn edge_fit_core(
                 .map_or((u, y), |l| (u, l.1))
         })
         .collect();
+    // The fit, its columns and the step model's term (px^2); the fit's
+    // `y_std` is its statistical error alone until the terms below join it.
     let (r, kept, model2) =
         match test.and_then(|t| two_sided_refit(cols, &located_rows, centre, u_v, even, t)) {
             Some(TwoSided::Model(fit, kept, spread2)) => {
