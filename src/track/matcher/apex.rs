@@ -143,13 +143,15 @@ pub(super) fn edge_fit_core(
         if on_line > 3 * located.len() {
             return None;
         }
-        // Leave out the columns with a bright spot under the edge, where
-        // enough others remain.
+        // Leave out the columns with a bright spot under the edge, or light
+        // there beyond the sensor's range, where enough others remain.
         let unspotted: Vec<(f64, f64, f64)> = located
             .iter()
             .copied()
             .filter(|&(u, e, step)| {
-                !spot_below(cols.img, (u + centre).round() as usize, e, cols.hw, step)
+                let c = (u + centre).round() as usize;
+                !spot_below(cols.img, c, e, cols.hw, step)
+                    && !clipped_below(cols.img, c, e, cols.hw)
             })
             .collect();
         let enough = unspotted.len() >= SPOT_MIN_KEPT && 4 * unspotted.len() >= located.len();

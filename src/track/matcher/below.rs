@@ -49,6 +49,19 @@ pub(super) fn spot_below(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> bo
     rise > lim && fell
 }
 
+/// Whether the dome side under an edge at row `e` of column `c` reaches
+/// the sensor's full scale (grey level 255) within the rows below the edge
+/// that its location reads ([`rows_read_below`]): light added there (a
+/// highlight) beyond what the sensor records is lost, so the differences
+/// that the centroid and the slope below the edge sum there are not the
+/// scene's, and the column's edge row is off by an amount nothing in the
+/// photo measures.
+pub(super) fn clipped_below(img: &Gray, c: usize, e: f64, hw: f64) -> bool {
+    let (j0, j1) = rows_read_below(e, hw);
+    let j1 = j1.min(img.height as i64 - 1);
+    (j0.max(0)..=j1).any(|j| img.at(c, j as usize) == u8::MAX)
+}
+
 /// The share of an edge's step by which the dome side under it must turn
 /// back towards the background for the edge to be tested against the step
 /// model ([`turns_back`], [`StepTest::Widen`]).

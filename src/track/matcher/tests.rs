@@ -3,6 +3,8 @@
 
 use super::*;
 
+mod light;
+
 #[test]
 fn quadratic_peak_recovers_offset_of_a_paraboloid() {
     let (px, py) = (0.3, -0.2);
@@ -601,44 +603,6 @@ fn blurred(f: impl Fn(f64) -> f64, sigma: f64, len: usize) -> Vec<f64> {
         .collect()
 }
 
-/// A glossy rim: under an edge at `e` (background 200 above, a dark dome
-/// of 60 below) the dome side is lighter towards the outline by `A` times
-/// Schlick's factor of an outline of radius 300 px ([`rim_factor`]),
-/// blurred and pixel-averaged. The centroid is pulled into the dome by
-/// 0.1-0.3 px; the amplitude that [`rim_tail`] reads from the rows beyond
-/// the window, through [`rim_shift`], gives that pull within half of it
-/// (0.10-0.30 px pulled, 0.13-0.31 predicted; the model leaves the blur
-/// out, and at a blur of 1.5 px it is up to 0.04 px off).
-#[test]
-fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
-    let r = 300.0;
-    for sigma in [0.8, 1.5] {
-        for e in [30.0, 30.4] {
-            for amp in [40.0, 80.0] {
-                let p = blurred_dome(
-                    200.0,
-                    |d| 60.0 + amp * rim_factor(RimShape::Glossy, d, r),
-                    e,
-                    sigma,
-                );
-                let img = columns_image(&p, 1);
-                let (c, step) = column_edge(&img, 0, e, 3.0).unwrap();
-                let (share, _) = rim_tail(&img, 0, c, 3.0, step, r, RimShape::Glossy).unwrap();
-                let predicted = rim_shift(RimShape::Glossy, share, 3.0, r);
-                assert!(
-                    c - e > 0.05,
-                    "sigma {sigma} e {e} amp {amp}: the centroid {c} is not pulled"
-                );
-                assert!(
-                    (c - e - predicted).abs() <= 0.5 * predicted,
-                    "sigma {sigma} e {e} amp {amp}: pulled {:.3} px, predicted {predicted:.3} (share {share:.3})",
-                    c - e
-                );
-            }
-        }
-    }
-}
-
 /// A step at row `e` from `above` to the dome's light `dome(d)` `d` px
 /// under it, blurred by a Gaussian of `sigma` px and pixel-averaged, 64
 /// rows ([`blurred`]; [`blurred_step`] with a straight dome side).
@@ -761,40 +725,6 @@ fn a_glossy_first_top_stands_off_the_wall_and_a_lines_border_does_not() {
                 !below_is_not_wall(&line, 0, c, step),
                 "sigma {sigma} e {e}: the line's border at {c} taken for a step"
             );
-        }
-    }
-}
-
-/// A highlight under a light dome's edge (205 under a dark wall of 45), a
-/// Gaussian of 40-60 grey levels peaking 3-5 px under the edge, blurred by
-/// 0.8 or 1.4 px and pixel-averaged: its near flank continues the step,
-/// and the centroid is pulled into the dome by 0.10-0.40 px.
-/// [`overshoot_shift`] takes the pull off to within two of the deviations
-/// it leaves (its shift over [`OVERSHOOT_SPREAD`]; 0.14 px left at most).
-/// The same highlight on a dark dome (72 under 190) turns the dome side
-/// towards the background and lifts the centroid (0.11-0.63 px): nothing
-/// is taken off there.
-#[test]
-fn a_highlight_under_a_light_domes_edge_is_taken_off_and_under_a_dark_ones_not() {
-    for sigma in [0.8, 1.4] {
-        for e in [30.0, 30.4] {
-            for (at, amp) in [(3.0, 40.0), (4.0, 60.0), (5.0, 40.0)] {
-                let case = format!("blur {sigma}, edge {e}, spot of {amp} at {at} px");
-                let spot = |d: f64| amp * (-0.5 * ((d - at) / 1.5).powi(2)).exp();
-                let light = columns_image(&blurred_dome(45.0, |d| 205.0 + spot(d), e, sigma), 1);
-                let (c, step) = column_edge(&light, 0, e, 3.0).unwrap();
-                let shift = overshoot_shift(&light, 0, c, 3.0, step);
-                let (pulled, left) = (c - e, c - shift - e);
-                assert!(pulled > 0.05, "{case}: the centroid {c} is not pulled");
-                assert!(
-                    left.abs() <= 2.0 * shift / OVERSHOOT_SPREAD,
-                    "{case}: pulled {pulled:+.3} px, taken off {shift:.3}, left {left:+.3}"
-                );
-                let dark = columns_image(&blurred_dome(190.0, |d| 72.0 + spot(d), e, sigma), 1);
-                let (c, step) = column_edge(&dark, 0, e, 3.0).unwrap();
-                assert!(c < e, "{case}: the dark dome's centroid {c} is not lifted");
-                assert_eq!(overshoot_shift(&dark, 0, c, 3.0, step), 0.0, "{case}");
-            }
         }
     }
 }
