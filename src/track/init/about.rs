@@ -220,6 +220,23 @@ impl Steps34<'_> {
                 for _ in 0..3 {
                     a = unbiased(&o, camera_distance_m, e, scale_of(a.value), clamp.row.value);
                 }
+                // An opening whose width cannot be told from none at the
+                // 95 % level (1.96 of its deviations) is not measured: the
+                // sides read above the clamp row do not close into one
+                // there, so that row is most likely not the clamp plane.
+                if a.value < 1.96 * a.std {
+                    return Err(TrackError::NotFound {
+                        what: "the bubble's opening at the clamp plane".into(),
+                        detail: format!(
+                            "the bubble's sides above the clamp row found ({:.1} +- {:.1} px) extrapolate to an opening 2a = {:.1} +- {:.1} px wide there, which cannot be told from none: that row is most likely not the clamp plane (another edge across the ring, a lit floor or table behind it); open the photos to find the clamp's top edge",
+                            clamp.row.value,
+                            clamp.row.std,
+                            2.0 * a.value,
+                            2.0 * a.std
+                        ),
+                        keys: "clamp_row_px, or the scale (metres_per_pixel)",
+                    });
+                }
                 let sides = o.sides;
                 let mpp = scale_of(a.value);
                 scale_per_clamp_row = -o.per_clamp_row / a.value;
