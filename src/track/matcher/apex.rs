@@ -281,7 +281,7 @@ pub(super) fn edge_fit_core(
                     turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step);
                 // Taken off the centroids' rows: what is left of it (the
                 // step model's rows, where they are the fit's, keep it).
-                if step > 0.0 && !r.two_sided {
+                if is_light_dome(step) && !r.two_sided {
                     shift / OVERSHOOT_SPREAD
                 } else {
                     shift

@@ -182,11 +182,18 @@ pub(super) const OVERSHOOT_SPREAD: f64 = 1.732_050_807_568_877_2;
 /// the step's lower tail short, which lifts the centroid; that shift is
 /// not the one worked out, and it stays a term of the uncertainty only.
 pub(super) fn overshoot_shift(img: &Gray, c: usize, e: f64, hw: f64, step: f64) -> f64 {
-    if step > 0.0 && turns_back(img, c, e, hw, step) {
+    if is_light_dome(step) && turns_back(img, c, e, hw, step) {
         turn_back_shift(img, c, e, hw, step)
     } else {
         0.0
     }
+}
+
+/// Whether an edge of step `step` (grey levels, positive where they rise
+/// into the dome) bounds a dome lighter than its background, on which
+/// [`overshoot_shift`] takes a highlight's pull off the edge row.
+pub(super) fn is_light_dome(step: f64) -> bool {
+    step > 0.0
 }
 
 /// The rows below an edge at row `e` (window half-height `hw`) over which
