@@ -347,3 +347,41 @@ fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
         }
     }
 }
+
+/// A path-traced scene whose lamp lights the ring's face and the floor
+/// before the ring (`fixtures/track/lit_floor/README.md`): init finds the
+/// clamp plane at row 439 +- 12 (the face lies at rows 378-392), where the
+/// bubble's sides extrapolate to an opening 2a = 117 +- 4312 px. An
+/// opening that cannot be told from none is not a scale: init refuses it
+/// with exit 2, naming the clamp row and the keys to set, and writes no
+/// experiment file.
+#[test]
+fn an_opening_that_cannot_be_told_from_none_is_refused() {
+    let dir = tempdir();
+    let src = fixture("track/lit_floor");
+    let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
+    let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
+    bulge_in(
+        dir.path(),
+        &[
+            "init",
+            &photos,
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--pressure",
+            &pressure,
+            "--camera",
+            &camera,
+            "-o",
+            "e.toml",
+        ],
+    )
+    .bad_input(&[
+        "cannot be told from none",
+        "clamp_row_px",
+        "metres_per_pixel",
+    ]);
+    assert!(!dir.path().join("e.toml").exists());
+}
