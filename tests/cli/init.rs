@@ -2,8 +2,9 @@
 //! from its photos alone, then tracked; what it refuses.
 
 use std::fs;
+use std::path::Path;
 
-use crate::util::{assert_heights_within, bulge_in, fixture, read_csv, repo, tempdir};
+use crate::util::{Run, assert_heights_within, bulge_in, fixture, read_csv, repo, tempdir};
 
 /// The demo's photos alone: the experiment file written, commented, close
 /// to the synthetic truth (clamp row 384.4156 px, 1.674107e-4 m/px), and
@@ -278,6 +279,31 @@ fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
     init(&["--orthographic", "--force"]).ok();
 }
 
+/// `bulge init` in `dir` on a path-traced scene `src` (its `photos/`,
+/// `pressure.csv` and `camera.toml`; the dome of `scripts/render_mitsuba.py`,
+/// 2a = 75 mm, 0.35 mm thick), writing `e.toml`.
+fn init_path_traced(dir: &Path, src: &Path) -> Run {
+    let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
+    let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
+    bulge_in(
+        dir,
+        &[
+            "init",
+            &photos,
+            "--radius-m",
+            "0.0375",
+            "--thickness-m",
+            "0.00035",
+            "--pressure",
+            &pressure,
+            "--camera",
+            &camera,
+            "-o",
+            "e.toml",
+        ],
+    )
+}
+
 /// Path-traced glossy light domes before a dark wall (Mitsuba 3, outside
 /// bulge's own drawing; `fixtures/track/glossy_light_dome*/README.md`).
 /// The coat reflects the wall near the outline, so the first photo's dome
@@ -301,26 +327,7 @@ fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
     ] {
         let dir = tempdir();
         let src = fixture(&format!("track/{scene}"));
-        let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
-        let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
-        bulge_in(
-            dir.path(),
-            &[
-                "init",
-                &photos,
-                "--radius-m",
-                "0.0375",
-                "--thickness-m",
-                "0.00035",
-                "--pressure",
-                &pressure,
-                "--camera",
-                &camera,
-                "-o",
-                "e.toml",
-            ],
-        )
-        .ok();
+        init_path_traced(dir.path(), &src).ok();
         bulge_in(dir.path(), &["track", "e.toml", "-o", "h.csv"]).ok();
         let (head, rows) = read_csv(&dir.path().join("h.csv"));
         let (_, truth) = read_csv(&src.join("truth.csv"));
@@ -358,27 +365,7 @@ fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
 #[test]
 fn an_opening_that_cannot_be_told_from_none_is_refused() {
     let dir = tempdir();
-    let src = fixture("track/lit_floor");
-    let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
-    let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
-    bulge_in(
-        dir.path(),
-        &[
-            "init",
-            &photos,
-            "--radius-m",
-            "0.0375",
-            "--thickness-m",
-            "0.00035",
-            "--pressure",
-            &pressure,
-            "--camera",
-            &camera,
-            "-o",
-            "e.toml",
-        ],
-    )
-    .bad_input(&[
+    init_path_traced(dir.path(), &fixture("track/lit_floor")).bad_input(&[
         "cannot be told from none",
         "clamp_row_px",
         "metres_per_pixel",
