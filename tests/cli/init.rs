@@ -316,7 +316,8 @@ fn init_path_traced(dir: &Path, src: &Path) -> Run {
 /// lies a few px under the top over more than half the edge fit's span; on
 /// the fourth, seen from 4.5 degrees above, the first photo's dome
 /// brightens slowly from its top, and the band the top sweeps reaches 38
-/// px into it.
+/// px into it; on the fifth the lamp's clipped image covers most of the
+/// first photo's top.
 #[test]
 fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
     for scene in [
@@ -324,6 +325,7 @@ fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
         "glossy_light_dome_near",
         "glossy_light_dome_lamp",
         "glossy_light_dome_high",
+        "glossy_light_dome_lamp_top",
     ] {
         let dir = tempdir();
         let src = fixture(&format!("track/{scene}"));
