@@ -64,6 +64,10 @@ pub(crate) fn seed_rows(y: f64, step: f64, reach: i32) -> impl Iterator<Item = f
         .map(move |k| y + f64::from(k) * step)
 }
 
+/// The fewest columns the apex fit is made from: a parabola's three
+/// coefficients and two more to judge its residual by.
+pub(super) const FIT_MIN_COLUMNS: usize = 5;
+
 /// Every how many columns the apex fit samples its span `x0 +- half_span`:
 /// at most about 129 columns, wider spans (large photos) sampled.
 pub(crate) fn span_stride(half_span: usize) -> usize {
@@ -145,40 +149,42 @@ pub(super) fn edge_fit_core(
         }
         // Leave out the columns with a bright spot under the edge, or light
         // there beyond the sensor's range, where enough others remain.
+        let clipped: Vec<bool> = located
+            .iter()
+            .map(|&(u, e, _)| clipped_below(cols.img, (u + centre).round() as usize, e, cols.hw))
+            .collect();
         let unspotted: Vec<(f64, f64, f64)> = located
             .iter()
-            .copied()
-            .filter(|&(u, e, step)| {
-                let c = (u + centre).round() as usize;
-                !spot_below(cols.img, c, e, cols.hw, step)
-                    && !clipped_below(cols.img, c, e, cols.hw)
+            .zip(&clipped)
+            .filter(|&(&(u, e, step), &clip)| {
+                !clip && !spot_below(cols.img, (u + centre).round() as usize, e, cols.hw, step)
             })
+            .map(|(&l, _)| l)
             .collect();
         let enough = unspotted.len() >= SPOT_MIN_KEPT && 4 * unspotted.len() >= located.len();
         // Where too few are left for that, the columns with light beyond the
-        // sensor's range are still left out while the fit's own least (5,
-        // below) remain: their rows are not measured at all (a lamp's
+        // sensor's range are still left out while the fit's own least
+        // ([`FIT_MIN_COLUMNS`]) remain: their rows are not measured at all (a lamp's
         // clipped image over most of a light dome's top, path-traced at
         // 1024x768: with them the first photo was refused for its
         // curvature, without them it is written 0.4 % low, within one of
         // its deviations).
         let unclipped: Vec<(f64, f64, f64)> = located
             .iter()
-            .copied()
-            .filter(|&(u, e, _)| {
-                !clipped_below(cols.img, (u + centre).round() as usize, e, cols.hw)
-            })
+            .zip(&clipped)
+            .filter(|(_, clip)| !**clip)
+            .map(|(&l, _)| l)
             .collect();
         let candidates = if enough {
             &unspotted
-        } else if unclipped.len() >= 5 {
+        } else if unclipped.len() >= FIT_MIN_COLUMNS {
             &unclipped
         } else {
             &located
         };
         // Keep columns whose step has the dome's polarity and about the
         // contrast of most.
-        let Some(strong) = strong_columns(candidates, 5, UPPER_SHARE) else {
+        let Some(strong) = strong_columns(candidates, FIT_MIN_COLUMNS, UPPER_SHARE) else {
             break;
         };
         // Each row less the pull of light added under a light dome's edge
