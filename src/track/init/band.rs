@@ -81,7 +81,10 @@ pub(super) fn bends_as_far_side(p: &[Point], floor: f64) -> bool {
 /// search's persistence rule took it for a line). Across most columns that is the ring's own flange lit
 /// lighter (or darker) than both the wall and the ring's side, whose
 /// upper edge would be the ring's top: the row cannot be told from a
-/// stripe in front of the ring, so init says so rather than guess.
+/// stripe in front of the ring, so init says so rather than guess. From
+/// a camera raised well above the ring (a path-traced scene at 8.3
+/// degrees) the ring's top face itself shows as such a stripe, 16 px tall
+/// at 1280x960.
 pub(super) fn no_stripe(
     img: &Plane,
     x0: f64,
@@ -105,7 +108,7 @@ pub(super) fn no_stripe(
             return Err(TrackError::NotFound {
                 what: "the clamp plane".into(),
                 detail: format!(
-                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, or something in front of the ring): its top or its bottom may be the clamp's edge",
+                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, something in front of the ring, or the ring's top face itself seen from a camera raised beyond the 5 degrees init is measured on): its top or its bottom may be the clamp's edge",
                     quantile(&mut tall, 0.5),
                     tall.len(),
                     pts.len()
