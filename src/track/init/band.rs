@@ -82,9 +82,10 @@ pub(super) fn bends_as_far_side(p: &[Point], floor: f64) -> bool {
 /// lighter (or darker) than both the wall and the ring's side, whose
 /// upper edge would be the ring's top: the row cannot be told from a
 /// stripe in front of the ring, so init says so rather than guess. From
-/// a camera raised well above the ring (a path-traced scene at 8.3
-/// degrees) the ring's top face itself shows as such a stripe, 16 px tall
-/// at 1280x960.
+/// a camera raised well above the ring the ring's top face itself shows
+/// as a band beside the bubble (a path-traced scene 8.3 degrees above was
+/// refused for a stripe 16 px tall at 1280x960; which band it was is not
+/// established), so the message names that too.
 pub(super) fn no_stripe(
     img: &Plane,
     x0: f64,
