@@ -169,18 +169,22 @@ pub(super) fn edge_fit_core(
         // 1024x768: with them the first photo was refused for its
         // curvature, without them it is written 0.4 % low, within one of
         // its deviations).
-        let unclipped: Vec<(f64, f64, f64)> = located
-            .iter()
-            .zip(&clipped)
-            .filter(|(_, clip)| !**clip)
-            .map(|(&l, _)| l)
-            .collect();
+        // (read only then: most fits have enough)
+        let unclipped: Vec<(f64, f64, f64)>;
         let candidates = if enough {
             &unspotted
-        } else if unclipped.len() >= FIT_MIN_COLUMNS {
-            &unclipped
         } else {
-            &located
+            unclipped = located
+                .iter()
+                .zip(&clipped)
+                .filter(|(_, clip)| !**clip)
+                .map(|(&l, _)| l)
+                .collect();
+            if unclipped.len() >= FIT_MIN_COLUMNS {
+                &unclipped
+            } else {
+                &located
+            }
         };
         // Keep columns whose step has the dome's polarity and about the
         // contrast of most.
