@@ -657,7 +657,14 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
 /// from its top (80 grey levels over 50 rows) and the band's lowest row
 /// lay 38 px inside it, where the edge fit found that ramp: the rows above
 /// it were the dome's (on the axis, about 130 grey levels over the wall,
-/// against a step of about 15).
+/// against a step of about 15). Half the step is the midpoint between the
+/// two sides' levels: nearer the wall than the dome. The rows read start
+/// one beyond the edge window's half-height (3) from the edge, where its
+/// blurred step has ended; their count (6 by the edge, 8 above the top)
+/// and the columns (half the template's width) are chosen, not derived.
+/// On the init sweep (250 clean and 100 dirty sequences) the rule turned
+/// down 4 edges found on a first photo and left its table the same to
+/// every printed digit.
 fn background_above(img: &Gray, x: f64, e: f64, y_top: f64, tw: usize) -> bool {
     let q = (tw / 4).max(2) as i64;
     let (w, h) = (img.width as i64, img.height as i64);
