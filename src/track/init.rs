@@ -78,7 +78,7 @@ mod ring;
 mod scale;
 mod top_edge;
 
-use bubble::{follow_side, refine_axis, shrinking_check, swept};
+use bubble::{follow_side, refine_axis, shrinking_check, swept, top_below_band};
 use clamp::{Clamp, find_clamp, robust_lstsq};
 pub use file::Sources;
 pub use frames::Frames;
@@ -448,6 +448,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 .windows(2)
                 .find(|p| p[0].1 > 0.5 && p[1].1 > 0.5)
                 .map(|p| p[0].0 as f64 + 0.5 - p[0].1.clamp(0.0, 1.0))
+                .or_else(|| top_below_band(&n, bg_rows.clone(), y_bot, base as usize, sw.sign))
                 .unwrap_or(y_bot as f64 + 0.5);
             [x0, y]
         })
