@@ -276,6 +276,20 @@ def main():
                 f"image_size_px = [{W}, {H}]\n")
     print(f"camera {D} m from the axis, {math.degrees(math.atan2(origin[1], D)):.2f} deg above "
           f"the ring's centre, focal {focal:.1f} px")
+    # Where the pinhole camera projects the ring's centre and the opening's
+    # near and far edges on the axis (image rows, the top-left pixel's
+    # centre at 0): the clamp row a user gives init for this scene.
+    forward = (target - origin) / np.linalg.norm(target - origin)
+    right = np.cross(forward, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+
+    def row(point):
+        v = np.asarray(point) - origin
+        return (H - 1) / 2 - focal * (v @ up) / (v @ forward)
+
+    print(f"ring centre at row {row([0, 0, 0]):.2f}; the opening's near edge on the axis at row "
+          f"{row([0, 0, a]):.2f}, its far edge at {row([0, 0, -a]):.2f}")
 
 
 if __name__ == "__main__":

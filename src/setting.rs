@@ -33,8 +33,11 @@ pub enum Setting {
     MetresPerPixel,
     /// Synthetic photos: the axis's column.
     AxisX,
-    /// Synthetic photos: the clamp plane's row.
+    /// The clamp plane's row (synthetic photos: where it is drawn; `bulge
+    /// init`: given instead of found).
     ClampRow,
+    /// The given clamp row's standard deviation.
+    ClampRowStd,
     /// Synthetic photos: the highest pressure.
     PressureMax,
     /// The polynomial modulus law's degree.
@@ -99,6 +102,7 @@ impl Setting {
             Setting::MetresPerPixel => "`[calibration] metres_per_pixel`",
             Setting::AxisX => "`axis_x_px`",
             Setting::ClampRow => "`clamp_row_px`",
+            Setting::ClampRowStd => "`clamp_row_std_px`",
             Setting::PressureMax => "`pressure_max_pa`",
             Setting::Degree => "`degree`",
             Setting::ToHeights => "`to_heights`",

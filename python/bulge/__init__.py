@@ -383,6 +383,8 @@ def init(
     orthographic: bool = False,
     response: str = "srgb",
     camera=None,
+    clamp_row_px: "float | None" = None,
+    clamp_row_std_px: float = 0.0,
 ) -> InitOutput:
     """The experiment file from the photos alone, as ``bulge init``:
     ``source`` a folder of photos or a video, the opening's radius and the
@@ -391,7 +393,8 @@ def init(
     the experiment file is for (default: the current folder): its paths are
     written relative to it. The other keywords are the command line's flags
     (``camera_distance_m`` for a camera above the clamp plane, ``camera`` a
-    ``bulge calibrate`` file, ``pressure`` the pressure file)."""
+    ``bulge calibrate`` file, ``pressure`` the pressure file,
+    ``clamp_row_px`` the clamp plane's row when init does not find it)."""
     _need_opencv("init")
     toml, picture, summary, notes = _native.init(
         os.fspath(source),
@@ -410,6 +413,8 @@ def init(
         orthographic,
         response,
         _path(camera),
+        clamp_row_px,
+        clamp_row_std_px,
     )
     return InitOutput(
         experiment=_toml.loads(toml),

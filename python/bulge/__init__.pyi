@@ -161,6 +161,8 @@ def init(
     orthographic: bool = False,
     response: str = "srgb",
     camera: Optional[_Path] = None,
+    clamp_row_px: Optional[float] = None,
+    clamp_row_std_px: float = 0.0,
 ) -> InitOutput: ...
 
 class StudyOutput:

@@ -21,7 +21,7 @@ type InitResult = (String, Py<PyBytes>, String, Vec<String>);
 #[pyo3(signature = (source, radius_m, thickness_m, poisson=0.45, base=None, every=None,
     pressure=None, glob=None, metres_per_pixel=None, points_px=None, distance_m=None,
     elevation_deg=None, camera_distance_m=None, orthographic=false, response="srgb",
-    camera=None))]
+    camera=None, clamp_row_px=None, clamp_row_std_px=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn init(
     py: Python<'_>,
@@ -41,6 +41,8 @@ pub fn init(
     orthographic: bool,
     response: &str,
     camera: Option<PathBuf>,
+    clamp_row_px: Option<f64>,
+    clamp_row_std_px: f64,
 ) -> PyResult<InitResult> {
     let response: Response = response
         .parse()
@@ -78,6 +80,7 @@ pub fn init(
         metres_per_pixel,
         points_px,
         elevation_deg,
+        clamp_row_px: clamp_row_px.map(|r| (r, clamp_row_std_px)),
         camera_distance_m,
         orthographic,
         response,

@@ -215,6 +215,8 @@ def test_init_refusals_name_the_keyword(root, cli, tmp_path):
         bulge.init(photos, 0.0375, 0.00035, elevation_deg=45)
     with pytest.raises(bulge.BadInput, match=r"^`every` applies to a video"):
         bulge.init(photos, 0.0375, 0.00035, every=2)
+    with pytest.raises(bulge.BadInput, match=r"^`clamp_row_std_px` -1: give the clamp row's"):
+        bulge.init(photos, 0.0375, 0.00035, clamp_row_px=384.4, clamp_row_std_px=-1)
     # the keyword, not the experiment file's key `[camera] distance_m`
     with pytest.raises(bulge.BadInput, match=r"^`camera_distance_m` 0.05: give the horizontal distance"):
         bulge.init(photos, 0.0375, 0.00035, camera_distance_m=0.05)

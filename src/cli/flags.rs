@@ -17,6 +17,7 @@ pub fn flag_of(s: bulge::setting::Setting) -> &'static str {
         Setting::MetresPerPixel => "--metres-per-pixel",
         Setting::AxisX => "--axis-x-px",
         Setting::ClampRow => "--clamp-row-px",
+        Setting::ClampRowStd => "--clamp-row-std-px",
         Setting::PressureMax => "--pressure-max-pa",
         Setting::Degree => "--degree",
         Setting::ToHeights => "--to-heights",

@@ -41,6 +41,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             _ => None,
         },
         elevation_deg: args.elevation_deg,
+        clamp_row_px: args.clamp_row_px.map(|r| (r, args.clamp_row_std_px)),
         camera_distance_m: args.camera_distance_m,
         orthographic: args.orthographic,
         response: args.response,

@@ -121,6 +121,13 @@ pub struct Given {
     pub metres_per_pixel: Option<f64>,
     /// The camera's elevation above the clamp plane, degrees.
     pub elevation_deg: Option<f64>,
+    /// The clamp plane's row at the bubble's axis (from a raised camera the
+    /// clamp ring's centre), px in the photo, and its standard deviation:
+    /// step 3 is not made, the camera is taken as not rolled, and its
+    /// elevation is `elevation_deg` (level without it). For a scene whose
+    /// clamp init does not find (a lit floor or a table's edge beside the
+    /// ring, a camera raised beyond the range init's search is measured on).
+    pub clamp_row_px: Option<Estimate>,
     /// The camera's tone curve (edges are located in light).
     pub response: crate::camera::Response,
     /// The lens (`bulge calibrate`): the clamp row, the axis and the scale
@@ -168,6 +175,8 @@ pub struct Found {
     pub axis_x_px: Estimate,
     /// The clamp plane (the clamp ring's centre from a raised camera), image row.
     pub clamp_row_px: Estimate,
+    /// `clamp_row_px` was given ([`Given::clamp_row_px`]), not found.
+    pub clamp_row_given: bool,
     /// The camera's elevation above the clamp plane, degrees (`None`: the
     /// clamp's ends are outside the picture and its edge is straight: level).
     pub elevation_deg: Option<Estimate>,
@@ -601,7 +610,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
     // edge fit's bias that no residual shows is added ([`CLAMP_FLOOR_PX`])
     // where the edge is an ellipse's side, from a camera the photos show
     // above the clamp plane.
-    if seen_raised(r.elevation_deg) {
+    if given.clamp_row_px.is_none() && seen_raised(r.elevation_deg) {
         clamp_row_px.std = clamp_row_px.std.hypot(CLAMP_FLOOR_PX);
     }
     // a clipped face: the edge anywhere within `t` of where it was located
@@ -630,6 +639,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
         camera_distance_from_focal: r.focal_px.is_some(),
         axis_x_px,
         clamp_row_px,
+        clamp_row_given: given.clamp_row_px.is_some(),
         elevation_deg: r.elevation_deg,
         roll_deg: r.roll_deg,
         clamp_half_width_px: r.clamp.half_width_px,

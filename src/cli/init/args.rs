@@ -79,6 +79,26 @@ pub struct Args {
     #[arg(long)]
     pub elevation_deg: Option<f64>,
 
+    /// The clamp plane's row at the bubble's axis, px from the photo's top,
+    /// when init does not find it (a lit floor or a table's edge beside the
+    /// ring, a camera raised beyond 5 degrees): init then takes it instead
+    /// of searching, the camera as not rolled, and the elevation from
+    /// --elevation-deg (level without it). From a raised camera it is the
+    /// clamp ring's centre: on the axis, halfway between the near and the
+    /// far edge of the opening (docs/track.md, "The clamp row given").
+    #[arg(long, value_name = "ROW")]
+    pub clamp_row_px: Option<f64>,
+
+    /// The standard deviation of --clamp-row-px, px: every height shares it
+    /// (written into [calibration] clamp_row_std_px).
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 0.0,
+        requires = "clamp_row_px"
+    )]
+    pub clamp_row_std_px: f64,
+
     /// The horizontal distance from the bubble's axis to the camera's lens,
     /// m, for a pinhole camera at that distance (written into [camera]
     /// distance_m): the clamp ring's centre row and the elevation are fitted

@@ -86,8 +86,29 @@ impl Steps34<'_> {
             tone,
             x0_std,
         } = *self;
-        let clamp = find_clamp(mean, x0, a0, rows, hint, given.lens.as_ref())?;
-        let (roll_deg, elevation_deg) = clamp.checked(rows[0], given.elevation_deg)?;
+        // A clamp row given is taken as it is: the camera not rolled, its
+        // elevation the one given (level without it).
+        let (clamp, (roll_deg, elevation_deg)) = match given.clamp_row_px {
+            Some(row) => {
+                let clamp = Clamp::given(row, x0, given.lens.as_ref());
+                let e = given.elevation_deg.map(|e| Estimate { value: e, std: 0.0 });
+                (
+                    clamp,
+                    (
+                        Estimate {
+                            value: 0.0,
+                            std: 0.0,
+                        },
+                        e,
+                    ),
+                )
+            }
+            None => {
+                let clamp = find_clamp(mean, x0, a0, rows, hint, given.lens.as_ref())?;
+                let checked = clamp.checked(rows[0], given.elevation_deg)?;
+                (clamp, checked)
+            }
+        };
         // A pinhole camera at a known distance: the ring's centre row and the
         // elevation from the ring's far side seen through it, the scale from
         // the opening's tangent points (twice: each depends on the other).

@@ -46,6 +46,32 @@ pub(super) struct Clamp {
 }
 
 impl Clamp {
+    /// The clamp plane given at `row` (at the axis `x0`, in the photo):
+    /// not searched, so no edge, ends or roll; through a lens the row is
+    /// carried into the undistorted image, as the rows found are.
+    pub(super) fn given(row: Estimate, x0: f64, lens: Option<&super::super::lens::Lens>) -> Clamp {
+        let value = lens.map_or(row.value, |l| l.undistort([x0, row.value])[1]);
+        Clamp {
+            row: Estimate {
+                value,
+                std: row.std,
+            },
+            sin_e: None,
+            slope: Estimate {
+                value: 0.0,
+                std: 0.0,
+            },
+            half_width_px: None,
+            half_width_below_px: None,
+            bend: None,
+            near: false,
+            points: Vec::new(),
+            base_points: Vec::new(),
+            on_base: false,
+            clipped_px: None,
+        }
+    }
+
     /// The camera's roll from the edge's slope and the elevation from the
     /// ellipse's sine (`given` when the elevation is given, degrees),
     /// refusing a roll beyond [`MAX_ROLL_DEG`] and an edge above the lowest

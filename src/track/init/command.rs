@@ -32,6 +32,10 @@ pub struct InitRequest {
     pub points_px: Option<([f64; 4], f64)>,
     /// The camera's angle above the clamp plane, degrees, when known.
     pub elevation_deg: Option<f64>,
+    /// The clamp plane's row at the bubble's axis (from a raised camera the
+    /// clamp ring's centre), px in the photo, when init is to take it
+    /// instead of finding it, and its standard deviation, px.
+    pub clamp_row_px: Option<(f64, f64)>,
     /// The horizontal distance from the bubble's axis to the lens, m.
     pub camera_distance_m: Option<f64>,
     /// The lens is telecentric: no distance wanted.
@@ -144,6 +148,20 @@ fn check(req: &InitRequest) -> Result<(), InitError> {
             Setting::ElevationDeg
         )));
     }
+    if let Some((r, s)) = req.clamp_row_px {
+        if !r.is_finite() {
+            return Err(refused(format!(
+                "{} {r}: give the clamp plane's row at the bubble's axis, px from the photo's top",
+                Setting::ClampRow
+            )));
+        }
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(refused(format!(
+                "{} {s}: give the clamp row's standard deviation, px (0 or more)",
+                Setting::ClampRowStd
+            )));
+        }
+    }
     if !req.source.exists() {
         return Err(refused(format!(
             "{}: no such folder or video; give the folder the camera wrote the test's photos to, or the video",
@@ -220,12 +238,28 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
         metres_per_pixel: req.metres_per_pixel.or(points
             .map(|(p, d)| d / ((p[1][0] - p[0][0]).powi(2) + (p[1][1] - p[0][1]).powi(2)).sqrt())),
         elevation_deg: req.elevation_deg,
+        clamp_row_px: req
+            .clamp_row_px
+            .map(|(value, std)| super::Estimate { value, std }),
         response: req.response,
         lens,
         camera_distance_m: req.camera_distance_m,
         distance_from_focal: !req.orthographic,
     };
-    let found = super::find_in(&frames, req.specimen.radius_m, given)?;
+    // Where the clamp plane is what was not found, init can be given it.
+    let found = super::find_in(&frames, req.specimen.radius_m, given).map_err(|e| {
+        let clamp = matches!(&e, TrackError::NotFound { keys, .. } if keys.contains("clamp_row_px"))
+            && req.clamp_row_px.is_none();
+        let mut err = InitError::from(e);
+        if clamp {
+            err.message.push_str(&format!(
+                "; or give init the clamp plane's row at the bubble's axis ({} ROW; from a raised camera the ring centre's row, with {}: docs/track.md, \"The clamp row given\")",
+                Setting::ClampRow,
+                Setting::ElevationDeg
+            ));
+        }
+        err
+    })?;
     if let Some(why) = found
         .raised_without_distance()
         .filter(|_| !req.orthographic)

@@ -198,17 +198,25 @@ impl Found {
             Some(a) => format!(", the clamp {:.1} px wide", 2.0 * a),
             None => String::new(),
         };
-        notes.push((
-            Place::Key("calibration", "clamp_row_px"),
-            format!(
-                "the clamp plane: the clamp's top edge beside the bubble, {} columns{face}",
-                self.clamp_points_px.len(),
-            ),
-        ));
-        let mut after = vec![format!(
-            "the camera's roll about its view axis: the clamp's edge slopes by {:.2} +- {:.2} degrees (at most {MAX_ROLL_DEG} is taken)",
-            self.roll_deg.value, self.roll_deg.std
-        )];
+        let (clamp_note, roll_note) = if self.clamp_row_given {
+            (
+                "the clamp plane's row at the bubble's axis, given (from a raised camera the ring's centre)".to_string(),
+                "the camera's roll about its view axis: taken as none (the clamp row was given, not found)".to_string(),
+            )
+        } else {
+            (
+                format!(
+                    "the clamp plane: the clamp's top edge beside the bubble, {} columns{face}",
+                    self.clamp_points_px.len(),
+                ),
+                format!(
+                    "the camera's roll about its view axis: the clamp's edge slopes by {:.2} +- {:.2} degrees (at most {MAX_ROLL_DEG} is taken)",
+                    self.roll_deg.value, self.roll_deg.std
+                ),
+            )
+        };
+        notes.push((Place::Key("calibration", "clamp_row_px"), clamp_note));
+        let mut after = vec![roll_note];
         match self.elevation_deg {
             Some(e) if e.std == 0.0 => {
                 calibration.elevation_deg = Some(e.value);
@@ -232,6 +240,9 @@ impl Found {
                 "the camera is level with the clamp plane: elevation {:.2} +- {:.2} degrees from the clamp's ellipse",
                 e.value, e.std
             )),
+            None if self.clamp_row_given => {
+                after.push("the camera is taken as level: no elevation was given".into())
+            }
             None => after.push(
                 "the camera is taken as level: the clamp's edge is straight and its ends are outside the picture".into(),
             ),

@@ -87,6 +87,7 @@ pub fn init_and_track(
     let given = Given {
         metres_per_pixel: scale_given.then_some(w.scene.metres_per_pixel),
         elevation_deg: None,
+        clamp_row_px: None,
         response: spec.look.response,
         lens: w.scene.look.lens,
         // With a lens on a pinhole camera the distance is found from its
