@@ -301,6 +301,17 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
             Setting::Camera
         ));
     }
+    if let Some(e) = found
+        .elevation_deg
+        .filter(|e| !found.clamp_row_given && e.value > super::file::MEASURED_ELEVATION_DEG)
+    {
+        notes.push(format!(
+            "note: the camera looks down on the clamp plane from {:.2} degrees, beyond the {} degrees init's search of the clamp ring is measured on (on a path-traced scene at 9 degrees the clamp row was found 0.28 px off, 3.8 of its stated deviations): check the clamp's edge on init.png, or give the row ({}; docs/track.md, \"The clamp row given\")",
+            e.value,
+            super::file::MEASURED_ELEVATION_DEG,
+            Setting::ClampRow
+        ));
+    }
     if let Some(t) = found.clamp_clipped_px {
         notes.push(format!(
             "note: the clamp ring's face is at the sensor's largest value beside its top edge (clipped): the edge located on the clipped step lies up to {t:.1} px towards the wall from the true one, and clamp_row_std_px includes {:.2} px for it; lower the exposure or the light on the ring until its face stays below the largest value",

@@ -43,6 +43,11 @@ fn significant(x: f64, digits: usize) -> f64 {
 /// dominates and grows with the elevation.
 pub const RAISED_DEG: f64 = 0.5;
 
+/// The largest elevation init's search of the clamp ring is measured on,
+/// degrees: the camera grid's and the init sweep's highest cameras
+/// (docs/track.md). Not a limit: a set-up found from higher is noted.
+pub const MEASURED_ELEVATION_DEG: f64 = 5.0;
+
 impl Found {
     /// Why this set-up cannot be read as an orthographic camera's: the
     /// camera looks down on the clamp plane from more than [`RAISED_DEG`]
