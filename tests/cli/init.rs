@@ -347,6 +347,60 @@ fn a_clamp_row_given_to_init_is_taken() {
     );
 }
 
+/// A camera 8 degrees above the clamp plane, beyond the 5 init's search
+/// of the ring is measured on: init sets it up and notes it, with the
+/// row's check and `--clamp-row-px`; at 3 degrees (within) it does not.
+#[test]
+fn a_set_up_from_beyond_5_degrees_is_noted() {
+    let dir = tempdir();
+    for (out, elevation) in [("e8", "8"), ("e3", "3")] {
+        bulge_in(
+            dir.path(),
+            &[
+                "synth",
+                out,
+                "--frames",
+                "4",
+                "--width",
+                "800",
+                "--height",
+                "600",
+                "--camera-distance-m",
+                "0.4",
+                "--elevation-deg",
+                elevation,
+                "--seed",
+                "4",
+            ],
+        )
+        .ok();
+        let photos = format!("{out}/photos");
+        let pressure = format!("{out}/pressure.csv");
+        let toml = format!("{out}.toml");
+        let run = bulge_in(
+            dir.path(),
+            &[
+                "init",
+                &photos,
+                "--radius-m",
+                "0.0375",
+                "--thickness-m",
+                "0.00035",
+                "--pressure",
+                &pressure,
+                "--camera-distance-m",
+                "0.4",
+                "-o",
+                &toml,
+            ],
+        )
+        .ok();
+        let noted =
+            run.stderr.contains("beyond the 5 degrees") && run.stderr.contains("--clamp-row-px");
+        assert_eq!(noted, out == "e8", "{out}: {}", run.stderr);
+    }
+}
+
 /// `bulge init` in `dir` on a path-traced scene `src` (its `photos/`,
 /// `pressure.csv` and `camera.toml`; the dome of `scripts/render_mitsuba.py`,
 /// 2a = 75 mm, 0.35 mm thick), writing `e.toml`; `extra`: more flags.

@@ -45,7 +45,8 @@ pub const RAISED_DEG: f64 = 0.5;
 
 /// The largest elevation init's search of the clamp ring is measured on,
 /// degrees: the camera grid's and the init sweep's highest cameras
-/// (docs/track.md). Not a limit: a set-up found from higher is noted.
+/// (docs/track.md). Not a limit: a set-up found from higher (by 2 of the
+/// elevation's deviations) is noted.
 pub const MEASURED_ELEVATION_DEG: f64 = 5.0;
 
 impl Found {
