@@ -284,7 +284,7 @@ fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
 /// drew it): init takes it, the elevation given and the camera's distance,
 /// finds the scale at that row, and the heights are within 0.5 % of the
 /// truth. The row's deviation is written as given, and a negative one is
-/// refused with the flag's name.
+/// refused with the flag's name; a row above the largest top is refused.
 #[test]
 fn a_clamp_row_given_to_init_is_taken() {
     let dir = tempdir();
@@ -324,17 +324,17 @@ fn a_clamp_row_given_to_init_is_taken() {
             "0.3",
             "--elevation-deg",
             "3",
-            "--clamp-row-px",
-            "420",
             "-o",
             "e.toml",
         ];
         a.extend(extra);
         bulge_in(dir.path(), &a)
     };
-    init(&["--clamp-row-std-px=-1"]).bad_input(&["--clamp-row-std-px -1"]);
+    init(&["--clamp-row-px", "420", "--clamp-row-std-px=-1"]).bad_input(&["--clamp-row-std-px -1"]);
+    // a row above the largest top (rows counted up from the bottom)
+    init(&["--clamp-row-px", "180"]).bad_input(&["above the largest bubble's top"]);
     assert!(!dir.path().join("e.toml").exists());
-    init(&["--clamp-row-std-px", "0.3"]).ok();
+    init(&["--clamp-row-px", "420", "--clamp-row-std-px", "0.3"]).ok();
     let toml = fs::read_to_string(dir.path().join("e.toml")).unwrap();
     assert!(toml.contains("clamp_row_px = 420.0\n"), "{toml}");
     assert!(toml.contains("clamp_row_std_px = 0.3\n"), "{toml}");
