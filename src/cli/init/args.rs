@@ -84,8 +84,10 @@ pub struct Args {
     /// ring, a camera raised beyond 5 degrees): init then takes it instead
     /// of searching, the camera as not rolled, and the elevation from
     /// --elevation-deg (level without it). From a raised camera it is the
-    /// clamp ring's centre: on the axis, halfway between the near and the
-    /// far edge of the opening (docs/track.md, "The clamp row given").
+    /// row of the clamp ring's centre, which is no edge in the photo (nor
+    /// halfway between the opening's near and far edges, through
+    /// perspective): docs/track.md, "The clamp row given", places it
+    /// through the lens from the opening's near edge on the axis.
     #[arg(long, value_name = "ROW")]
     pub clamp_row_px: Option<f64>,
 
