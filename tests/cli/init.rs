@@ -90,7 +90,7 @@ fn init_refuses_photos_without_a_growing_bubble() {
     for k in 1..=3 {
         fs::copy(&one, photos.join(format!("img{k}.jpg"))).unwrap();
     }
-    bulge_in(
+    let refused = bulge_in(
         dir.path(),
         &[
             "init",
@@ -102,6 +102,8 @@ fn init_refuses_photos_without_a_growing_bubble() {
         ],
     )
     .bad_input(&["the bubble not found", "roi_px"]);
+    // the clamp row is not what is missing: init is not told to take it
+    assert!(!refused.stderr.contains("--clamp-row-px"), "{}", refused.stderr);
     assert!(!dir.path().join("experiment.toml").exists());
     bulge_in(
         dir.path(),

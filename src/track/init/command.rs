@@ -246,9 +246,14 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
         camera_distance_m: req.camera_distance_m,
         distance_from_focal: !req.orthographic,
     };
-    // Where the clamp plane is what was not found, init can be given it.
+    // Where the clamp plane (its row, the ring's ellipse, the opening at
+    // it) is what was not found, init can be given it; not where the
+    // bubble was not found, nor for a rolled camera, which a row given
+    // would hide.
     let found = super::find_in(&frames, req.specimen.radius_m, given).map_err(|e| {
-        let clamp = matches!(&e, TrackError::NotFound { keys, .. } if keys.contains("clamp_row_px"))
+        let clamp = matches!(&e, TrackError::NotFound { what, keys, .. }
+            if keys.contains("clamp_row_px")
+                && ["clamp plane", "ellipse", "elevation"].iter().any(|w| what.contains(w)))
             && req.clamp_row_px.is_none();
         let mut err = InitError::from(e);
         if clamp {
