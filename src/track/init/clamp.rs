@@ -96,13 +96,19 @@ impl Clamp {
             });
         }
         // (a far side placed through the pinhole is checked by its fit)
+        // From a camera raised by `e` the dome's base in front of the ring
+        // lies `a sin e` below the ring's centre, beyond the tenth of the
+        // face's half-width (`A = k a`) allowed here once `sin e > 0.1 k +
+        // 3 / a` (orthographic; a pinhole's nearer base lies lower still):
+        // for a = 250 px from 6.5 degrees with a face no wider than the
+        // opening, 8.5 with one 1.35 times as wide. The message says so.
         if self.bend.is_none()
             && self.row.value < y_low - 3.0 - self.half_width_px.map_or(0.0, |a| a * 0.1)
         {
             return Err(TrackError::NotFound {
                 what: "the clamp plane".into(),
                 detail: format!(
-                    "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp",
+                    "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp, or the camera looks down from beyond the 5 degrees init is measured on (from about 6-9 degrees up the dome's base in front of the ring lies that far below the ring's centre)",
                     self.row.value
                 ),
                 keys: "clamp_row_px",
