@@ -103,7 +103,11 @@ fn init_refuses_photos_without_a_growing_bubble() {
     )
     .bad_input(&["the bubble not found", "roi_px"]);
     // the clamp row is not what is missing: init is not told to take it
-    assert!(!refused.stderr.contains("--clamp-row-px"), "{}", refused.stderr);
+    assert!(
+        !refused.stderr.contains("--clamp-row-px"),
+        "{}",
+        refused.stderr
+    );
     assert!(!dir.path().join("experiment.toml").exists());
     bulge_in(
         dir.path(),
@@ -218,6 +222,55 @@ fn init_from_a_video() {
     .bad_input(&["--every applies to a video"]);
 }
 
+/// `bulge synth` in `dir`: 4 photos 800x600 into `out/`, seed 4, through a
+/// pinhole `distance` m from the axis and `elevation` degrees up; `extra`:
+/// more flags.
+fn synth_pinhole(dir: &Path, out: &str, distance: &str, elevation: &str, extra: &[&str]) {
+    let mut a = vec![
+        "synth",
+        out,
+        "--frames",
+        "4",
+        "--width",
+        "800",
+        "--height",
+        "600",
+        "--camera-distance-m",
+        distance,
+        "--elevation-deg",
+        elevation,
+        "--seed",
+        "4",
+    ];
+    a.extend_from_slice(extra);
+    bulge_in(dir, &a).ok();
+}
+
+/// `bulge init` in `dir` of `photos` with `pressure` (2a = 75 mm, 0.35 mm
+/// thick), writing `toml`; `extra`: more flags.
+fn init_of(dir: &Path, photos: &str, pressure: &str, toml: &str, extra: &[&str]) -> Run {
+    let mut a = vec![
+        "init",
+        photos,
+        "--radius-m",
+        "0.0375",
+        "--thickness-m",
+        "0.00035",
+        "--pressure",
+        pressure,
+        "-o",
+        toml,
+    ];
+    a.extend_from_slice(extra);
+    bulge_in(dir, &a)
+}
+
+/// [`init_of`] on `synth_pinhole`'s `out/`.
+fn init_synth(dir: &Path, out: &str, toml: &str, extra: &[&str]) -> Run {
+    let (photos, pressure) = (format!("{out}/photos"), format!("{out}/pressure.csv"));
+    init_of(dir, &photos, &pressure, toml, extra)
+}
+
 /// A camera raised 3 degrees at 0.3 m from the axis, its distance not
 /// given: read as orthographic its heights would be 0.8-2.5 % high (70-100
 /// of their stated deviations), so init refuses, names the elevation and
@@ -227,42 +280,8 @@ fn init_from_a_video() {
 #[test]
 fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
     let dir = tempdir();
-    bulge_in(
-        dir.path(),
-        &[
-            "synth",
-            "exp",
-            "--frames",
-            "4",
-            "--width",
-            "800",
-            "--height",
-            "600",
-            "--camera-distance-m",
-            "0.3",
-            "--elevation-deg",
-            "3",
-            "--seed",
-            "4",
-        ],
-    )
-    .ok();
-    let init = |extra: &[&str]| {
-        let mut a = vec![
-            "init",
-            "exp/photos",
-            "--radius-m",
-            "0.0375",
-            "--thickness-m",
-            "0.00035",
-            "--pressure",
-            "exp/pressure.csv",
-            "-o",
-            "setup/e.toml",
-        ];
-        a.extend(extra);
-        bulge_in(dir.path(), &a)
-    };
+    synth_pinhole(dir.path(), "exp", "0.3", "3", &[]);
+    let init = |extra: &[&str]| init_synth(dir.path(), "exp", "setup/e.toml", extra);
     init(&[]).bad_input(&[
         "degrees",
         "--camera-distance-m",
@@ -290,47 +309,11 @@ fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
 #[test]
 fn a_clamp_row_given_to_init_is_taken() {
     let dir = tempdir();
-    bulge_in(
-        dir.path(),
-        &[
-            "synth",
-            "exp",
-            "--frames",
-            "4",
-            "--width",
-            "800",
-            "--height",
-            "600",
-            "--camera-distance-m",
-            "0.3",
-            "--elevation-deg",
-            "3",
-            "--clamp-row-px",
-            "420",
-            "--seed",
-            "4",
-        ],
-    )
-    .ok();
+    synth_pinhole(dir.path(), "exp", "0.3", "3", &["--clamp-row-px", "420"]);
     let init = |extra: &[&str]| {
-        let mut a = vec![
-            "init",
-            "exp/photos",
-            "--radius-m",
-            "0.0375",
-            "--thickness-m",
-            "0.00035",
-            "--pressure",
-            "exp/pressure.csv",
-            "--camera-distance-m",
-            "0.3",
-            "--elevation-deg",
-            "3",
-            "-o",
-            "e.toml",
-        ];
-        a.extend(extra);
-        bulge_in(dir.path(), &a)
+        let mut a = vec!["--camera-distance-m", "0.3", "--elevation-deg", "3"];
+        a.extend_from_slice(extra);
+        init_synth(dir.path(), "exp", "e.toml", &a)
     };
     init(&["--clamp-row-px", "420", "--clamp-row-std-px=-1"]).bad_input(&["--clamp-row-std-px -1"]);
     // a row above the largest top (rows counted up from the bottom)
@@ -356,47 +339,9 @@ fn a_clamp_row_given_to_init_is_taken() {
 fn a_set_up_from_beyond_5_degrees_is_noted() {
     let dir = tempdir();
     for (out, elevation) in [("e8", "8"), ("e3", "3")] {
-        bulge_in(
-            dir.path(),
-            &[
-                "synth",
-                out,
-                "--frames",
-                "4",
-                "--width",
-                "800",
-                "--height",
-                "600",
-                "--camera-distance-m",
-                "0.4",
-                "--elevation-deg",
-                elevation,
-                "--seed",
-                "4",
-            ],
-        )
-        .ok();
-        let photos = format!("{out}/photos");
-        let pressure = format!("{out}/pressure.csv");
+        synth_pinhole(dir.path(), out, "0.4", elevation, &[]);
         let toml = format!("{out}.toml");
-        let run = bulge_in(
-            dir.path(),
-            &[
-                "init",
-                &photos,
-                "--radius-m",
-                "0.0375",
-                "--thickness-m",
-                "0.00035",
-                "--pressure",
-                &pressure,
-                "--camera-distance-m",
-                "0.4",
-                "-o",
-                &toml,
-            ],
-        )
-        .ok();
+        let run = init_synth(dir.path(), out, &toml, &["--camera-distance-m", "0.4"]).ok();
         let noted =
             run.stderr.contains("beyond the 5 degrees") && run.stderr.contains("--clamp-row-px");
         assert_eq!(noted, out == "e8", "{out}: {}", run.stderr);
@@ -409,22 +354,31 @@ fn a_set_up_from_beyond_5_degrees_is_noted() {
 fn init_path_traced(dir: &Path, src: &Path, extra: &[&str]) -> Run {
     let arg = |f: &str| src.join(f).to_str().unwrap().to_string();
     let (photos, pressure, camera) = (arg("photos"), arg("pressure.csv"), arg("camera.toml"));
-    let mut args = vec![
-        "init",
-        &photos,
-        "--radius-m",
-        "0.0375",
-        "--thickness-m",
-        "0.00035",
-        "--pressure",
-        &pressure,
-        "--camera",
-        &camera,
-        "-o",
-        "e.toml",
-    ];
-    args.extend_from_slice(extra);
-    bulge_in(dir, &args)
+    let mut a = vec!["--camera", &camera];
+    a.extend_from_slice(extra);
+    init_of(dir, &photos, &pressure, "e.toml", &a)
+}
+
+/// `h.csv` in `dir` against `src/truth.csv`: each photo's name, height,
+/// its stated deviation (`height_std_m`) and the true height, m; none left
+/// out (`what` names the scene).
+fn heights_and_truth(dir: &Path, src: &Path, what: &str) -> Vec<(String, f64, f64, f64)> {
+    let (head, rows) = read_csv(&dir.join("h.csv"));
+    let (_, truth) = read_csv(&src.join("truth.csv"));
+    assert_eq!(rows.len(), truth.len(), "{what}: a photo left out");
+    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
+    let (h, s) = (col("height_m"), col("height_std_m"));
+    rows.iter()
+        .zip(&truth)
+        .map(|(r, t)| {
+            (
+                t[0].clone(),
+                r[h].parse().unwrap(),
+                r[s].parse().unwrap(),
+                t[2].parse().unwrap(),
+            )
+        })
+        .collect()
 }
 
 /// Path-traced glossy light domes before a dark wall (Mitsuba 3, outside
@@ -454,27 +408,15 @@ fn glossy_light_domes_on_a_dark_wall_are_tracked_whole() {
         let src = fixture(&format!("track/{scene}"));
         init_path_traced(dir.path(), &src, &[]).ok();
         bulge_in(dir.path(), &["track", "e.toml", "-o", "h.csv"]).ok();
-        let (head, rows) = read_csv(&dir.path().join("h.csv"));
-        let (_, truth) = read_csv(&src.join("truth.csv"));
-        assert_eq!(rows.len(), truth.len(), "{scene}: a photo left out");
-        let col = |name: &str| head.iter().position(|h| h == name).unwrap();
-        let (h, s) = (col("height_m"), col("height_std_m"));
-        for (r, t) in rows.iter().zip(&truth) {
-            let (h, s, ht): (f64, f64, f64) = (
-                r[h].parse().unwrap(),
-                r[s].parse().unwrap(),
-                t[2].parse().unwrap(),
-            );
+        for (name, h, s, ht) in heights_and_truth(dir.path(), &src, scene) {
             eprintln!(
-                "{scene} {}: {:+.3} %, {:+.2} std",
-                t[0],
+                "{scene} {name}: {:+.3} %, {:+.2} std",
                 100.0 * (h / ht - 1.0),
                 (h - ht) / s
             );
             assert!(
                 (h - ht).abs() < 3.0 * s,
-                "{scene} {}: {h} against {ht} +- {s}",
-                t[0]
+                "{scene} {name}: {h} against {ht} +- {s}"
             );
         }
     }
@@ -546,22 +488,8 @@ fn a_camera_raised_8_degrees_is_set_up_from_the_clamp_row_given() {
         "scale {mpp} against the camera's {camera}"
     );
     bulge_in(dir.path(), &["track", "e.toml", "-o", "h.csv"]).ok();
-    let (head, rows) = read_csv(&dir.path().join("h.csv"));
-    let (_, truth) = read_csv(&src.join("truth.csv"));
-    assert_eq!(rows.len(), truth.len(), "a photo left out");
-    let col = |name: &str| head.iter().position(|h| h == name).unwrap();
-    let (h, s) = (col("height_m"), col("height_std_m"));
-    for (r, t) in rows.iter().zip(&truth) {
-        let (h, s, ht): (f64, f64, f64) = (
-            r[h].parse().unwrap(),
-            r[s].parse().unwrap(),
-            t[2].parse().unwrap(),
-        );
-        assert!((h / ht - 1.0).abs() < 0.005, "{}: {h} against {ht}", t[0]);
-        assert!(
-            (h - ht).abs() < 3.0 * s,
-            "{}: {h} against {ht} +- {s}",
-            t[0]
-        );
+    for (name, h, s, ht) in heights_and_truth(dir.path(), &src, "raised_8deg") {
+        assert!((h / ht - 1.0).abs() < 0.005, "{name}: {h} against {ht}");
+        assert!((h - ht).abs() < 3.0 * s, "{name}: {h} against {ht} +- {s}");
     }
 }
