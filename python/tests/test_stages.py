@@ -209,6 +209,19 @@ def test_init_equals_the_cli(root, cli, tmp_path):
 
 
 @opencv
+def test_init_takes_the_clamp_row_it_does_not_find(root, tmp_path):
+    # a path-traced camera 8.31 degrees up: the ring's top face is a band
+    # init does not choose an edge of; the ring centre's row given, it sets up
+    src = root / "fixtures/track/raised_8deg"
+    args = dict(pressure=src / "pressure.csv", camera=src / "camera.toml", base=tmp_path)
+    with pytest.raises(bulge.BadInput, match=r"stripe.*`clamp_row_px`"):
+        bulge.init(src / "photos", 0.0375, 0.00035, **args)
+    out = bulge.init(src / "photos", 0.0375, 0.00035, elevation_deg=8.31, clamp_row_px=382.61, **args)
+    assert out.experiment["calibration"]["clamp_row_px"] == 382.61
+    assert out.experiment["calibration"]["elevation_deg"] == 8.31
+
+
+@opencv
 def test_init_refusals_name_the_keyword(root, cli, tmp_path):
     photos = root / "data/demo/photos"
     with pytest.raises(bulge.BadInput, match=r"^`elevation_deg` 45: give 0 to 30 degrees"):
