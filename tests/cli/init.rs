@@ -305,7 +305,8 @@ fn a_raised_camera_without_its_distance_is_refused_with_the_fixes() {
 /// drew it): init takes it, the elevation given and the camera's distance,
 /// finds the scale at that row, and the heights are within 0.5 % of the
 /// truth. The row's deviation is written as given, and a negative one is
-/// refused with the flag's name; a row above the largest top is refused.
+/// refused with the flag's name; a row above the largest top is refused;
+/// a row given without the elevation is noted as a level camera's.
 #[test]
 fn a_clamp_row_given_to_init_is_taken() {
     let dir = tempdir();
@@ -330,6 +331,10 @@ fn a_clamp_row_given_to_init_is_taken() {
         &dir.path().join("exp/truth.csv"),
         0.005,
     );
+    // the row without the elevation: the camera taken as level, and said
+    let level = ["--camera-distance-m", "0.3", "--clamp-row-px", "420"];
+    let run = init_synth(dir.path(), "exp", "level.toml", &level).ok();
+    assert!(run.stderr.contains("taken as level"), "{}", run.stderr);
 }
 
 /// A camera 8 degrees above the clamp plane, beyond the 5 init's search

@@ -316,6 +316,12 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
             Setting::ClampRow
         ));
     }
+    if found.clamp_row_given && req.elevation_deg.is_none() {
+        notes.push(format!(
+            "note: the clamp row was given without {}: the camera is taken as level with the clamp plane; from a raised camera give its elevation too (taken as level, a camera e degrees up puts the heights off by the factor cos e, 1 % at 8 degrees, and the scale read at the row off as well)",
+            Setting::ElevationDeg
+        ));
+    }
     if let Some(t) = found.clamp_clipped_px {
         notes.push(format!(
             "note: the clamp ring's face is at the sensor's largest value beside its top edge (clipped): the edge located on the clipped step lies up to {t:.1} px towards the wall from the true one, and clamp_row_std_px includes {:.2} px for it; lower the exposure or the light on the ring until its face stays below the largest value",
