@@ -228,6 +228,15 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
     *m
 }
 
+/// The standard deviation of a sample read robustly: 1.4826 times the
+/// median absolute deviation from the median (a normal sample's standard
+/// deviation; the sample is reordered in place).
+fn robust_sd(v: &mut [f64]) -> f64 {
+    let med = quantile(v, 0.5);
+    let mut dev: Vec<f64> = v.iter().map(|x| (x - med).abs()).collect();
+    1.4826 * quantile(&mut dev, 0.5)
+}
+
 /// Every `stride`-th value of an image-sized map.
 fn sample(v: &[f32], stride: usize) -> Vec<f64> {
     v.iter()

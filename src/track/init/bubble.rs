@@ -94,9 +94,7 @@ pub(super) fn swept(first: &Plane, last: &Plane, names: [&Path; 2]) -> Result<Sw
     let gain = quantile(&mut ratios, 0.5) as f32;
     let d: Vec<f32> = l.v.iter().zip(&f.v).map(|(b, a)| b - gain * a).collect();
     let mut s = sample(&d, stride);
-    let med = quantile(&mut s, 0.5);
-    let mut dev: Vec<f64> = s.iter().map(|v| (v - med).abs()).collect();
-    let sigma = 1.4826 * quantile(&mut dev, 0.5);
+    let sigma = robust_sd(&mut s);
     let mut mags: Vec<f64> = s.iter().map(|v| v.abs()).collect();
     let contrast = quantile(&mut mags, 0.995);
     let thr = (6.0 * sigma).max(0.35 * contrast).max(3.0);
@@ -163,7 +161,12 @@ pub(super) fn swept(first: &Plane, last: &Plane, names: [&Path; 2]) -> Result<Sw
 /// returns to the background there). A step counts beyond 6 standard
 /// deviations of the same step over the rows `bg` (the wall above the
 /// largest top, in every photo): the swept band's own noise criterion
-/// ([`swept`]), here on the profile.
+/// ([`swept`]), here on the profile. The row counts (3 either side, 5
+/// from 4 below) are chosen, not derived (3 is about the widest blur the
+/// sweep draws, 2.8 px, [`super::clamp::CORNER_PX`]'s reckoning). On
+/// the init sweep (250 clean and 100 dirty sequences) and the camera grid
+/// the search below was never entered; it is measured on the one
+/// path-traced scene above and the tests below only.
 pub(super) fn top_below_band(
     p: &[f64],
     bg: std::ops::Range<usize>,
@@ -179,9 +182,7 @@ pub(super) fn top_below_band(
         return None;
     }
     let mut steps: Vec<f64> = (bg.start + 3..bg.end - 9).map(step).collect();
-    let med = quantile(&mut steps, 0.5);
-    let mut dev: Vec<f64> = steps.iter().map(|s| (s - med).abs()).collect();
-    let thr = 6.0 * 1.4826 * quantile(&mut dev, 0.5);
+    let thr = 6.0 * robust_sd(&mut steps);
     if (from - 3..=from + 3).any(|r| step(r) > thr) {
         return None;
     }

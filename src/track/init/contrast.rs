@@ -84,9 +84,7 @@ impl Contrast {
             .iter()
             .flat_map(|p| rows.clone().map(move |j| levels_at(tone, *p, j)))
             .collect();
-        let med = quantile(&mut steps, 0.5);
-        let mut dev: Vec<f64> = steps.iter().map(|s| (s - med).abs()).collect();
-        let sigma = 1.4826 * quantile(&mut dev, 0.5);
+        let sigma = robust_sd(&mut steps);
         Contrast {
             tone,
             min_levels: (K_SIGMA * sigma).max(FLOOR_LEVELS),
