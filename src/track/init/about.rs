@@ -90,25 +90,7 @@ impl Steps34<'_> {
         // elevation the one given (level without it).
         let (clamp, (roll_deg, elevation_deg)) = match given.clamp_row_px {
             Some(row) => {
-                // Every apex lies above the clamp plane, and the plane in
-                // the photo: a row given beyond either is not the clamp's.
-                if !(row.value > top && row.value < mean.h as f64) {
-                    return Err(TrackError::NotFound {
-                        what: "the clamp plane".into(),
-                        detail: format!(
-                            "the clamp row given, {:.1}, is {} (the largest bubble's top is at row {top:.0}, the photo {} rows tall): rows count down from the photo's top edge",
-                            row.value,
-                            if row.value <= top {
-                                "above the largest bubble's top"
-                            } else {
-                                "below the photo"
-                            },
-                            mean.h
-                        ),
-                        keys: "clamp_row_px",
-                    });
-                }
-                let clamp = Clamp::given(row, x0, given.lens.as_ref());
+                let clamp = Clamp::given(row, x0, given.lens.as_ref(), top, mean.h)?;
                 let e = given.elevation_deg.map(|e| Estimate { value: e, std: 0.0 });
                 (
                     clamp,

@@ -48,10 +48,35 @@ pub(super) struct Clamp {
 impl Clamp {
     /// The clamp plane given at `row` (at the axis `x0`, in the photo):
     /// not searched, so no edge, ends or roll; through a lens the row is
-    /// carried into the undistorted image, as the rows found are.
-    pub(super) fn given(row: Estimate, x0: f64, lens: Option<&super::super::lens::Lens>) -> Clamp {
+    /// carried into the undistorted image, as the rows found are. Every
+    /// apex lies above the clamp plane and the plane lies in the photo: a
+    /// row at or above the largest bubble's top (row `top`) or below the
+    /// photo (`h` rows tall) is refused, as [`Clamp::checked`] refuses an
+    /// edge found above the bubble's base.
+    pub(super) fn given(
+        row: Estimate,
+        x0: f64,
+        lens: Option<&super::super::lens::Lens>,
+        top: f64,
+        h: usize,
+    ) -> Result<Clamp, TrackError> {
+        if !(row.value > top && row.value < h as f64) {
+            return Err(TrackError::NotFound {
+                what: "the clamp plane".into(),
+                detail: format!(
+                    "the clamp row given, {:.1}, is {} (the largest bubble's top is at row {top:.0}, the photo {h} rows tall): rows count down from the photo's top edge",
+                    row.value,
+                    if row.value <= top {
+                        "above the largest bubble's top"
+                    } else {
+                        "below the photo"
+                    },
+                ),
+                keys: "clamp_row_px",
+            });
+        }
         let value = lens.map_or(row.value, |l| l.undistort([x0, row.value])[1]);
-        Clamp {
+        Ok(Clamp {
             row: Estimate {
                 value,
                 std: row.std,
@@ -69,7 +94,7 @@ impl Clamp {
             base_points: Vec::new(),
             on_base: false,
             clipped_px: None,
-        }
+        })
     }
 
     /// The camera's roll from the edge's slope and the elevation from the
