@@ -25,6 +25,11 @@ pub enum TrackError {
         detail: String,
         /// The keys of the experiment file to set instead.
         keys: &'static str,
+        /// Whether what was not found is the clamp plane's (its row, the
+        /// ring's ellipse, the camera's elevation, the opening at it),
+        /// which init can be given instead (`--clamp-row-px`); not the
+        /// bubble, nor a rolled camera, which a row given would hide.
+        clamp_plane: bool,
     },
     /// The video cannot be opened or read.
     #[error("{}: cannot read the video: {reason}; fix `video` in [photos] (a file, relative to the experiment file), or convert the video to Motion JPEG in AVI or H.264 in MP4", path.display())]

@@ -277,6 +277,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 "{n} photo given: the bubble is found by what changes between the first and the last photo, so at least two are needed"
             ),
             keys: "roi_px, template_rect_px, clamp_row_px and metres_per_pixel",
+            clamp_plane: false,
         });
     }
     let (first_path, last_path) = (frames.path(0), frames.path(n - 1));
@@ -335,6 +336,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
             last_path.display()
         ),
         keys: "roi_px and template_rect_px (or take the photos with the whole bubble in the frame)",
+        clamp_plane: false,
     };
     if top == 0 {
         return Err(cut("top"));
@@ -374,6 +376,7 @@ pub fn find_in(frames: &Frames, radius_m: f64, given: Given) -> Result<Found, Tr
                 "the region that changes between the first and last photo is not symmetric about a vertical axis (its middle, column {x0:.0}, does not change): is the camera upright?"
             ),
             keys: "roi_px, template_rect_px and apex_in_template_px",
+            clamp_plane: false,
         });
     }
     let y_top = on_axis.iter().map(|c| c.0).min().unwrap_or(0);

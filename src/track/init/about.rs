@@ -184,6 +184,7 @@ impl Steps34<'_> {
                             crate::setting::Setting::CameraDistance
                         ),
                         keys: "[camera] distance_m",
+                        clamp_plane: false,
                     });
                 }
                 let at = ring::View {
@@ -256,6 +257,7 @@ impl Steps34<'_> {
                             2.0 * a.std
                         ),
                         keys: "clamp_row_px, or the scale (metres_per_pixel)",
+                        clamp_plane: true,
                     });
                 }
                 let sides = o.sides;

@@ -115,6 +115,7 @@ pub(super) fn no_stripe(
                     pts.len()
                 ),
                 keys: "clamp_row_px",
+                clamp_plane: true,
             });
         }
     }

@@ -128,6 +128,7 @@ pub(super) fn swept(first: &Plane, last: &Plane, names: [&Path; 2]) -> Result<Sw
                 region.len()
             ),
             keys: "roi_px, template_rect_px, apex_in_template_px, clamp_row_px and metres_per_pixel",
+            clamp_plane: false,
         });
     }
     let mut rows = vec![None; h];

@@ -73,6 +73,7 @@ impl Clamp {
                     },
                 ),
                 keys: "clamp_row_px",
+                clamp_plane: true,
             });
         }
         let value = lens.map_or(row.value, |l| l.undistort([x0, row.value])[1]);
@@ -118,6 +119,7 @@ impl Clamp {
                     roll_deg.value, roll_deg.std
                 ),
                 keys: "clamp_row_px (the clamp's row at the bubble's axis), metres_per_pixel, roi_px and template_rect_px",
+                clamp_plane: false,
             });
         }
         // (a far side placed through the pinhole is checked by its fit)
@@ -137,6 +139,7 @@ impl Clamp {
                     self.row.value
                 ),
                 keys: "clamp_row_px",
+                clamp_plane: true,
             });
         }
         let elevation_deg = match (given, self.sin_e) {
@@ -613,6 +616,7 @@ pub(super) fn clamp_not_found(detail: String) -> TrackError {
         what: "the clamp plane".into(),
         detail,
         keys: "clamp_row_px",
+        clamp_plane: true,
     }
 }
 

@@ -251,9 +251,7 @@ pub fn init_files(req: &InitRequest) -> Result<InitFiles, InitError> {
     // bubble was not found, nor for a rolled camera, which a row given
     // would hide.
     let found = super::find_in(&frames, req.specimen.radius_m, given).map_err(|e| {
-        let clamp = matches!(&e, TrackError::NotFound { what, keys, .. }
-            if keys.contains("clamp_row_px")
-                && ["clamp plane", "ellipse", "elevation"].iter().any(|w| what.contains(w)))
+        let clamp = matches!(&e, TrackError::NotFound { clamp_plane: true, .. })
             && req.clamp_row_px.is_none();
         let mut err = InitError::from(e);
         if clamp {

@@ -285,6 +285,7 @@ pub(super) fn place_ring(
             }
         ),
         keys: "clamp_row_px (the row of the clamp ring's centre) and elevation_deg",
+        clamp_plane: true,
     })?;
     clamp.row = r.row;
     if ends.is_none() && !on_base {

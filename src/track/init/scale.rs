@@ -94,6 +94,7 @@ pub(super) fn find_radius(
                 crate::setting::Setting::MetresPerPixel
             ),
             keys: "metres_per_pixel (or points_px with distance_m)",
+            clamp_plane: false,
         });
     }
     let fit = opening_from_sides(&pts, sin_e, a0)?;
@@ -230,6 +231,7 @@ pub(super) fn opening_from_sides(
         what: "the scale".into(),
         detail: "the bubble's sides near the clamp do not fit a smooth curve".into(),
         keys: "metres_per_pixel",
+        clamp_plane: false,
     })?;
     let [big_a, big_b, big_c] = [coef[0], coef[1], coef[2]];
     let s2 = sin_e * sin_e;
@@ -240,6 +242,7 @@ pub(super) fn opening_from_sides(
             what: "the scale".into(),
             detail: "the bubble's sides near the clamp do not close into an opening".into(),
             keys: "metres_per_pixel",
+            clamp_plane: false,
         });
     }
     let a = alpha.sqrt();

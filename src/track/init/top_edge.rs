@@ -125,6 +125,7 @@ pub(super) fn fit_top_edge(
                         "the clamp's top edge bends by {bend:.1} px across the photo (a camera above the clamp plane sees the clamp as an ellipse), but the clamp's ends are not in the picture to place the ellipse"
                     ),
                     keys: "elevation_deg and clamp_row_px (the row of the clamp ring's centre)",
+                    clamp_plane: true,
                 });
             } else {
                 let (kept_x, kept_y): (Vec<Vec<f64>>, Vec<f64>) = x
