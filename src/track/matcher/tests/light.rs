@@ -41,6 +41,50 @@ fn a_glossy_rims_pull_is_read_from_the_dome_side_below_the_window() {
     }
 }
 
+/// A dark dome's rim lighter at the outline than the wall behind it (a dome
+/// of 60 under a wall of 120, and Schlick's rim of 90 grey levels: 150 at
+/// the outline), which no reflection of the wall can make, is taken as
+/// the brightest one that can: a rim of 60, up to the wall's level at the
+/// outline. Their shares read by [`rim_tail`] differ; [`rim_bias`] states
+/// about the same shift for both.
+#[test]
+fn a_dark_domes_rim_is_bounded_by_the_wall_it_reflects() {
+    let (r, e, hw) = (300.0, 30.0, 3.0);
+    let read = |amp: f64| {
+        let p = blurred_dome(
+            120.0,
+            |d| 60.0 + amp * rim_factor(RimShape::Glossy, d, r),
+            e,
+            0.8,
+        );
+        let img = columns_image(&p, 8);
+        let cols: Vec<(f64, f64, f64)> = (0..8)
+            .map(|c| {
+                let (row, step) = column_edge(&img, c, e, hw).unwrap();
+                (c as f64, row, step)
+            })
+            .collect();
+        let (share, _) = rim_tail(&img, 0, cols[0].1, hw, cols[0].2, r, RimShape::Glossy).unwrap();
+        (share, rim_bias(&img, &cols, 0.0, hw, r))
+    };
+    let (brightest, allowed) = read(60.0);
+    let (impossible, bounded) = read(90.0);
+    assert!(
+        impossible > 1.3 * brightest,
+        "shares read {impossible:.2} and {brightest:.2}"
+    );
+    assert!(allowed > 0.0, "the brightest rim's shift {allowed:.3} px");
+    // The bound is the brightest rim's share, which the fit of its blurred
+    // rows reads 14 % low (1.46 against 1.69): the impossible rim's shift
+    // lies between the brightest's and a fifth more (0.61 and 0.67 px; 0.85
+    // px unbounded).
+    let unbounded = rim_shift(RimShape::Glossy, impossible, hw, r);
+    assert!(
+        allowed <= bounded && bounded <= 1.2 * allowed && bounded < unbounded,
+        "the impossible rim's shift {bounded:.3} px ({unbounded:.3} unbounded), the brightest's {allowed:.3} px"
+    );
+}
+
 /// A highlight under a light dome's edge (205 under a dark wall of 45), a
 /// Gaussian of 40-60 grey levels peaking 3-5 px under the edge, blurred by
 /// 0.8 or 1.4 px and pixel-averaged: its near flank continues the step,
