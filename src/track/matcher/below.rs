@@ -260,6 +260,15 @@ pub(super) fn rim_factor(shape: RimShape, d: f64, r: f64) -> f64 {
 /// first row read). `A` is positive where the dome side is lighter towards
 /// the outline (for a dark dome on a light wall; darker for a light dome).
 /// `None` where the rows leave the image.
+///
+/// On a dome darker than its background the share is bounded by what a
+/// rim can reflect: at most all the light behind the outline (the Fresnel
+/// reflectance is at most 1), so its light at the outline comes at most up
+/// to the background's, an amplitude `A` of at most the step `S` from the
+/// dome's own level to the background. The share is `A` over the step at
+/// the first row read, `S - A G0` (`G0` the rim's factor there), so it is
+/// taken as `1 / (1 - G0)` at most: a fit beyond that has read noise over
+/// a step that its own level there nearly cancels.
 pub(super) fn rim_tail(
     img: &Gray,
     c: usize,
@@ -300,7 +309,14 @@ pub(super) fn rim_tail(
         .enumerate()
         .map(|(k, y)| (y - a - amp * g(k)).powi(2))
         .sum::<f64>();
-    Some((amp / s, rss / (s * s)))
+    let share = amp / s;
+    let g0 = g(0);
+    let share = if is_light_dome(step) || g0 >= 1.0 {
+        share
+    } else {
+        share.min(1.0 / (1.0 - g0))
+    };
+    Some((share, rss / (s * s)))
 }
 
 /// The least-squares fit `y_k = a + b x(k)`: `(a, b)`, `None` where the
@@ -375,13 +391,7 @@ pub(super) fn rim_bias(
     hw: f64,
     radius: f64,
 ) -> f64 {
-    /// A column's share, its fit's squared residual and its edge row.
-    struct Fit {
-        share: f64,
-        rss: f64,
-        row: f64,
-    }
-    let fits = |shape: RimShape| -> Vec<Fit> {
+    let fits = |shape: RimShape| -> Vec<(f64, f64)> {
         columns
             .iter()
             .filter_map(|&(u, e, step)| {
@@ -394,7 +404,6 @@ pub(super) fn rim_bias(
                     radius,
                     shape,
                 )
-                .map(|(share, rss)| Fit { share, rss, row: e })
             })
             .collect()
     };
@@ -409,13 +418,13 @@ pub(super) fn rim_bias(
     } else {
         &[RimShape::Glossy]
     };
-    let by_shape: Vec<(RimShape, Vec<Fit>)> = shapes.iter().map(|&s| (s, fits(s))).collect();
+    let by_shape: Vec<(RimShape, Vec<(f64, f64)>)> = shapes.iter().map(|&s| (s, fits(s))).collect();
     // The shape whose fits leave the least squared residual; where the
     // shapes did not all fit the same columns (a fit that leaves no
     // contrast), the glossy one, whose shift is the largest.
     let n = by_shape[0].1.len();
     let same = by_shape.iter().all(|(_, f)| f.len() == n);
-    let rss = |f: &[Fit]| f.iter().map(|x| x.rss).sum::<f64>();
+    let rss = |f: &[(f64, f64)]| f.iter().map(|x| x.1).sum::<f64>();
     let (shape, fit) = if same {
         by_shape
             .into_iter()
@@ -424,32 +433,8 @@ pub(super) fn rim_bias(
     } else {
         by_shape.into_iter().last().expect("one shape at least")
     };
-    // A glossy rim reflects at most all the light behind the outline (the
-    // Fresnel reflectance is at most 1): on a dome darker than its
-    // background its light at the outline comes at most up to the
-    // background's, an amplitude `A` of at most the step `S` from the
-    // dome's own level to the background. [`rim_tail`]'s share is `A` over
-    // the step at the first row it reads, `S - A G0` (`G0` the rim's
-    // factor there), so it is at most `1 / (1 - G0)`. A fit beyond that
-    // has read noise over a step that its own level there nearly cancels.
-    let share_bound = |e: f64| {
-        let g0 = rim_factor(shape, rim_rows(e, hw).0 as f64 - e, radius);
-        if g0 < 1.0 {
-            1.0 / (1.0 - g0)
-        } else {
-            f64::INFINITY
-        }
-    };
-    let shares: Vec<f64> = fit
-        .iter()
-        .map(|x| {
-            if light_dome {
-                x.share
-            } else {
-                x.share.min(share_bound(x.row))
-            }
-        })
-        .collect();
+    // Each column's share (on a dark dome bounded by [`rim_tail`]).
+    let shares: Vec<f64> = fit.iter().map(|x| x.0).collect();
     let n = shares.len() as f64;
     if n < 5.0 {
         return 0.0;
