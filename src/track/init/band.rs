@@ -106,17 +106,12 @@ pub(super) fn no_stripe(
             .collect();
         if stripes.len() * 5 >= pts.len() * 3 {
             let mut tall = stripes;
-            return Err(TrackError::NotFound {
-                what: "the clamp plane".into(),
-                detail: format!(
-                    "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, something in front of the ring, or the ring's top face itself seen from a camera raised beyond the 5 degrees init is measured on): its top or its bottom may be the clamp's edge",
-                    quantile(&mut tall, 0.5),
-                    tall.len(),
-                    pts.len()
-                ),
-                keys: "clamp_row_px",
-                clamp_plane: true,
-            });
+            return Err(super::clamp::clamp_not_found(format!(
+                "a stripe about {:.0} px tall lies on the clamp's top edge in {} of {} columns (a flange lit unlike the wall and the ring's side, something in front of the ring, or the ring's top face itself seen from a camera raised beyond the 5 degrees init is measured on): its top or its bottom may be the clamp's edge",
+                quantile(&mut tall, 0.5),
+                tall.len(),
+                pts.len()
+            )));
         }
     }
     Ok(())

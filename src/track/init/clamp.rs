@@ -61,20 +61,15 @@ impl Clamp {
         h: usize,
     ) -> Result<Clamp, TrackError> {
         if !(row.value > top && row.value < h as f64) {
-            return Err(TrackError::NotFound {
-                what: "the clamp plane".into(),
-                detail: format!(
-                    "the clamp row given, {:.1}, is {} (the largest bubble's top is at row {top:.0}, the photo {h} rows tall): rows count down from the photo's top edge",
-                    row.value,
-                    if row.value <= top {
-                        "above the largest bubble's top"
-                    } else {
-                        "below the photo"
-                    },
-                ),
-                keys: "clamp_row_px",
-                clamp_plane: true,
-            });
+            return Err(clamp_not_found(format!(
+                "the clamp row given, {:.1}, is {} (the largest bubble's top is at row {top:.0}, the photo {h} rows tall): rows count down from the photo's top edge",
+                row.value,
+                if row.value <= top {
+                    "above the largest bubble's top"
+                } else {
+                    "below the photo"
+                },
+            )));
         }
         let value = lens.map_or(row.value, |l| l.undistort([x0, row.value])[1]);
         Ok(Clamp {
@@ -132,15 +127,10 @@ impl Clamp {
         if self.bend.is_none()
             && self.row.value < y_low - 3.0 - self.half_width_px.map_or(0.0, |a| a * 0.1)
         {
-            return Err(TrackError::NotFound {
-                what: "the clamp plane".into(),
-                detail: format!(
-                    "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp, or the camera looks down from beyond the 5 degrees init is measured on (from about 6-9 degrees up the dome's base in front of the ring lies that far below the ring's centre)",
-                    self.row.value
-                ),
-                keys: "clamp_row_px",
-                clamp_plane: true,
-            });
+            return Err(clamp_not_found(format!(
+                "the edge found beside the bubble (row {:.1}) is above the lowest part of the bubble that moves (row {y_low:.0}): it is not the clamp, or the camera looks down from beyond the 5 degrees init is measured on (from about 6-9 degrees up the dome's base in front of the ring lies that far below the ring's centre)",
+                self.row.value
+            )));
         }
         let elevation_deg = match (given, self.sin_e) {
             (Some(e), _) => Some(Estimate { value: e, std: 0.0 }),
