@@ -63,8 +63,10 @@ pub(super) fn clipped_below(img: &Gray, c: usize, e: f64, hw: f64) -> bool {
 }
 
 /// The share of an edge's step by which the dome side under it must turn
-/// back towards the background for the edge to be tested against the step
-/// model ([`turns_back`], [`StepTest::Widen`]).
+/// back towards the background for the column to count as turning back
+/// ([`turns_back`]): its shift is then worked out ([`turn_back_shift`]),
+/// and where a tenth of the kept columns turn, the rim's term is not read
+/// and the step model is not tested.
 pub(super) const TURN_SHARE: f64 = 0.1;
 
 /// The rows below an edge at row `e` (window half-height `hw`) that its

@@ -145,13 +145,6 @@ pub(super) enum StepTest {
     /// [`strong_columns`] or [`spot_below`]): every kept column is tested,
     /// and the model's rows replace the centroids' where they differ.
     Switch,
-    /// Only the dome side turns back under a tenth of the kept columns
-    /// ([`turns_back`]): about [`WIDEN_COLUMNS`] of them are tested, and
-    /// the bias found widens the apex row's uncertainty; the centroids
-    /// stay. Switching there, on every column, took twice the time on
-    /// glossy photos and added the model's noise where there was little
-    /// bias to remove (100 glossy 1280x960 photos: 0.048 against 0.040 px).
-    Widen,
     /// Fewer than a tenth of the columns were weakened, but they carry a
     /// tenth of the apex row's weight or more ([`weakened_apex_share`]):
     /// every kept column is tested, and the bias found widens the apex
@@ -160,10 +153,6 @@ pub(super) enum StepTest {
     /// 38 dirty photos' apexes from 0.134 to 0.169 px RMS error.
     Bound,
 }
-
-/// The columns, evenly spread over the span, that [`StepTest::Widen`]
-/// tests.
-pub(super) const WIDEN_COLUMNS: usize = 24;
 
 /// What the test of the centroids against the step model says.
 pub(super) enum TwoSided {
@@ -264,7 +253,7 @@ pub(super) const UPPER_SHARE: f64 = 0.8;
 /// something under the edge (a highlight's flank, texture) biased the
 /// centroids more than the step model's noise costs, and the robust
 /// parabola through the step model's rows is returned instead (with
-/// [`StepTest::Switch`] only). Below it, or with [`StepTest::Widen`], the
+/// [`StepTest::Switch`] only). Below it, or with [`StepTest::Bound`], the
 /// difference still estimates the centroids' bias on a frame where
 /// something lies on the edge (the test is made only there): its square
 /// beyond its variance, `max(0, D^2 - sd^2)` (unbiased for the squared
@@ -279,14 +268,9 @@ pub(super) fn two_sided_refit(
     test: StepTest,
 ) -> Option<TwoSided> {
     let switch = test == StepTest::Switch;
-    let every = if test == StepTest::Widen {
-        (pts.len() / WIDEN_COLUMNS).max(1)
-    } else {
-        1
-    };
     let mut model = Vec::with_capacity(pts.len());
     let mut diff = Vec::with_capacity(pts.len());
-    for &(u, e) in pts.iter().step_by(every) {
+    for &(u, e) in pts {
         // `u` is a column minus `centre`, so rounding recovers the column.
         let c = (centre + u).round() as usize;
         if let Some(m) = cols.model_edge(c, e) {
@@ -294,7 +278,7 @@ pub(super) fn two_sided_refit(
             diff.push((u, m - e));
         }
     }
-    if diff.len() < 8.max(pts.len() / (2 * every)) {
+    if diff.len() < 8.max(pts.len() / 2) {
         return None;
     }
     let d = parabola(&diff, false)?;
