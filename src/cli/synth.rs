@@ -95,6 +95,7 @@ pub fn run(args: Args) -> Result<(), Failure> {
             elevation_deg: args.look.elevation_deg,
             uneven_light: args.look.uneven_light,
             highlight_grey: args.look.highlight_grey,
+            highlight: Default::default(),
             clutter: args.look.clutter,
             response: args.look.response,
             ring_face_grey: args.look.ring_face_grey,

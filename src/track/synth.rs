@@ -38,7 +38,7 @@ mod write;
 use draw::densify;
 pub use draw::{coverage, gaussian_blur, render};
 pub use frames::{FramesError, bubble_frames, pressure_steps};
-pub use look::{Framing, FramingError, Look, Psf, vignette};
+pub use look::{Framing, FramingError, HighlightShape, Look, Psf, vignette};
 pub use sequence::{
     Layout, SequenceSpec, SynthFrame, Truth, Written, axisym_frame, experiment_file,
     neo_hookean_bubble, random_camera, render_frame, template_size,

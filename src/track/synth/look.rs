@@ -29,6 +29,8 @@ pub struct Look {
     pub uneven_light: f64,
     /// Peak of a specular highlight on the dome, grey levels (0: none).
     pub highlight_grey: f64,
+    /// Where that highlight lies on the dome and how its light spreads.
+    pub highlight: HighlightShape,
     /// A dark shelf edge and a cable behind the bubble, across the apex's
     /// path.
     pub clutter: bool,
@@ -80,6 +82,46 @@ pub struct Look {
     /// the clamp ring's centre at `elevation_deg` ([`super::pinhole`]; 0:
     /// an orthographic camera).
     pub camera_distance_m: f64,
+}
+
+/// Where a specular highlight lies on the dome and how its light spreads
+/// ([`Look::highlight_grey`]). A lamp over and behind the bubble is
+/// mirrored where the dome's normal bisects the directions to the lamp and
+/// to the camera; its image's size is the lamp's angular size and the
+/// coat's roughness together, and its fall-off the coat's microfacet
+/// distribution: Beckmann's, near a Gaussian, or Trowbridge and Reitz's
+/// (GGX), whose tail is much heavier (B. Walter, S. R. Marschner, H. Li,
+/// K. E. Torrance, "Microfacet models for refraction through rough
+/// surfaces", Eurographics Symposium on Rendering 2007,
+/// doi:10.2312/EGWR/EGSR07/195-206).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HighlightShape {
+    /// The highlight's angle from the pole towards the camera, degrees, on
+    /// the sphere through the apex and the rim.
+    pub polar_deg: f64,
+    /// Its angle about the axis from the plane through the axis and the
+    /// camera, degrees (negative: to the left).
+    pub azimuth_deg: f64,
+    /// Its size, radians of that sphere: the standard deviation of the
+    /// Gaussian spot, or the width `alpha / sqrt(2)` of the heavy-tailed
+    /// one.
+    pub size_rad: f64,
+    /// The heavy-tailed lobe `(1 + r^2 / 2)^-2` (GGX's near its peak, `r`
+    /// the distance over the size) instead of the Gaussian `exp(-r^2 / 2)`.
+    pub heavy_tail: bool,
+}
+
+impl Default for HighlightShape {
+    /// 12 degrees from the pole, 20 degrees to the left, a Gaussian spot of
+    /// 0.05 rad.
+    fn default() -> Self {
+        HighlightShape {
+            polar_deg: 12.0,
+            azimuth_deg: -20.0,
+            size_rad: 0.05,
+            heavy_tail: false,
+        }
+    }
 }
 
 /// Where the specimen is in the picture. Unset values keep the default
@@ -340,17 +382,19 @@ pub(super) fn fixture_rows(scene: &Scene, half_px: f64) -> (Vec<f64>, Vec<f64>) 
         .unzip()
 }
 
-/// A specular highlight on the dome: the reflection of a small light above
-/// the camera, at a fixed angle (12 degrees) from the pole towards the
-/// camera and 20 degrees to the left on the sphere through the apex and the
-/// rim, so that it comes closer to the apex as the bubble inflates; a
-/// Gaussian spot of 0.05 rad of the sphere, foreshortened vertically.
+/// A specular highlight on the dome: the reflection of a small light over
+/// the bubble, at a fixed place on the sphere through the apex and the rim
+/// ([`HighlightShape`]; by default 12 degrees from the pole towards the
+/// camera and 20 degrees to the left), so that it comes closer to the apex
+/// as the bubble inflates; a spot of a fixed size on the sphere,
+/// foreshortened vertically.
 pub(super) struct Highlight {
     x: f64,
     y: f64,
     sx: f64,
     sy: f64,
     peak: f64,
+    heavy_tail: bool,
 }
 
 impl Highlight {
@@ -362,7 +406,8 @@ impl Highlight {
         }
         let r = (a * a + h * h) / (2.0 * h);
         let cap = 2.0 * (h / a).atan();
-        let (tb, phi) = (12f64.to_radians(), (-20f64).to_radians());
+        let shape = scene.look.highlight;
+        let (tb, phi) = (shape.polar_deg.to_radians(), shape.azimuth_deg.to_radians());
         if tb > 0.8 * cap {
             return None;
         }
@@ -374,20 +419,26 @@ impl Highlight {
         );
         let up = y * e.sin() + z * e.cos();
         let mpp = scene.metres_per_pixel;
-        let sigma = 0.05 * r / mpp;
+        let sigma = shape.size_rad * r / mpp;
         Some(Highlight {
             x: scene.axis_x_px + x / mpp,
             y: scene.clamp_row_px - up / mpp,
             sx: sigma.max(0.8),
             sy: (sigma * (tb + e).sin()).max(0.8),
             peak,
+            heavy_tail: shape.heavy_tail,
         })
     }
 
     /// Its brightness at `(x, y)`, grey levels.
     pub(super) fn at(&self, x: f64, y: f64) -> f64 {
         let (u, v) = ((x - self.x) / self.sx, (y - self.y) / self.sy);
-        self.peak * (-0.5 * (u * u + v * v)).exp()
+        let r2 = u * u + v * v;
+        if self.heavy_tail {
+            self.peak / (1.0 + 0.5 * r2).powi(2)
+        } else {
+            self.peak * (-0.5 * r2).exp()
+        }
     }
 }
 

@@ -19,7 +19,10 @@
 //!   1-4 px in any direction) or not; vignetting (corners losing 20-50 % of
 //!   the light) or not;
 //! - dirty sequences only: clutter behind the bubble, a specular highlight
-//!   (grey 40-100) and uneven light (0.1-0.4);
+//!   (grey 40-100; 8-20 degrees from the pole, 40 degrees either side, a
+//!   size of 0.03 rad up to 0.08 rad or a third of its polar angle, a
+//!   Gaussian or a heavy-tailed lobe: [`HighlightShape`]) and uneven light
+//!   (0.1-0.4);
 //! - the law: neo-Hookean (C1 = 0.2 MPa), Mooney-Rivlin (C2/C1 0.05-0.3,
 //!   the same initial shear modulus), Ogden (Treloar's rubber, Ogden 1972)
 //!   or Gent (mu = 0.4 MPa, Jm 10-40), all with Poisson 0.45;
@@ -33,7 +36,9 @@
 
 use std::path::Path;
 
-use super::{Framing, Look, Rng, SequenceSpec, SynthFrame, axisym_frame, random_camera};
+use super::{
+    Framing, HighlightShape, Look, Rng, SequenceSpec, SynthFrame, axisym_frame, random_camera,
+};
 use crate::experiment::Experiment;
 use crate::material::{Material, Model};
 use crate::track::image::Encoding;
@@ -75,7 +80,7 @@ pub struct Photo {
 }
 
 /// The names of the factors, in the order of [`Case::levels`].
-pub const FACTORS: [&str; 14] = [
+pub const FACTORS: [&str; 15] = [
     "sequence",
     "size",
     "encoding",
@@ -87,6 +92,7 @@ pub const FACTORS: [&str; 14] = [
     "defocus",
     "motion",
     "vignetting",
+    "highlight",
     "law",
     "photos",
     "top pressure",
@@ -148,6 +154,23 @@ pub fn draw(seed: u64, dirty: bool, sizes: &[(usize, usize)]) -> Result<Case, Dr
         look.clutter = true;
         look.highlight_grey = uni(40.0, 100.0);
         look.uneven_light = uni(0.1, 0.4);
+    }
+    // The highlight's place, size and lobe, from a stream of their own (a
+    // seed's other factors are drawn as they were before it varied): 8-20
+    // degrees from the pole, 40 degrees either side, a size of 0.03 rad up
+    // to 0.08 rad or a third of its polar angle (a spot on the outline
+    // itself is a spot on the edge, which other tests draw), either lobe.
+    let mut h = Rng::new(seed ^ 0x0016_6117);
+    let mut hu = |lo: f64, hi: f64| lo + (hi - lo) * h.uniform();
+    let polar_deg = hu(8.0, 20.0);
+    let highlight = HighlightShape {
+        polar_deg,
+        azimuth_deg: hu(-40.0, 40.0),
+        size_rad: hu(0.03, 0.08f64.min(polar_deg.to_radians() / 3.0)),
+        heavy_tail: hu(0.0, 1.0) < 0.5,
+    };
+    if dirty {
+        look.highlight = highlight;
     }
     let mut spec = random_camera(seed, sizes, look);
     if png {
@@ -267,6 +290,18 @@ pub fn draw(seed: u64, dirty: bool, sizes: &[(usize, usize)]) -> Result<Case, Dr
         ),
         ("motion", onoff(motion, "1-4 px".into())),
         ("vignetting", onoff(vignetting, "0.2-0.5".into())),
+        (
+            "highlight",
+            onoff(
+                dirty,
+                if highlight.heavy_tail {
+                    "heavy tail (GGX)"
+                } else {
+                    "Gaussian"
+                }
+                .into(),
+            ),
+        ),
         ("law", law_name),
         ("photos", if n <= 8 { "5-8" } else { "9-16" }.to_string()),
         ("top pressure", format!("{top} of the limit")),
