@@ -310,26 +310,54 @@ pub(super) fn edge_fit_core(
             .map(|((&l, _), _)| l)
     };
     // Where the dome side turns back under the edge, the centroids' shift
-    // that its rise can cause, averaged over the columns kept
-    // ([`turn_back_shift`]).
-    let turn = if !strong.is_empty() {
-        let shifts: f64 = kept_turning(true)
-            .map(|(u, e, step)| {
-                let shift =
-                    turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step);
-                // Taken off the centroids' rows: what is left of it (the
-                // step model's rows, where they are the fit's, keep it).
-                if is_light_dome(step) && !r.two_sided {
-                    shift / OVERSHOOT_SPREAD
-                } else {
-                    shift
-                }
+    // that its rise can cause ([`turn_back_shift`]), carried to the apex
+    // row by the fit itself: the parabola through each kept column's shift
+    // (0 where the side does not turn back), at the apex column. The
+    // shifts share their cause (one highlight's flank, read with one
+    // assumption on where its light lies), so their errors move together
+    // and add through the fit's weights; those weigh the columns near the
+    // apex most and those at the span's ends against them (a parabola's
+    // value at its vertex), so a highlight under the top moves the apex
+    // row more than its shift's mean over the columns, and one on the
+    // flanks less.
+    let turn = {
+        let shifts: Vec<(f64, f64)> = kept
+            .iter()
+            .map(|&(u, _)| {
+                let shift = strong
+                    .iter()
+                    .zip(&turns)
+                    .find(|(l, _)| l.0 == u)
+                    .filter(|(_, t)| **t)
+                    .map_or(0.0, |(&(u, e, step), _)| {
+                        let shift = turn_back_shift(
+                            cols.img,
+                            (u + centre).round() as usize,
+                            e,
+                            cols.hw,
+                            step,
+                        );
+                        // Taken off the centroids' rows: what is left of it
+                        // (the step model's rows, where they are the fit's,
+                        // keep it).
+                        if is_light_dome(step) && !r.two_sided {
+                            shift / OVERSHOOT_SPREAD
+                        } else {
+                            shift
+                        }
+                    });
+                (u, shift)
             })
-            .sum();
-        let mean = shifts / kept.len().max(1) as f64;
-        mean * mean
-    } else {
-        0.0
+            .collect();
+        if shifts.iter().all(|s| s.1 == 0.0) {
+            0.0
+        } else {
+            let u_v = r.x_vertex - centre;
+            parabola(&shifts, even).map_or(0.0, |f| {
+                let [a, b, c] = f.coef;
+                (a + b * u_v + c * u_v * u_v).powi(2)
+            })
+        }
     };
     // A rim ([`rim_bias`]) on the kept columns whose dome side does not
     // turn back, unless a tenth of them do (the turn's term then bounds
