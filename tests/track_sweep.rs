@@ -5,12 +5,11 @@
 //! defocus, motion blur, vignetting, highlight, law, photo count, top
 //! pressure), how many clean photos are refused, how many are written
 //! silently wrong and whether the stated uncertainty is honest. This test
-//! runs thirty clean
-//! sequences at 480x360 and asserts only what holds now and must keep
-//! holding: every sequence is tracked, no photo is written more than 4 of
-//! its stated standard deviations off (the tracker refuses a photo rather
-//! than write it silently wrong), and RMS(error / stated std) lies within
-//! the sweep's goal of 0.8-1.2.
+//! runs thirty clean sequences at 480x360 and asserts only what holds now
+//! and must keep holding: every sequence is tracked, no photo is written
+//! more than 4 of its stated standard deviations off (the tracker refuses a
+//! photo rather than write it silently wrong), and RMS(error / stated std)
+//! lies within the sweep's goal of 0.8-1.2.
 
 use bulge::track::synth::{HighlightShape, sweep};
 
