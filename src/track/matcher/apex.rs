@@ -321,32 +321,24 @@ pub(super) fn edge_fit_core(
     // row more than its shift's mean over the columns, and one on the
     // flanks less.
     let turn = {
-        let shifts: Vec<(f64, f64)> = kept
+        let shifts: Vec<(f64, f64)> = strong
             .iter()
-            .map(|&(u, _)| {
-                let shift = strong
-                    .iter()
-                    .zip(&turns)
-                    .find(|(l, _)| l.0 == u)
-                    .filter(|(_, t)| **t)
-                    .map_or(0.0, |(&(u, e, step), _)| {
-                        let shift = turn_back_shift(
-                            cols.img,
-                            (u + centre).round() as usize,
-                            e,
-                            cols.hw,
-                            step,
-                        );
-                        // Taken off the centroids' rows: what is left of it
-                        // (the step model's rows, where they are the fit's,
-                        // keep it).
-                        if is_light_dome(step) && !r.two_sided {
-                            shift / OVERSHOOT_SPREAD
-                        } else {
-                            shift
-                        }
-                    });
-                (u, shift)
+            .zip(&turns)
+            .zip(&in_fit)
+            .filter(|(_, k)| **k)
+            .map(|((&(u, e, step), &turns_here), _)| {
+                if !turns_here {
+                    return (u, 0.0);
+                }
+                let shift =
+                    turn_back_shift(cols.img, (u + centre).round() as usize, e, cols.hw, step);
+                // Taken off the centroids' rows: what is left of it (the
+                // step model's rows, where they are the fit's, keep it).
+                if is_light_dome(step) && !r.two_sided {
+                    (u, shift / OVERSHOOT_SPREAD)
+                } else {
+                    (u, shift)
+                }
             })
             .collect();
         if shifts.iter().all(|s| s.1 == 0.0) {
